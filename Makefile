@@ -1,0 +1,39 @@
+# Two commands from a fresh clone: `make demo` and `make test`. Each sets everything up first.
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+INSTALLED := $(VENV)/.turtle_traj-installed
+INTERFACES := $(VENV)/.turtle_traj-interfaces
+INTERFACE_FILES := $(shell find interfaces -type f -not -name '*.pyc')
+
+.PHONY: setup test demo bench lint clean
+
+setup: $(INTERFACES)
+
+$(PY):
+	$(PYTHON) -m venv $(VENV)
+
+# Re-install only when the project metadata changed.
+$(INSTALLED): pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet --disable-pip-version-check -e '.[dev,interfaces]'
+	touch $@
+
+# Rebuild the interface packages only when one of their files changed.
+$(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
+	interfaces/build.sh $(VENV)
+	touch $@
+
+test: setup
+	$(PY) -m pytest -q
+
+demo: setup
+	$(PY) -m turtle_traj.demo
+
+bench: setup
+	for script in bench/*_bench.py; do $(PY) $$script || exit 1; done
+
+lint: setup
+	$(VENV)/bin/ruff check src tests bench
+
+clean:
+	rm -rf $(VENV) output

@@ -1,0 +1,50 @@
+"""Test-session isolation: a private ROS domain, local discovery and logs kept out of $HOME."""
+
+import fcntl
+import os
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+_LOCK_DIR = Path(tempfile.gettempdir()) / 'turtle_traj_domains'
+# Domain ids 1..101 map onto ports every Linux machine leaves free (ROS 2 docs, "Domain ID").
+_DOMAIN_IDS = range(1, 102)
+
+
+def _claim_domain_id() -> tuple[int, object]:
+    """Hold an exclusive lock on a free domain id for the life of this process."""
+    _LOCK_DIR.mkdir(exist_ok=True)
+    start = os.getpid() % len(_DOMAIN_IDS)
+    for offset in range(len(_DOMAIN_IDS)):
+        domain_id = _DOMAIN_IDS[(start + offset) % len(_DOMAIN_IDS)]
+        lock = open(_LOCK_DIR / f'{domain_id}.lock', 'w')  # noqa: SIM115 - held until exit
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            lock.close()
+            continue
+        return domain_id, lock
+    raise RuntimeError('no free ROS_DOMAIN_ID for this test session')
+
+
+# Set before any test imports rclpy, so every context of this session uses them.
+DOMAIN_ID, _domain_lock = _claim_domain_id()
+os.environ['ROS_DOMAIN_ID'] = str(DOMAIN_ID)
+os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='turtle_traj_ros_logs_'))
+
+
+@pytest.fixture
+def ros_context() -> Iterator[object]:
+    """A fresh, initialised rclpy context, shut down after the test."""
+    import rclpy
+    from rclpy.context import Context
+
+    context = Context()
+    rclpy.init(context=context)
+    try:
+        yield context
+    finally:
+        rclpy.try_shutdown(context=context)
