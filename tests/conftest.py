@@ -48,3 +48,15 @@ def ros_context() -> Iterator[object]:
         yield context
     finally:
         rclpy.try_shutdown(context=context)
+
+
+@pytest.fixture
+def sim(ros_context, tmp_path):
+    """Our simulator and a sim-time client node in one executor."""
+    from tests.ros_helpers import SimHarness
+
+    harness = SimHarness(ros_context, tmp_path / 'output')
+    try:
+        yield harness
+    finally:
+        harness.close()

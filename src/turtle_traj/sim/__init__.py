@@ -1,0 +1,1 @@
+"""A pure-Python turtlesim: physics core, canvas, ROS node and program."""

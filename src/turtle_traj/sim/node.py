@@ -1,0 +1,324 @@
+"""SimNode: the ROS face of the physics core, with turtlesim's names, types and QoS."""
+
+from __future__ import annotations
+
+from functools import partial
+from pathlib import Path
+
+from geometry_msgs.msg import Twist
+from PIL import Image
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rclpy.action import ActionServer, CancelResponse
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
+from rosgraph_msgs.msg import Clock as ClockMsg
+from std_srvs.srv import Empty
+from turtle_traj_interfaces.srv import SaveImage
+from turtlesim.action import RotateAbsolute
+from turtlesim.msg import Color, Pose
+from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelative
+
+from turtle_traj.sim.canvas import Canvas
+from turtle_traj.sim.physics import (
+    SPAWN_XY_M,
+    STEP_S,
+    GoalStatus,
+    RotationEvent,
+    SimulationError,
+    Turtle,
+    World,
+)
+
+# turtlesim's per-turtle topic QoS (qos.hpp in turtlesim 1.8).
+TURTLE_TOPIC_QOS = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST, depth=7, reliability=ReliabilityPolicy.RELIABLE)
+
+
+class _TurtleEndpoints:
+    """Everything one turtle has on the ROS graph, created and destroyed together."""
+
+    def __init__(self, node: SimNode, name: str) -> None:
+        group = node.reentrant_group
+        self.pose = node.create_publisher(Pose, f'{name}/pose', TURTLE_TOPIC_QOS)
+        self.color = node.create_publisher(Color, f'{name}/color_sensor', TURTLE_TOPIC_QOS)
+        self.entities = [
+            self.pose,
+            self.color,
+            node.create_subscription(
+                Twist, f'{name}/cmd_vel', lambda msg: node.on_cmd_vel(name, msg),
+                TURTLE_TOPIC_QOS),
+            node.create_service(
+                SetPen, f'{name}/set_pen', lambda req, res: node.handle_set_pen(name, req, res)),
+            node.create_service(
+                TeleportAbsolute, f'{name}/teleport_absolute',
+                lambda req, res: node.handle_teleport(name, req, res)),
+            node.create_service(
+                TeleportRelative, f'{name}/teleport_relative',
+                lambda req, res: node.handle_teleport(name, req, res)),
+        ]
+        self.action = ActionServer(
+            node, RotateAbsolute, f'{name}/rotate_absolute',
+            # partial, not lambda: rclpy must see that the execute callback is a coroutine.
+            execute_callback=partial(node.execute_rotation, name),
+            cancel_callback=partial(node.accept_cancel, name),
+            callback_group=group)
+
+    def destroy(self, node: Node) -> None:
+        self.action.destroy()
+        for entity in self.entities:
+            destroy = {
+                'Publisher': node.destroy_publisher,
+                'Subscription': node.destroy_subscription,
+                'Service': node.destroy_service,
+            }[type(entity).__name__]
+            destroy(entity)
+
+
+class _Rotation:
+    """A rotate_absolute goal handle and the future its execute callback awaits."""
+
+    def __init__(self, handle) -> None:
+        self.handle = handle
+        self.finished = Future()
+
+
+def _describe(description: str, **constraints: object) -> ParameterDescriptor:
+    return ParameterDescriptor(description=description, **constraints)
+
+
+def _color_range() -> list[IntegerRange]:
+    return [IntegerRange(from_value=0, to_value=255, step=1)]
+
+
+class SimNode(Node):
+    """A headless, wire-compatible `turtlesim_node` (node name `turtlesim` by default)."""
+
+    def __init__(self, node_name: str = 'turtlesim', **kwargs) -> None:
+        super().__init__(node_name, **kwargs)
+        self.reentrant_group = ReentrantCallbackGroup()
+        self.world = World()
+        self.add_post_set_parameters_callback(self._apply_parameters)
+        self.declare_parameter('background_r', 69, _describe(
+            'Red channel of the background color', integer_range=_color_range()))
+        self.declare_parameter('background_g', 86, _describe(
+            'Green channel of the background color', integer_range=_color_range()))
+        self.declare_parameter('background_b', 255, _describe(
+            'Blue channel of the background color', integer_range=_color_range()))
+        self.declare_parameter('holonomic', False, _describe(
+            'If true, then turtles will be holonomic'))
+        time_scale = self.declare_parameter('time_scale', 1.0, _describe(
+            'Simulated seconds per wall-clock second (turtle_traj extension)', read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=0.1, to_value=1000.0)])).value
+        publish_clock = self.declare_parameter('publish_clock', False, _describe(
+            'Publish simulated time on /clock, for nodes with use_sim_time (turtle_traj '
+            'extension)', read_only=True)).value
+        self.output_dir = Path(self.declare_parameter('output_dir', 'output', _describe(
+            'Folder that save_image writes into (turtle_traj extension)',
+            read_only=True)).value).resolve()
+
+        self.canvas = Canvas()
+        self._endpoints: dict[str, _TurtleEndpoints] = {}
+
+        self._clock_publisher = (
+            self.create_publisher(ClockMsg, '/clock', 10) if publish_clock else None)
+        self.create_service(Empty, 'clear', self.handle_clear)
+        self.create_service(Empty, 'reset', self.handle_reset)
+        self.create_service(Spawn, 'spawn', self.handle_spawn)
+        self.create_service(Kill, 'kill', self.handle_kill)
+        self.create_service(SaveImage, '~/save_image', self.handle_save_image)
+        # The physics runs on wall time (scaled); ROS time may itself follow our /clock.
+        self.step_timer = self.create_timer(
+            STEP_S / time_scale, self.on_step_timer, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self.get_logger().info(f'Starting turtlesim with node name {self.get_fully_qualified_name()}')
+        self._spawn('', SPAWN_XY_M, SPAWN_XY_M, 0.0)
+
+    # -- parameters ------------------------------------------------------------------------
+
+    def _apply_parameters(self, parameters: list[Parameter]) -> None:
+        # Ranges and types were enforced by the descriptors before we get here.
+        for parameter in parameters:
+            if parameter.name == 'holonomic':
+                self.world.holonomic = parameter.value
+
+    @property
+    def background(self) -> tuple[int, int, int]:
+        """Background colour from the live parameters, as turtlesim repaints it."""
+        return tuple(self.get_parameter(f'background_{c}').value for c in 'rgb')
+
+    # -- simulation ------------------------------------------------------------------------
+
+    def on_step_timer(self) -> None:
+        """Advance the world one step, then publish and draw what it produced."""
+        report = self.world.step()
+        if self._clock_publisher is not None:
+            stamp = ClockMsg()
+            stamp.clock.sec, nanoseconds = divmod(round(self.world.time_s * 1e9), 10**9)
+            stamp.clock.nanosec = nanoseconds
+            self._clock_publisher.publish(stamp)
+        for event in report.rotation_events:
+            self._on_rotation_event(event)
+        for name, x, flipped_y in report.wall_hits:
+            self.get_logger().warning(
+                f'Oh no! I hit the wall! (Clamping from [x={x:f}, y={flipped_y:f}])')
+        for turtle in self.world:
+            self._publish_state(turtle)
+        for segment in report.segments:
+            self.canvas.draw(segment)
+
+    def _publish_state(self, turtle: Turtle) -> None:
+        endpoints = self._endpoints[turtle.name]
+        endpoints.pose.publish(Pose(
+            x=turtle.x, y=turtle.y, theta=turtle.theta,
+            linear_velocity=turtle.linear_speed, angular_velocity=turtle.omega))
+        r, g, b = self.canvas.color_under(turtle)
+        endpoints.color.publish(Color(r=r, g=g, b=b))
+
+    def render(self) -> Image.Image:
+        """The window as turtlesim would show it now."""
+        return self.canvas.render(self.background, list(self.world))
+
+    # -- turtles ---------------------------------------------------------------------------
+
+    def _spawn(self, name: str, x: float, y: float, theta: float) -> str:
+        turtle = self.world.spawn(x, y, theta, name)
+        try:
+            self._endpoints[turtle.name] = _TurtleEndpoints(self, turtle.name)
+        except Exception:
+            self.world.kill(turtle.name)
+            raise SimulationError(f'[{turtle.name}] is not a valid ROS name') from None
+        self.get_logger().info(
+            f'Spawning turtle [{turtle.name}] at x=[{x:f}], y=[{y:f}], theta=[{theta:f}]')
+        return turtle.name
+
+    def _remove(self, name: str) -> None:
+        turtle = self.world.kill(name)
+        if turtle.rotation is not None:
+            self._finish_rotation(turtle.rotation.token, GoalStatus.ABORTED,
+                                  turtle.rotation.delta_rad)
+        self._endpoints.pop(name).destroy(self)
+
+    def on_cmd_vel(self, name: str, msg: Twist) -> None:
+        if name not in self.world.turtles:
+            return  # a message still queued for a turtle killed a moment ago
+        try:
+            aborted = self.world.command(name, msg.linear.x, msg.linear.y, msg.angular.z)
+        except SimulationError as error:
+            self.get_logger().error(f'Ignoring cmd_vel for [{name}]: {error}',
+                                    throttle_duration_sec=1.0)
+            return
+        if aborted is not None:
+            self.get_logger().warning(
+                'Rotation goal aborted: velocity command received during rotation goal')
+            self._finish_rotation(aborted.token, GoalStatus.ABORTED, aborted.delta_rad)
+
+    # -- services --------------------------------------------------------------------------
+
+    def handle_clear(self, request: Empty.Request, response: Empty.Response) -> Empty.Response:
+        self.get_logger().info('Clearing turtlesim.')
+        self.canvas.clear()
+        return response
+
+    def handle_reset(self, request: Empty.Request, response: Empty.Response) -> Empty.Response:
+        self.get_logger().info('Resetting turtlesim.')
+        for name in list(self.world.turtles):
+            self._remove(name)
+        self.world.remove_all()
+        self.canvas.clear()
+        self._spawn('', SPAWN_XY_M, SPAWN_XY_M, 0.0)
+        return response
+
+    def handle_spawn(self, request: Spawn.Request, response: Spawn.Response) -> Spawn.Response:
+        try:
+            response.name = self._spawn(request.name, request.x, request.y, request.theta)
+        except SimulationError as error:
+            self.get_logger().error(f'Could not spawn turtle: {error}')
+            response.name = ''
+        return response
+
+    def handle_kill(self, request: Kill.Request, response: Kill.Response) -> Kill.Response:
+        if request.name in self.world.turtles:
+            self._remove(request.name)
+        else:
+            self.get_logger().error(
+                f'Tried to kill turtle [{request.name}], which does not exist')
+        return response
+
+    def handle_set_pen(self, name: str, request: SetPen.Request, response: SetPen.Response):
+        self.world.set_pen(name, request.r, request.g, request.b, request.width, request.off)
+        return response
+
+    def handle_teleport(self, name: str, request, response):
+        try:
+            if isinstance(request, TeleportAbsolute.Request):
+                self.world.teleport_absolute(name, request.x, request.y, request.theta)
+            else:
+                self.world.teleport_relative(name, request.linear, request.angular)
+        except SimulationError as error:
+            self.get_logger().error(f'Ignoring teleport of [{name}]: {error}')
+        return response
+
+    def handle_save_image(self, request: SaveImage.Request, response: SaveImage.Response):
+        target = (self.output_dir / request.filename).resolve()
+        if not request.filename or target.suffix.lower() != '.png':
+            response.message = f'filename must name a .png file, got {request.filename!r}'
+        elif not target.is_relative_to(self.output_dir):
+            response.message = f'refusing to write outside output_dir {self.output_dir}'
+        else:
+            try:
+                target.parent.mkdir(parents=True, exist_ok=True)
+                self.render().save(target)
+            except OSError as error:
+                response.message = f'could not write {target}: {error.strerror or error}'
+            else:
+                response.success, response.path = True, str(target)
+                response.message = f'saved {target}'
+        return response
+
+    # -- rotate_absolute -------------------------------------------------------------------
+
+    async def execute_rotation(self, name: str, goal_handle) -> RotateAbsolute.Result:
+        rotation = _Rotation(goal_handle)
+        try:
+            replaced = self.world.start_rotation(name, rotation, goal_handle.request.theta)
+        except SimulationError as error:
+            self.get_logger().error(f'Rotation goal refused: {error}')
+            self._finish_rotation(rotation, GoalStatus.ABORTED, 0.0)
+        else:
+            if replaced is not None:
+                self.get_logger().warning(
+                    'Rotation goal received before a previous goal finished. '
+                    'Aborting previous goal')
+                self._finish_rotation(replaced.token, GoalStatus.ABORTED, replaced.delta_rad)
+        return await rotation.finished
+
+    def accept_cancel(self, name: str, goal_handle) -> CancelResponse:
+        turtle = self.world.turtles.get(name)
+        if turtle is not None and turtle.rotation is not None \
+                and turtle.rotation.token.handle is goal_handle:
+            self.world.cancel_rotation(name, turtle.rotation.token)
+        return CancelResponse.ACCEPT
+
+    def _on_rotation_event(self, event: RotationEvent) -> None:
+        if event.status is None:
+            event.token.handle.publish_feedback(
+                RotateAbsolute.Feedback(remaining=event.remaining_rad))
+        else:
+            if event.status is GoalStatus.CANCELED:
+                self.get_logger().info('Rotation goal canceled')
+            self._finish_rotation(event.token, event.status, event.delta_rad)
+
+    def _finish_rotation(self, rotation: _Rotation, status: GoalStatus, delta_rad: float) -> None:
+        handle = rotation.handle
+        if rotation.finished.done() or not handle.is_active:
+            return
+        if status is GoalStatus.SUCCEEDED:
+            handle.succeed()
+        elif status is GoalStatus.CANCELED and handle.is_cancel_requested:
+            handle.canceled()
+        else:
+            handle.abort()
+        rotation.finished.set_result(RotateAbsolute.Result(delta=delta_rad))

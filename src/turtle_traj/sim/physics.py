@@ -1,0 +1,278 @@
+"""Turtlesim physics as plain Python: turtles, commands, teleports, rotation goals, walls.
+
+Matches ROS 2 Jazzy's turtlesim (see shared turtlesim reference): a fixed 16 ms step, heading
+integrated first, per-axis wall clamp without zeroing velocity, 1 s command timeout. Time here is
+simulated time (step count times the step), which keeps the world deterministic.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from enum import Enum
+
+PIXELS_PER_METER = 45.0
+CANVAS_SIZE_PX = 500
+WORLD_SIZE_M = (CANVAS_SIZE_PX - 1) / PIXELS_PER_METER
+SPAWN_XY_M = 5.544444561004639  # float32 of WORLD_SIZE_M / 2, as real turtlesim publishes it
+STEP_S = 0.016
+COMMAND_TIMEOUT_S = 1.0
+ROTATION_SPEED_RAD_S = 1.0
+ROTATION_TOLERANCE_RAD = 0.02
+DEFAULT_PEN = (179, 184, 255, 3)
+_PI = 3.14159265  # turtlesim's own value of pi in its angle normalisation
+
+
+def normalize_angle(angle_rad: float) -> float:
+    """Wrap an angle into [-pi, pi) exactly as turtlesim does."""
+    return angle_rad - 2.0 * _PI * math.floor((angle_rad + _PI) / (2.0 * _PI))
+
+
+class SimulationError(ValueError):
+    """A request the world refuses; the message says why."""
+
+
+@dataclass
+class Pen:
+    """Trail pen: opaque colour, width in pixels, on or off."""
+
+    r: int = DEFAULT_PEN[0]
+    g: int = DEFAULT_PEN[1]
+    b: int = DEFAULT_PEN[2]
+    width_px: int = DEFAULT_PEN[3]
+    on: bool = True
+
+
+class GoalStatus(Enum):
+    """How a rotation goal ended."""
+
+    SUCCEEDED = 'succeeded'
+    ABORTED = 'aborted'
+    CANCELED = 'canceled'
+
+
+@dataclass
+class RotationGoal:
+    """An active rotate_absolute goal; `token` lets the ROS layer match it to its handle."""
+
+    token: object
+    target_rad: float
+    start_rad: float
+    delta_rad: float = 0.0
+    cancel_requested: bool = False
+
+
+@dataclass
+class RotationEvent:
+    """Feedback (status None) or the end of a rotation goal."""
+
+    turtle: str
+    token: object
+    remaining_rad: float
+    delta_rad: float
+    status: GoalStatus | None = None
+
+
+@dataclass
+class Segment:
+    """A pen stroke from one position to the next, in world metres."""
+
+    start: tuple[float, float]
+    end: tuple[float, float]
+    pen: Pen
+
+
+@dataclass
+class Turtle:
+    """State of one turtle."""
+
+    name: str
+    x: float
+    y: float
+    theta: float
+    vx: float = 0.0
+    vy: float = 0.0
+    omega: float = 0.0
+    command_time_s: float = 0.0
+    pen: Pen = field(default_factory=Pen)
+    teleports: list[tuple[str, float, float, float]] = field(default_factory=list)
+    rotation: RotationGoal | None = None
+
+    @property
+    def linear_speed(self) -> float:
+        """Magnitude of the commanded velocity, as turtlesim's Pose reports it."""
+        return math.hypot(self.vx, self.vy)
+
+    def stop(self) -> None:
+        self.vx = self.vy = self.omega = 0.0
+
+
+@dataclass
+class StepReport:
+    """What one step produced, for the ROS layer to publish."""
+
+    segments: list[Segment] = field(default_factory=list)
+    wall_hits: list[tuple[str, float, float]] = field(default_factory=list)
+    rotation_events: list[RotationEvent] = field(default_factory=list)
+
+
+def _require_finite(**values: float) -> None:
+    for name, value in values.items():
+        if not math.isfinite(value):
+            raise SimulationError(f'{name} must be a finite number, got {value}')
+
+
+class World:
+    """All turtles of one simulator, stepped in lexicographic name order."""
+
+    def __init__(self, *, holonomic: bool = False) -> None:
+        self.holonomic = holonomic
+        self.time_s = 0.0
+        self.turtles: dict[str, Turtle] = {}
+        self._name_counter = 0
+
+    def __iter__(self) -> Iterator[Turtle]:
+        return (self.turtles[name] for name in sorted(self.turtles))
+
+    def turtle(self, name: str) -> Turtle:
+        try:
+            return self.turtles[name]
+        except KeyError:
+            raise SimulationError(f'no turtle named {name!r}') from None
+
+    def spawn(self, x: float, y: float, theta: float, name: str = '') -> Turtle:
+        """Add a turtle; an empty name gets the next free `turtleN`."""
+        _require_finite(x=x, y=y, theta=theta)
+        if name in self.turtles:
+            raise SimulationError(f'a turtle named [{name}] already exists')
+        if not name:
+            while not name or name in self.turtles:
+                self._name_counter += 1
+                name = f'turtle{self._name_counter}'
+        turtle = Turtle(name, x, y, theta, command_time_s=self.time_s)
+        self.turtles[name] = turtle
+        return turtle
+
+    def kill(self, name: str) -> Turtle:
+        """Remove a turtle; its trail stays."""
+        turtle = self.turtle(name)
+        del self.turtles[name]
+        return turtle
+
+    def remove_all(self) -> None:
+        """Remove every turtle and restart automatic naming at turtle1."""
+        self.turtles.clear()
+        self._name_counter = 0
+
+    def reset(self) -> Turtle:
+        """Remove every turtle and spawn a fresh turtle1 in the middle."""
+        self.remove_all()
+        return self.spawn(SPAWN_XY_M, SPAWN_XY_M, 0.0)
+
+    def command(
+        self, name: str, linear_x: float, linear_y: float, angular_z: float
+    ) -> RotationGoal | None:
+        """Apply a cmd_vel message; return the rotation goal it aborts, if any."""
+        _require_finite(linear_x=linear_x, linear_y=linear_y, angular_z=angular_z)
+        turtle = self.turtle(name)
+        turtle.command_time_s = self.time_s
+        turtle.vx = linear_x
+        if self.holonomic:
+            turtle.vy = linear_y
+        turtle.omega = angular_z
+        aborted, turtle.rotation = turtle.rotation, None
+        return aborted
+
+    def teleport_absolute(self, name: str, x: float, y: float, theta: float) -> None:
+        _require_finite(x=x, y=y, theta=theta)
+        self.turtle(name).teleports.append(('absolute', x, y, theta))
+
+    def teleport_relative(self, name: str, linear: float, angular: float) -> None:
+        _require_finite(linear=linear, angular=angular)
+        self.turtle(name).teleports.append(('relative', linear, angular, 0.0))
+
+    def set_pen(self, name: str, r: int, g: int, b: int, width_px: int, off: int) -> None:
+        """turtlesim's SetPen: any non-zero `off` only lifts the pen; width 0 means 1 px."""
+        turtle = self.turtle(name)
+        if off:
+            turtle.pen = Pen(turtle.pen.r, turtle.pen.g, turtle.pen.b, turtle.pen.width_px, False)
+        else:
+            turtle.pen = Pen(r, g, b, width_px or 1, True)
+
+    def start_rotation(self, name: str, token: object, target_rad: float) -> RotationGoal | None:
+        """Start a rotate_absolute goal; return the goal it replaces (to be aborted)."""
+        _require_finite(theta=target_rad)
+        turtle = self.turtle(name)
+        replaced = turtle.rotation
+        turtle.rotation = RotationGoal(token, target_rad, start_rad=turtle.theta)
+        return replaced
+
+    def cancel_rotation(self, name: str, token: object) -> None:
+        rotation = self.turtles.get(name) and self.turtles[name].rotation
+        if rotation and rotation.token is token:
+            rotation.cancel_requested = True
+
+    def step(self) -> StepReport:
+        """Advance every turtle by one 16 ms step."""
+        self.time_s += STEP_S
+        report = StepReport()
+        for turtle in self:
+            self._update(turtle, report)
+        return report
+
+    def _update(self, turtle: Turtle, report: StepReport) -> None:
+        for kind, a, b, c in turtle.teleports:
+            old = (turtle.x, turtle.y)
+            if kind == 'absolute':
+                turtle.x, turtle.y, turtle.theta = a, min(b, WORLD_SIZE_M), c
+            else:
+                turtle.theta += b
+                turtle.x += a * math.cos(turtle.theta)
+                turtle.y += a * math.sin(turtle.theta)
+            if turtle.pen.on:
+                report.segments.append(Segment(old, (turtle.x, turtle.y), turtle.pen))
+        turtle.teleports.clear()
+
+        if turtle.rotation is not None:
+            self._rotate(turtle, report)
+
+        if self.time_s - turtle.command_time_s > COMMAND_TIMEOUT_S:
+            turtle.stop()
+
+        old = (turtle.x, turtle.y)
+        turtle.theta = normalize_angle(turtle.theta + turtle.omega * STEP_S)
+        cos_t, sin_t = math.cos(turtle.theta), math.sin(turtle.theta)
+        turtle.x += (turtle.vx * cos_t - turtle.vy * sin_t) * STEP_S
+        turtle.y += (turtle.vx * sin_t + turtle.vy * cos_t) * STEP_S
+        if not (0.0 <= turtle.x <= WORLD_SIZE_M and 0.0 <= turtle.y <= WORLD_SIZE_M):
+            report.wall_hits.append((turtle.name, turtle.x, WORLD_SIZE_M - turtle.y))
+            turtle.x = min(max(turtle.x, 0.0), WORLD_SIZE_M)
+            turtle.y = min(max(turtle.y, 0.0), WORLD_SIZE_M)
+        if turtle.pen.on and (turtle.x, turtle.y) != old:
+            report.segments.append(Segment(old, (turtle.x, turtle.y), turtle.pen))
+
+    def _rotate(self, turtle: Turtle, report: StepReport) -> None:
+        goal = turtle.rotation
+        assert goal is not None
+        if goal.cancel_requested:
+            turtle.rotation = None
+            turtle.stop()
+            report.rotation_events.append(
+                RotationEvent(turtle.name, goal.token, 0.0, goal.delta_rad, GoalStatus.CANCELED))
+            return
+        target = normalize_angle(goal.target_rad)
+        remaining = normalize_angle(target - turtle.theta)
+        goal.delta_rad = normalize_angle(goal.start_rad - turtle.theta)
+        report.rotation_events.append(
+            RotationEvent(turtle.name, goal.token, remaining, goal.delta_rad))
+        if abs(normalize_angle(turtle.theta - target)) < ROTATION_TOLERANCE_RAD:
+            turtle.rotation = None
+            turtle.stop()
+            report.rotation_events.append(
+                RotationEvent(turtle.name, goal.token, remaining, goal.delta_rad,
+                              GoalStatus.SUCCEEDED))
+            return
+        turtle.vx = turtle.vy = 0.0
+        turtle.omega = -ROTATION_SPEED_RAD_S if remaining < 0 else ROTATION_SPEED_RAD_S
+        turtle.command_time_s = self.time_s

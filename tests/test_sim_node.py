@@ -1,0 +1,313 @@
+"""The simulator node on the wire: what a client written for real turtlesim sees."""
+
+import math
+import os
+import subprocess
+import sys
+
+import pytest
+from geometry_msgs.msg import Twist
+from PIL import Image
+from rcl_interfaces.msg import Parameter as ParameterMsg
+from rcl_interfaces.msg import ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
+from rclpy.action import ActionClient
+from rclpy.clock import ClockType
+from rosgraph_msgs.msg import Clock
+from std_srvs.srv import Empty
+from turtle_traj_interfaces.srv import SaveImage
+from turtlesim.action import RotateAbsolute
+from turtlesim.msg import Color, Pose
+from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelative
+
+from turtle_traj.sim.canvas import to_pixel
+from turtle_traj.sim.node import TURTLE_TOPIC_QOS
+from turtle_traj.sim.physics import SPAWN_XY_M, STEP_S, WORLD_SIZE_M
+
+
+class PoseRecorder:
+    """Subscribes like any turtlesim client and keeps every pose."""
+
+    def __init__(self, sim, turtle='turtle1'):
+        self.poses: list[Pose] = []
+        self.colors: list[Color] = []
+        sim.client.create_subscription(Pose, f'{turtle}/pose', self.poses.append,
+                                       TURTLE_TOPIC_QOS)
+        sim.client.create_subscription(Color, f'{turtle}/color_sensor', self.colors.append,
+                                       TURTLE_TOPIC_QOS)
+        assert sim.spin_until(lambda: self.poses and self.colors)
+
+    @property
+    def last(self) -> Pose:
+        return self.poses[-1]
+
+
+def _drive(sim, publisher, linear=0.0, angular=0.0, linear_y=0.0):
+    twist = Twist()
+    twist.linear.x, twist.linear.y, twist.angular.z = linear, linear_y, angular
+    publisher.publish(twist)
+
+
+def test_graph_has_turtlesims_names_and_types(sim):
+    def graph_complete():
+        topics = dict(sim.client.get_topic_names_and_types())
+        services = dict(sim.client.get_service_names_and_types())
+        return '/turtle1/rotate_absolute/_action/status' in topics and \
+            '/turtle1/teleport_relative' in services
+
+    assert sim.spin_until(graph_complete)
+    topics = dict(sim.client.get_topic_names_and_types())
+    services = dict(sim.client.get_service_names_and_types())
+    assert topics['/turtle1/pose'] == ['turtlesim/msg/Pose']
+    assert topics['/turtle1/color_sensor'] == ['turtlesim/msg/Color']
+    assert topics['/turtle1/cmd_vel'] == ['geometry_msgs/msg/Twist']
+    assert topics['/clock'] == ['rosgraph_msgs/msg/Clock']
+    for name, type_name in [
+        ('/clear', 'std_srvs/srv/Empty'), ('/reset', 'std_srvs/srv/Empty'),
+        ('/spawn', 'turtlesim/srv/Spawn'), ('/kill', 'turtlesim/srv/Kill'),
+        ('/turtle1/set_pen', 'turtlesim/srv/SetPen'),
+        ('/turtle1/teleport_absolute', 'turtlesim/srv/TeleportAbsolute'),
+        ('/turtle1/teleport_relative', 'turtlesim/srv/TeleportRelative'),
+        ('/turtle1/rotate_absolute/_action/send_goal',
+         'turtlesim/action/RotateAbsolute_SendGoal'),
+        ('/turtlesim/save_image', 'turtle_traj_interfaces/srv/SaveImage'),
+        ('/turtlesim/set_parameters', 'rcl_interfaces/srv/SetParameters'),
+    ]:
+        assert services[name] == [type_name]
+    parameters = set(sim.sim._parameters)
+    assert {'background_r', 'background_g', 'background_b', 'holonomic'} <= parameters
+
+
+def test_pose_starts_at_turtlesim_spawn_point(sim):
+    recorder = PoseRecorder(sim)
+    first = recorder.poses[0]
+    assert (first.x, first.y, first.theta) == (SPAWN_XY_M, SPAWN_XY_M, 0.0)
+    assert recorder.colors[0] == Color(r=255, g=255, b=255)
+
+
+def test_one_second_command_moves_one_metre_then_stops(sim):
+    recorder = PoseRecorder(sim)
+    publisher = sim.client.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
+    _drive(sim, publisher, linear=1.0)
+    assert sim.spin_until(lambda: recorder.last.linear_velocity == 1.0)
+    assert sim.spin_until(lambda: recorder.last.linear_velocity == 0.0)
+    stopped_x = recorder.last.x
+    sim.spin_sim_seconds(0.3)
+    assert recorder.last.x == stopped_x
+    assert stopped_x - SPAWN_XY_M == pytest.approx(1.0, abs=STEP_S)
+    # The pen drew under the turtle, so the color sensor reads the default pen colour.
+    assert recorder.colors[-1] == Color(r=179, g=184, b=255)
+
+
+def test_turtle_stops_at_the_wall(sim):
+    recorder = PoseRecorder(sim)
+    publisher = sim.client.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
+    _drive(sim, publisher, linear=8.0)  # 8 m in 1 s would end far past the right wall
+    assert sim.spin_until(lambda: recorder.last.linear_velocity == 0.0 and
+                          recorder.last.x > SPAWN_XY_M)
+    assert recorder.last.x == pytest.approx(WORLD_SIZE_M)
+    assert recorder.last.y == pytest.approx(SPAWN_XY_M)
+
+
+def test_non_finite_cmd_vel_is_ignored(sim):
+    recorder = PoseRecorder(sim)
+    publisher = sim.client.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
+    _drive(sim, publisher, linear=math.nan, angular=math.inf)
+    sim.spin_sim_seconds(0.2)
+    _drive(sim, publisher, angular=1.0)
+    assert sim.spin_until(lambda: recorder.last.angular_velocity == 1.0)
+    assert all(math.isfinite(p.x) and math.isfinite(p.theta) for p in recorder.poses)
+    assert recorder.last.x == SPAWN_XY_M
+
+
+def test_teleports_and_holonomic_parameter(sim):
+    recorder = PoseRecorder(sim)
+    sim.call(TeleportAbsolute, 'turtle1/teleport_absolute',
+             TeleportAbsolute.Request(x=2.0, y=3.0, theta=0.5))
+    sim.call(TeleportRelative, 'turtle1/teleport_relative',
+             TeleportRelative.Request(linear=1.0, angular=math.pi / 2 - 0.5))
+    assert sim.spin_until(lambda: abs(recorder.last.y - 4.0) < 1e-5)
+    assert (recorder.last.x, recorder.last.theta) == pytest.approx((2.0, math.pi / 2), abs=1e-5)
+
+    result = _set_parameter(sim, 'holonomic', ParameterValue(
+        type=ParameterType.PARAMETER_BOOL, bool_value=True))
+    assert result.successful
+    publisher = sim.client.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
+    _drive(sim, publisher, linear_y=1.0)  # heading up, so sideways is towards -x
+    assert sim.spin_until(lambda: recorder.last.linear_velocity == 0.0 and
+                          recorder.last.x < 1.5)
+    assert recorder.last.x == pytest.approx(1.0, abs=STEP_S)
+
+
+def _set_parameter(sim, name, value):
+    request = SetParameters.Request(parameters=[ParameterMsg(name=name, value=value)])
+    return sim.call(SetParameters, '/turtlesim/set_parameters', request).results[0]
+
+
+@pytest.mark.parametrize(('name', 'value'), [
+    ('background_r', ParameterValue(type=ParameterType.PARAMETER_INTEGER, integer_value=256)),
+    ('background_g', ParameterValue(type=ParameterType.PARAMETER_INTEGER, integer_value=-1)),
+    ('background_b', ParameterValue(type=ParameterType.PARAMETER_STRING, string_value='blue')),
+    ('holonomic', ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=1.0)),
+    ('time_scale', ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=2.0)),
+])
+def test_invalid_parameters_are_refused_with_a_reason(sim, name, value):
+    before = sim.sim.get_parameter(name).value
+    result = _set_parameter(sim, name, value)
+    assert not result.successful
+    assert result.reason
+    assert sim.sim.get_parameter(name).value == before
+
+
+def test_background_parameter_repaints_live(sim):
+    assert _set_parameter(sim, 'background_r', ParameterValue(
+        type=ParameterType.PARAMETER_INTEGER, integer_value=10)).successful
+    assert sim.sim.render().getpixel((5, 5)) == (10, 86, 255)
+
+
+def test_spawn_kill_and_reset(sim):
+    assert sim.call(Spawn, 'spawn', Spawn.Request(x=1.0, y=2.0, theta=0.0)).name == 'turtle2'
+    assert sim.call(Spawn, 'spawn', Spawn.Request(x=1.0, y=2.0, name='turtle2')).name == ''
+    assert sim.call(Spawn, 'spawn', Spawn.Request(x=math.nan, y=2.0)).name == ''
+    assert sim.call(Spawn, 'spawn', Spawn.Request(x=1.0, y=2.0, name='bad name!')).name == ''
+    assert sim.call(Spawn, 'spawn', Spawn.Request(x=3.0, y=3.0, name='leo')).name == 'leo'
+    leo = PoseRecorder(sim, 'leo')
+    assert (leo.last.x, leo.last.y) == pytest.approx((3.0, 3.0))
+    sim.call(Kill, 'kill', Kill.Request(name='turtle2'))
+    sim.call(Kill, 'kill', Kill.Request(name='nobody'))  # logged, answered, nothing breaks
+    assert sorted(sim.sim.world.turtles) == ['leo', 'turtle1']
+    assert sim.spin_until(lambda: '/turtle2/pose' not in dict(
+        sim.client.get_topic_names_and_types()))
+    sim.call(TeleportAbsolute, 'turtle1/teleport_absolute',
+             TeleportAbsolute.Request(x=1.0, y=1.0, theta=1.0))
+    sim.call(Empty, 'reset')
+    assert sorted(sim.sim.world.turtles) == ['turtle1']
+    recorder = PoseRecorder(sim)
+    assert (recorder.last.x, recorder.last.y, recorder.last.theta) == (
+        SPAWN_XY_M, SPAWN_XY_M, 0.0)
+    assert sim.call(Spawn, 'spawn', Spawn.Request(x=1.0, y=2.0)).name == 'turtle2'
+
+
+def _rotate(sim, theta, *, cancel_after_s=None):
+    client = ActionClient(sim.client, RotateAbsolute, 'turtle1/rotate_absolute')
+    assert client.wait_for_server(timeout_sec=10.0) or sim.spin_until(client.server_is_ready)
+    feedback = []
+    goal_future = client.send_goal_async(RotateAbsolute.Goal(theta=theta),
+                                         feedback_callback=lambda m: feedback.append(m))
+    assert sim.spin_until(goal_future.done)
+    handle = goal_future.result()
+    assert handle.accepted
+    if cancel_after_s is not None:
+        sim.spin_sim_seconds(cancel_after_s)
+        cancel = handle.cancel_goal_async()
+        assert sim.spin_until(cancel.done)
+    result = handle.get_result_async()
+    assert sim.spin_until(result.done)
+    return result.result(), feedback
+
+
+def test_rotate_absolute_reaches_the_goal(sim):
+    recorder = PoseRecorder(sim)
+    outcome, feedback = _rotate(sim, 1.57)
+    assert outcome.status == 4  # GoalStatus.STATUS_SUCCEEDED
+    assert outcome.result.delta == pytest.approx(-1.552, abs=0.02)
+    assert feedback and feedback[-1].feedback.remaining < 0.02
+    assert sim.spin_until(lambda: recorder.last.angular_velocity == 0.0)
+    assert recorder.last.theta == pytest.approx(1.57, abs=0.02)
+
+
+def test_rotate_absolute_can_be_canceled(sim):
+    recorder = PoseRecorder(sim)
+    outcome, _ = _rotate(sim, 3.0, cancel_after_s=0.5)
+    assert outcome.status == 5  # GoalStatus.STATUS_CANCELED
+    assert sim.spin_until(lambda: recorder.last.angular_velocity == 0.0)
+    assert 0.3 < recorder.last.theta < 1.5
+
+
+def test_clock_follows_simulated_time(sim):
+    stamps = []
+    sim.client.create_subscription(Clock, '/clock', stamps.append, 10)
+    assert sim.spin_until(lambda: len(stamps) > 10)
+    assert sim.client.get_clock().clock_type == ClockType.ROS_TIME
+    seconds = stamps[-1].clock.sec + stamps[-1].clock.nanosec * 1e-9
+    assert seconds == pytest.approx(sim.sim.world.time_s, abs=10 * STEP_S)
+    assert sim.client.get_clock().now().nanoseconds > 0
+
+
+def test_pen_trails_show_in_the_saved_image(sim, tmp_path):
+    recorder = PoseRecorder(sim)
+    publisher = sim.client.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
+    sim.call(SetPen, 'turtle1/set_pen', SetPen.Request(r=255, g=0, b=0, width=4))
+    _drive(sim, publisher, linear=2.0)  # drawn: 2 m to the right
+    assert sim.spin_until(lambda: recorder.last.x > SPAWN_XY_M + 1.9 and
+                          recorder.last.linear_velocity == 0.0)
+    sim.call(SetPen, 'turtle1/set_pen', SetPen.Request(off=1))
+    sim.call(TeleportAbsolute, 'turtle1/teleport_absolute',
+             TeleportAbsolute.Request(x=2.0, y=2.0, theta=0.0))
+    _drive(sim, publisher, linear=2.0)  # not drawn: 2 m along y = 2
+    assert sim.spin_until(lambda: recorder.last.x > 3.9 and recorder.last.y < 2.1)
+
+    response = sim.call(SaveImage, '/turtlesim/save_image', SaveImage.Request(filename='a.png'))
+    assert response.success, response.message
+    image = Image.open(response.path).convert('RGB')
+    assert image.size == (500, 500)
+    drawn = to_pixel(SPAWN_XY_M + 1.0, SPAWN_XY_M)
+    undrawn = to_pixel(3.0, 2.0)
+    assert image.getpixel((round(drawn[0]), round(drawn[1]))) == (255, 0, 0)
+    assert image.getpixel((round(undrawn[0]), round(undrawn[1]))) == (69, 86, 255)
+
+    for bad in ['../escape.png', '/tmp/abs.png', 'notes.txt', '']:
+        refused = sim.call(SaveImage, '/turtlesim/save_image', SaveImage.Request(filename=bad))
+        assert not refused.success and refused.message
+    assert not (tmp_path / 'escape.png').exists()
+
+
+def test_window_shows_the_canvas_on_a_headless_driver(sim, monkeypatch):
+    pytest.importorskip('pygame')
+    monkeypatch.setenv('SDL_VIDEODRIVER', 'dummy')
+    from turtle_traj.sim.gui import Window
+
+    window = Window()
+    try:
+        frame = sim.sim.render()
+        window.show(frame)
+        center = to_pixel(SPAWN_XY_M, SPAWN_XY_M)
+        assert window.pixel(3, 3) == (69, 86, 255)
+        assert window.pixel(round(center[0]), round(center[1])) == frame.getpixel(
+            (round(center[0]), round(center[1])))
+        assert window.pixel(round(center[0]), round(center[1])) != (69, 86, 255)
+    finally:
+        window.close()
+
+
+def _run_sim(*args, env_update=None, timeout=20):
+    env = {k: v for k, v in os.environ.items()
+           if k not in ('DISPLAY', 'WAYLAND_DISPLAY', 'SDL_VIDEODRIVER')}
+    env.update(env_update or {})
+    return subprocess.run([sys.executable, '-m', 'turtle_traj.sim', *args], env=env,
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def test_gui_without_display_fails_with_a_clear_message():
+    result = _run_sim('--gui')
+    assert result.returncode == 2
+    assert 'no display' in result.stderr
+    assert 'Traceback' not in result.stderr
+
+
+def test_sigterm_ends_the_program_cleanly_and_writes_the_snapshot(tmp_path):
+    snapshot = tmp_path / 'last.png'
+    process = subprocess.Popen(
+        [sys.executable, '-m', 'turtle_traj.sim', '--snapshot', str(snapshot)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        for line in process.stderr:
+            if 'Spawning turtle [turtle1]' in line:
+                break
+        process.terminate()
+        _, stderr = process.communicate(timeout=10)
+    finally:
+        process.kill()
+    assert process.returncode == 0
+    assert 'Traceback' not in stderr
+    assert Image.open(snapshot).size == (500, 500)

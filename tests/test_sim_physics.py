@@ -1,0 +1,179 @@
+"""The physics core against turtlesim's documented numbers, without ROS."""
+
+import math
+
+import pytest
+
+from turtle_traj.sim.physics import (
+    SPAWN_XY_M,
+    STEP_S,
+    WORLD_SIZE_M,
+    GoalStatus,
+    SimulationError,
+    World,
+    normalize_angle,
+)
+
+
+@pytest.mark.parametrize(('angle', 'expected'), [
+    (0.0, 0.0),
+    (math.pi, -math.pi),
+    # turtlesim's pi is 3.14159265 < math.pi, so -math.pi lies just outside its range.
+    (-math.pi, math.pi),
+    (-3.14159265, -3.14159265),
+    (2 * math.pi, 0.0),
+    (-3 * math.pi, math.pi),
+    (3 * math.pi / 2, -math.pi / 2),
+    (-7.0, -7.0 + 2 * math.pi),
+])
+def test_normalize_angle_lands_in_half_open_range(angle, expected):
+    wrapped = normalize_angle(angle)
+    assert -3.14159265 <= wrapped < 3.14159265
+    assert wrapped == pytest.approx(expected, abs=1e-7)
+
+
+def _world() -> World:
+    world = World()
+    world.reset()
+    return world
+
+
+def _run_until_stopped(world: World, name: str = 'turtle1', limit: int = 10_000) -> int:
+    steps = 0
+    turtle = world.turtles[name]
+    while (turtle.vx or turtle.vy or turtle.omega) and steps < limit:
+        world.step()
+        steps += 1
+    return steps
+
+
+def test_one_command_lasts_one_second_and_moves_one_metre():
+    world = _world()
+    world.command('turtle1', 1.0, 0.0, 0.0)
+    steps = _run_until_stopped(world)
+    turtle = world.turtles['turtle1']
+    assert steps == 63  # the 63rd step sees 1.008 s > 1.0 s and stops without moving
+    assert turtle.x - SPAWN_XY_M == pytest.approx(1.0, abs=STEP_S)
+    assert turtle.y == SPAWN_XY_M
+
+
+def test_arc_matches_the_reference_example():
+    world = _world()
+    world.command('turtle1', 2.0, 0.0, 1.8)
+    _run_until_stopped(world)
+    turtle = world.turtles['turtle1']
+    assert turtle.theta == pytest.approx(1.8 * 62 * STEP_S, abs=1e-9)
+    chord = math.hypot(turtle.x - SPAWN_XY_M, turtle.y - SPAWN_XY_M)
+    radius = 2.0 / 1.8
+    assert chord == pytest.approx(2 * radius * math.sin(turtle.theta / 2), abs=0.02)
+
+
+def test_wall_clamps_per_axis_and_keeps_velocity():
+    world = _world()
+    world.teleport_absolute('turtle1', WORLD_SIZE_M - 0.05, 3.0, math.pi / 4)
+    world.step()
+    hits = []
+    for _ in range(30):
+        world.command('turtle1', 1.0, 0.0, 0.0)
+        hits += world.step().wall_hits
+    turtle = world.turtles['turtle1']
+    assert turtle.x == WORLD_SIZE_M
+    assert turtle.y == pytest.approx(3.0 + 30 * STEP_S * math.sin(math.pi / 4), abs=1e-9)
+    assert turtle.vx == 1.0
+    assert hits and all(name == 'turtle1' for name, _, _ in hits)
+
+
+def test_holonomic_moves_sideways_only_when_enabled():
+    world = _world()
+    world.command('turtle1', 0.0, 1.0, 0.0)
+    world.step()
+    assert world.turtles['turtle1'].y == SPAWN_XY_M
+    world.holonomic = True
+    world.command('turtle1', 0.0, 1.0, 0.0)
+    world.step()
+    assert world.turtles['turtle1'].y == pytest.approx(SPAWN_XY_M + STEP_S)
+
+
+def test_rotation_goal_matches_the_reference_example():
+    world = _world()
+    world.start_rotation('turtle1', 'goal', 1.57)
+    events = []
+    for _ in range(200):
+        events += world.step().rotation_events
+        if events and events[-1].status is not None:
+            break
+    final = events[-1]
+    assert final.status is GoalStatus.SUCCEEDED
+    feedback = [e for e in events if e.status is None]
+    assert len(feedback) == 98
+    assert feedback[-1].remaining_rad == pytest.approx(0.018, abs=1e-6)
+    assert final.delta_rad == pytest.approx(-1.552, abs=1e-6)
+    assert world.turtles['turtle1'].theta == pytest.approx(1.552, abs=1e-6)
+
+
+def test_command_aborts_rotation_and_cancel_ends_it():
+    world = _world()
+    world.start_rotation('turtle1', 'first', 3.0)
+    world.step()
+    aborted = world.command('turtle1', 0.5, 0.0, 0.0)
+    assert aborted is not None and aborted.token == 'first'
+    world.start_rotation('turtle1', 'second', -2.0)
+    world.cancel_rotation('turtle1', 'second')
+    events = world.step().rotation_events
+    assert [e.status for e in events] == [GoalStatus.CANCELED]
+    assert world.turtles['turtle1'].omega == 0.0
+
+
+def test_spawn_names_and_refusals():
+    world = _world()
+    assert world.spawn(1.0, 1.0, 0.0).name == 'turtle2'
+    world.spawn(2.0, 2.0, 0.0, 'turtle3')
+    assert world.spawn(3.0, 3.0, 0.0).name == 'turtle4'
+    with pytest.raises(SimulationError, match='already exists'):
+        world.spawn(1.0, 1.0, 0.0, 'turtle3')
+    with pytest.raises(SimulationError, match='finite'):
+        world.spawn(math.nan, 1.0, 0.0)
+    with pytest.raises(SimulationError, match='no turtle'):
+        world.kill('nobody')
+    world.reset()
+    assert list(world.turtles) == ['turtle1']
+
+
+@pytest.mark.parametrize('bad', [math.nan, math.inf, -math.inf])
+def test_non_finite_inputs_are_refused_and_state_stays_finite(bad):
+    world = _world()
+    for action in (lambda: world.command('turtle1', bad, 0.0, 0.0),
+                   lambda: world.teleport_absolute('turtle1', 1.0, bad, 0.0),
+                   lambda: world.teleport_relative('turtle1', bad, 0.0),
+                   lambda: world.start_rotation('turtle1', 'x', bad)):
+        with pytest.raises(SimulationError):
+            action()
+    world.step()
+    turtle = world.turtles['turtle1']
+    assert all(math.isfinite(v) for v in (turtle.x, turtle.y, turtle.theta))
+
+
+def test_teleports_draw_and_relative_turns_first():
+    world = _world()
+    world.teleport_relative('turtle1', 1.0, math.pi / 2)
+    report = world.step()
+    turtle = world.turtles['turtle1']
+    assert (turtle.x, turtle.y) == pytest.approx((SPAWN_XY_M, SPAWN_XY_M + 1.0))
+    assert len(report.segments) == 1
+    world.set_pen('turtle1', 0, 0, 0, 0, off=1)
+    world.teleport_absolute('turtle1', 1.0, 50.0, 0.0)
+    report = world.step()
+    assert report.segments == []
+    assert turtle.y == WORLD_SIZE_M  # above the top: y silently capped
+
+
+def test_set_pen_follows_turtlesim_semantics():
+    world = _world()
+    pen_before = world.turtles['turtle1'].pen
+    world.set_pen('turtle1', 1, 2, 3, 9, off=5)
+    pen = world.turtles['turtle1'].pen
+    assert not pen.on and (pen.r, pen.g, pen.b, pen.width_px) == (
+        pen_before.r, pen_before.g, pen_before.b, pen_before.width_px)
+    world.set_pen('turtle1', 10, 20, 30, 0, off=0)
+    pen = world.turtles['turtle1'].pen
+    assert pen.on and (pen.r, pen.g, pen.b, pen.width_px) == (10, 20, 30, 1)
