@@ -23,7 +23,8 @@ def test_ament_index_lists_both_packages():
     share = get_package_share_directory('turtle_traj_interfaces')
     assert packages['turtle_traj_interfaces'] == str(Path(sys.prefix).resolve())
     assert 'float64 tolerance' in (Path(share) / 'srv' / 'GoTo.srv').read_text()
-    assert (Path(get_package_share_directory('turtlesim')) / 'action/RotateAbsolute.action').is_file()
+    turtlesim_share = Path(get_package_share_directory('turtlesim'))
+    assert (turtlesim_share / 'action' / 'RotateAbsolute.action').is_file()
 
 
 def _echo_response(request, response):

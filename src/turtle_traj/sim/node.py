@@ -132,8 +132,10 @@ class SimNode(Node):
         self.create_service(SaveImage, '~/save_image', self.handle_save_image)
         # The physics runs on wall time (scaled); ROS time may itself follow our /clock.
         self.step_timer = self.create_timer(
-            STEP_S / time_scale, self.on_step_timer, clock=Clock(clock_type=ClockType.STEADY_TIME))
-        self.get_logger().info(f'Starting turtlesim with node name {self.get_fully_qualified_name()}')
+            STEP_S / time_scale, self.on_step_timer,
+            clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self.get_logger().info(
+            f'Starting turtlesim with node name {self.get_fully_qualified_name()}')
         self._spawn('', SPAWN_XY_M, SPAWN_XY_M, 0.0)
 
     # -- parameters ------------------------------------------------------------------------
@@ -161,7 +163,7 @@ class SimNode(Node):
             self._clock_publisher.publish(stamp)
         for event in report.rotation_events:
             self._on_rotation_event(event)
-        for name, x, flipped_y in report.wall_hits:
+        for _turtle, x, flipped_y in report.wall_hits:
             self.get_logger().warning(
                 f'Oh no! I hit the wall! (Clamping from [x={x:f}, y={flipped_y:f}])')
         for turtle in self.world:
