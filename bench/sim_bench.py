@@ -1,0 +1,108 @@
+"""Simulator benchmark: real-time factor, CPU at real time, cost per update for N turtles.
+
+Run: .venv/bin/python bench/sim_bench.py   (or `make bench`)
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import statistics
+import tempfile
+import time
+
+os.environ.setdefault('ROS_DOMAIN_ID', '77')
+os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='turtle_traj_bench_logs_'))
+
+import rclpy  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.parameter import Parameter  # noqa: E402
+
+from turtle_traj.sim.node import SimNode  # noqa: E402
+from turtle_traj.sim.physics import STEP_S  # noqa: E402
+
+
+def _cpu_s() -> float:
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def _spin_for(executor: SingleThreadedExecutor, seconds: float) -> None:
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        executor.spin_once(timeout_sec=0.05)
+
+
+def real_time_factor(time_scale: float, seconds: float = 4.0) -> float:
+    node = SimNode(parameter_overrides=[Parameter('time_scale', value=time_scale),
+                                        Parameter('publish_clock', value=True)])
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    try:
+        start_wall, start_sim = time.monotonic(), node.world.time_s
+        _spin_for(executor, seconds)
+        return (node.world.time_s - start_sim) / (time.monotonic() - start_wall)
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+
+
+def cpu_share_at_real_time(seconds: float = 5.0) -> float:
+    node = SimNode()
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    try:
+        _spin_for(executor, 0.5)
+        start_wall, start_cpu = time.monotonic(), _cpu_s()
+        _spin_for(executor, seconds)
+        return (_cpu_s() - start_cpu) / (time.monotonic() - start_wall)
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+
+
+def update_cost_ms(turtles: int, updates: int = 300) -> tuple[float, float]:
+    """Median and worst wall time of one update (physics, drawing, publishing)."""
+    node = SimNode()
+    node.step_timer.cancel()  # we call the update ourselves
+    try:
+        for index in range(turtles - 1):
+            node.world.spawn(1.0 + (index % 10) * 0.9, 1.0 + (index // 10) * 0.9, 0.0)
+            name = list(node.world.turtles)[-1]
+            node._endpoints[name] = type(node._endpoints['turtle1'])(node, name)
+        for turtle in node.world:
+            node.world.command(turtle.name, 0.5, 0.0, 0.3)
+        costs = []
+        for step in range(updates):
+            if step % 50 == 0:
+                for turtle in node.world:
+                    node.world.command(turtle.name, 0.5, 0.0, 0.3)
+            start = time.perf_counter()
+            node.on_step_timer()
+            costs.append((time.perf_counter() - start) * 1e3)
+        return statistics.median(costs), max(costs)
+    finally:
+        node.destroy_node()
+
+
+def main() -> None:
+    rclpy.init()
+    try:
+        print('turtle_traj simulator benchmark (SingleThreadedExecutor, one process)')
+        for scale in (100.0, 1000.0):
+            print(f'  real-time factor, time_scale={scale:g}: {real_time_factor(scale):7.1f}x')
+        print(f'  CPU of one turtle at real time: {100 * cpu_share_at_real_time():5.1f}% '
+              'of one core')
+        budget_ms = STEP_S * 1e3
+        for turtles in (1, 10, 100):
+            median, worst = update_cost_ms(turtles)
+            verdict = 'holds 62.5 Hz' if median < budget_ms else 'cannot hold 62.5 Hz'
+            print(f'  update with {turtles:3d} turtles: median {median:6.3f} ms, '
+                  f'worst {worst:6.3f} ms (budget {budget_ms:.0f} ms): {verdict}')
+    finally:
+        rclpy.try_shutdown()
+
+
+if __name__ == '__main__':
+    main()
