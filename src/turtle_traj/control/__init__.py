@@ -1,0 +1,1 @@
+"""Pure control: pose in, velocity command out."""

@@ -1,0 +1,196 @@
+"""One path follower for every trajectory: in-place turns and continuous curve tracking.
+
+Pure Python: `PathFollower.update(pose, config)` returns the next velocity command. Curves are
+tracked with curvature feed-forward plus a heading set-point that steers back onto the path
+(`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
+towards the end of the curve and, near the end, by a fifth of the remaining distance per
+control period, so commands that act a period or two late still do not overshoot. A turtle facing more
+than `turn_first_angle` away from the path turns in place first.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from turtle_traj.geometry.angles import wrap_angle
+from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn
+
+_WINDOW_BEHIND = 3  # segments searched behind the last match
+_WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
+# Near the end of a leg each command covers at most 1/5 of what remains. A command acts one or
+# two periods after the pose it was computed from (pose -> controller -> simulator); with 1/5
+# the delayed loop r[n+1] = r[n] - r[n-2]/5 still settles without overshoot.
+_LATENCY_ALLOWANCE = 5.0
+
+
+@dataclass(frozen=True)
+class ControlConfig:
+    """Controller tuning; the node builds it from its parameters."""
+
+    linear_speed: float = 1.0  # m/s, top speed
+    angular_speed: float = 2.0  # rad/s, top turn rate
+    heading_gain: float = 8.0  # 1/s, turn rate per radian of heading error
+    cross_track_gain: float = 2.5  # 1/m, how hard curves pull the turtle back onto the path
+    deceleration: float = 4.0  # m/s^2, braking towards the end of a curve
+    angular_deceleration: float = 10.0  # rad/s^2, braking towards the end of a turn
+    position_tolerance: float = 0.003  # m, end of a curve reached (corners, line ends)
+    heading_tolerance: float = 0.002  # rad, end of a turn reached
+    turn_first_angle: float = 0.6  # rad, heading error beyond which the turtle turns in place
+    period_s: float = 0.016  # s, control period
+
+
+@dataclass(frozen=True)
+class Command:
+    """A velocity command: forward speed (m/s) and turn rate (rad/s, counter-clockwise)."""
+
+    linear: float = 0.0
+    angular: float = 0.0
+
+
+STOP = Command()
+
+
+def _braking_speed(remaining: float, deceleration: float, period_s: float) -> float:
+    """Fastest speed from which the turtle still stops within `remaining`, latency included."""
+    return min(math.sqrt(2.0 * deceleration * remaining), remaining / (_LATENCY_ALLOWANCE * period_s))
+
+
+def _clamp(value: float, limit: float) -> float:
+    return max(-limit, min(limit, value))
+
+
+class _TurnTracker:
+    """Turns by the leg's sweep, counting the rotation actually made (it may exceed pi)."""
+
+    def __init__(self, turn: Turn, pose: Pose2D) -> None:
+        self.turn = turn
+        self.turned = wrap_angle(pose.theta - turn.start_heading)
+        self.previous = pose.theta
+
+    def update(self, pose: Pose2D, config: ControlConfig) -> tuple[Command | None, float]:
+        self.turned += wrap_angle(pose.theta - self.previous)
+        self.previous = pose.theta
+        error = self.turn.sweep_rad - self.turned
+        deviation = math.hypot(pose.x - self.turn.x, pose.y - self.turn.y)
+        if abs(error) < config.heading_tolerance:
+            return None, deviation
+        rate = min(config.angular_speed,
+                   _braking_speed(abs(error), config.angular_deceleration, config.period_s))
+        return Command(0.0, math.copysign(rate, error)), deviation
+
+
+class _CurveTracker:
+    """Tracks a polyline, keeping its place along it from one update to the next."""
+
+    def __init__(self, curve: Curve, end_tolerance: float) -> None:
+        self.curve = curve
+        self.end_tolerance = end_tolerance
+        self.segment = 0
+        self.laps = 0
+
+    def _project(self, pose: Pose2D) -> tuple[int, float, float]:
+        """Nearest segment near the last one: index, fraction along it, signed offset."""
+        points, count = self.curve.points, len(self.curve.points) - 1
+        offsets = np.arange(-_WINDOW_BEHIND, _WINDOW_AHEAD + 1) + self.segment
+        if self.curve.repeat:
+            candidates = offsets % count
+        else:
+            candidates = np.unique(np.clip(offsets, 0, count - 1))
+        a, b = points[candidates], points[candidates + 1]
+        along = b - a
+        relative = np.array([pose.x, pose.y]) - a
+        squared = np.maximum(np.einsum('ij,ij->i', along, along), 1e-18)
+        fraction = np.clip(np.einsum('ij,ij->i', relative, along) / squared, 0.0, 1.0)
+        nearest = a + along * fraction[:, None]
+        distance = np.hypot(*(np.array([pose.x, pose.y]) - nearest).T)
+        best = int(np.argmin(distance))
+        index = int(candidates[best])
+        cross = along[best, 0] * relative[best, 1] - along[best, 1] * relative[best, 0]
+        offset = cross / math.sqrt(squared[best])
+        if self.curve.repeat and index < self.segment - count // 2:
+            self.laps += 1
+        return index, float(fraction[best]), float(offset)
+
+    def update(self, pose: Pose2D, config: ControlConfig) -> tuple[Command | None, float]:
+        curve = self.curve
+        self.segment, fraction, offset = self._project(pose)
+        deviation = abs(offset)
+        last = len(curve.points) - 2
+        if curve.repeat:
+            remaining = math.inf
+        else:
+            # Signed distance to the end along the last segment, so an overshoot backs up.
+            end = curve.points[-1]
+            heading = curve.headings[last]
+            to_end = (end[0] - pose.x) * math.cos(heading) + (end[1] - pose.y) * math.sin(heading)
+            along_rest = curve.length - curve.cumulative_length[self.segment + 1]
+            remaining = along_rest + (to_end if self.segment == last else
+                                      (1.0 - fraction) * curve.segment_lengths[self.segment])
+            if abs(remaining) <= self.end_tolerance or (
+                    self.segment == last and math.hypot(end[0] - pose.x, end[1] - pose.y)
+                    <= self.end_tolerance):
+                return None, deviation
+
+        facing = pose.theta + (math.pi if curve.reverse else 0.0)
+        path_heading = float(curve.headings[self.segment])
+        curvature = float(curve.curvatures[self.segment])
+        heading_error = wrap_angle(path_heading - facing)
+        target = path_heading - math.atan(config.cross_track_gain * offset)
+        steering = config.heading_gain * wrap_angle(target - facing)
+
+        speed = config.linear_speed
+        if abs(curvature) > 1e-9:
+            speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
+        if remaining != math.inf:
+            speed = min(speed, _braking_speed(abs(remaining), config.deceleration,
+                                              config.period_s))
+            speed = math.copysign(speed, remaining)
+        if abs(heading_error) > config.turn_first_angle:
+            speed = 0.0
+        else:
+            speed *= math.cos(heading_error)
+        angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
+        linear = -speed if curve.reverse else speed
+        return Command(linear, angular), deviation
+
+
+class PathFollower:
+    """Drives a Path leg by leg; `done` once the last leg is finished."""
+
+    def __init__(self, path: Path, *, end_tolerance: float | None = None) -> None:
+        self.path = path
+        self.leg_index = 0
+        self.max_deviation = 0.0
+        self._end_tolerance = end_tolerance
+        self._tracker: _TurnTracker | _CurveTracker | None = None
+
+    @property
+    def done(self) -> bool:
+        return self.leg_index >= len(self.path.legs)
+
+    @property
+    def laps(self) -> int:
+        """Completed laps of an endless loop."""
+        return self._tracker.laps if isinstance(self._tracker, _CurveTracker) else 0
+
+    def update(self, pose: Pose2D, config: ControlConfig) -> Command:
+        """The command for this control period; STOP once done."""
+        while not self.done:
+            leg = self.path.legs[self.leg_index]
+            if self._tracker is None:
+                last = self.leg_index == len(self.path.legs) - 1
+                tolerance = config.position_tolerance
+                if last and self._end_tolerance is not None:
+                    tolerance = self._end_tolerance
+                self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
+                                 else _CurveTracker(leg, tolerance))
+            command, deviation = self._tracker.update(pose, config)
+            self.max_deviation = max(self.max_deviation, deviation)
+            if command is not None:
+                return command
+            self.leg_index += 1
+            self._tracker = None
+        return STOP

@@ -1,0 +1,160 @@
+"""Paths as legs: curves tracked continuously and turns made in place.
+
+Every trajectory is a Path: a polygon is straight curves joined by turns, a circle one sampled
+curve, a go-to a turn and a straight curve. One follower (turtle_traj.control) drives them all.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from turtle_traj.geometry.angles import shortest_angular_distance, wrap_angle
+
+
+@dataclass(frozen=True)
+class Pose2D:
+    """A planar pose in the turtlesim world frame: metres and radians."""
+
+    x: float
+    y: float
+    theta: float
+
+
+@dataclass(frozen=True, eq=False)
+class Curve:
+    """A polyline tracked continuously, with no corner sharper than the planner allowed.
+
+    :param points: (N, 2) array, N >= 2, metres.
+    :param reverse: driven backwards (the turtle faces away from the direction of travel).
+    :param repeat: an endless loop (points[-1] == points[0]); the follower never finishes it.
+    """
+
+    points: np.ndarray
+    reverse: bool = False
+    repeat: bool = False
+
+    @cached_property
+    def segment_lengths(self) -> np.ndarray:
+        return np.hypot(*np.diff(self.points, axis=0).T)
+
+    @cached_property
+    def cumulative_length(self) -> np.ndarray:
+        """Arc length at each point, starting at 0."""
+        return np.concatenate(([0.0], np.cumsum(self.segment_lengths)))
+
+    @property
+    def length(self) -> float:
+        return float(self.cumulative_length[-1])
+
+    @cached_property
+    def headings(self) -> np.ndarray:
+        """Direction of travel of each segment."""
+        delta = np.diff(self.points, axis=0)
+        return np.arctan2(delta[:, 1], delta[:, 0])
+
+    @cached_property
+    def curvatures(self) -> np.ndarray:
+        """Signed curvature around each segment (1/m), from the heading change at its ends."""
+        turn = np.angle(np.exp(1j * np.diff(self.headings)))
+        mean_length = 0.5 * (self.segment_lengths[:-1] + self.segment_lengths[1:])
+        at_vertices = turn / np.maximum(mean_length, 1e-9)
+        if self.repeat and len(at_vertices):
+            closing = math.remainder(self.headings[0] - self.headings[-1], 2 * math.pi)
+            edge = closing / max(0.5 * (self.segment_lengths[0] + self.segment_lengths[-1]),
+                                 1e-9)
+            padded = np.concatenate(([edge], at_vertices, [edge]))
+        else:
+            padded = np.concatenate(([0.0], at_vertices, [0.0]))
+        return 0.5 * (padded[:-1] + padded[1:])
+
+    @property
+    def end(self) -> tuple[float, float]:
+        return float(self.points[-1, 0]), float(self.points[-1, 1])
+
+
+@dataclass(frozen=True)
+class Turn:
+    """Turn in place at (x, y) by `sweep_rad` (signed, may exceed pi) from `start_heading`."""
+
+    x: float
+    y: float
+    start_heading: float
+    sweep_rad: float
+
+    @property
+    def end_heading(self) -> float:
+        return wrap_angle(self.start_heading + self.sweep_rad)
+
+    @property
+    def end(self) -> tuple[float, float]:
+        return self.x, self.y
+
+
+Leg = Curve | Turn
+
+
+@dataclass(frozen=True)
+class Path:
+    """A planned trajectory: legs in order, plus what the report needs to know."""
+
+    legs: tuple[Leg, ...]
+    closed: bool = False
+    endless: bool = False
+    final_heading: float | None = field(default=None)
+
+    @property
+    def end(self) -> tuple[float, float]:
+        return self.legs[-1].end
+
+    @property
+    def length(self) -> float:
+        return sum(leg.length for leg in self.legs if isinstance(leg, Curve))
+
+    @property
+    def turning(self) -> float:
+        """Total in-place turning, radians."""
+        return sum(abs(leg.sweep_rad) for leg in self.legs if isinstance(leg, Turn))
+
+    def points(self) -> np.ndarray:
+        """Every point the turtle is meant to visit, (N, 2)."""
+        parts = [leg.points if isinstance(leg, Curve) else np.array([[leg.x, leg.y]])
+                 for leg in self.legs]
+        return np.concatenate(parts)
+
+    def lower_bound_s(self, linear_speed: float, angular_speed: float) -> float:
+        """Kinematic lower bound of the time to drive it at the given top speeds."""
+        return self.length / linear_speed + self.turning / angular_speed
+
+
+def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: float,
+                       reverse: bool = False) -> list[Leg]:
+    """Split a polyline into curves at corners sharper than `corner_angle_rad`.
+
+    The turtle starts at `start`; a turn in place (shortest direction) is inserted wherever the
+    direction of travel changes by more than the corner angle, including before the first
+    segment. Zero-length segments are dropped.
+    """
+    points = np.asarray(points, dtype=float)
+    keep = np.concatenate(([True], np.hypot(*np.diff(points, axis=0).T) > 1e-9))
+    points = points[keep]
+    legs: list[Leg] = []
+    heading = start.theta + (math.pi if reverse else 0.0)
+    current: list[np.ndarray] = [points[0]]
+    for a, b in zip(points[:-1], points[1:], strict=True):
+        direction = math.atan2(b[1] - a[1], b[0] - a[0])
+        change = shortest_angular_distance(heading, direction)
+        if abs(change) > corner_angle_rad:
+            if len(current) > 1:
+                legs.append(Curve(np.array(current), reverse=reverse))
+            facing = heading - (math.pi if reverse else 0.0)
+            legs.append(Turn(float(a[0]), float(a[1]), wrap_angle(facing), change))
+            current = [a]
+        current.append(b)
+        heading = direction
+    if len(current) > 1:
+        legs.append(Curve(np.array(current), reverse=reverse))
+    return legs

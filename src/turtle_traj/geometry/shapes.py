@@ -1,0 +1,173 @@
+"""Trajectories as Paths anchored at the turtle's pose, and the arena check."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from turtle_traj.geometry.angles import shortest_angular_distance
+from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn, legs_from_polyline
+
+SAMPLE_SPACING_M = 0.02  # chord error of a 1 m circle at this spacing: 0.05 mm
+MAX_TURNS = 100.0
+
+
+class PlanError(ValueError):
+    """A request that cannot become a safe path; the message says why."""
+
+
+@dataclass(frozen=True)
+class Arena:
+    """The rectangle the turtle may use, shrunk by a safety margin on every side."""
+
+    min_x: float
+    min_y: float
+    max_x: float
+    max_y: float
+    margin: float
+
+    def contains(self, points: np.ndarray) -> bool:
+        points = np.atleast_2d(points)
+        return bool(np.all((points[:, 0] >= self.min_x + self.margin)
+                           & (points[:, 0] <= self.max_x - self.margin)
+                           & (points[:, 1] >= self.min_y + self.margin)
+                           & (points[:, 1] <= self.max_y - self.margin)))
+
+    def describe(self) -> str:
+        return (f'x in [{self.min_x + self.margin:.2f}, {self.max_x - self.margin:.2f}], '
+                f'y in [{self.min_y + self.margin:.2f}, {self.max_y - self.margin:.2f}]')
+
+
+def _rotate(local: np.ndarray, start: Pose2D) -> np.ndarray:
+    """Local (forward, left) coordinates to world coordinates anchored at `start`."""
+    c, s = math.cos(start.theta), math.sin(start.theta)
+    return np.column_stack((start.x + c * local[:, 0] - s * local[:, 1],
+                            start.y + s * local[:, 0] + c * local[:, 1]))
+
+
+def polygon(start: Pose2D, *, sides: int, side_length: float, clockwise: bool,
+            corner_angle_rad: float) -> Path:
+    """A regular polygon whose first side runs along the current heading."""
+    turn = (-1.0 if clockwise else 1.0) * 2.0 * math.pi / sides
+    angles = start.theta + turn * np.arange(sides)
+    steps = side_length * np.column_stack((np.cos(angles), np.sin(angles)))
+    vertices = np.vstack(([[start.x, start.y]], start_xy(start) + np.cumsum(steps, axis=0)))
+    vertices[-1] = vertices[0]  # close exactly, free of rounding
+    legs = legs_from_polyline(start, vertices, corner_angle_rad=corner_angle_rad)
+    return Path(tuple(legs), closed=True)
+
+
+def start_xy(start: Pose2D) -> np.ndarray:
+    return np.array([start.x, start.y])
+
+
+def circle(start: Pose2D, *, radius: float, clockwise: bool, turns: float) -> Path:
+    """A circle tangent to the current heading; turns == 0 means endless."""
+    side = -1.0 if clockwise else 1.0
+    laps = turns if turns > 0 else 1.0
+    count = max(int(math.ceil(2 * math.pi * radius * laps / SAMPLE_SPACING_M)), 16)
+    phi = np.linspace(0.0, 2 * math.pi * laps, count + 1)
+    local = np.column_stack((radius * np.sin(phi), side * radius * (1.0 - np.cos(phi))))
+    points = _rotate(local, start)
+    whole_laps = abs(laps - round(laps)) < 1e-9
+    if whole_laps:
+        points[-1] = points[0]
+    return Path((Curve(points, repeat=turns <= 0),), closed=whole_laps, endless=turns <= 0)
+
+
+def spiral_points(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool,
+                  end_radius: float) -> np.ndarray:
+    """An Archimedean spiral tangent to the heading, growing `growth` metres per turn."""
+    side = -1.0 if clockwise else 1.0
+    phis = [0.0]
+    while (radius := start_radius + growth * phis[-1] / (2 * math.pi)) < end_radius:
+        phis.append(phis[-1] + SAMPLE_SPACING_M / radius)
+    phi = np.array(phis)
+    radius = start_radius + growth * phi / (2 * math.pi)
+    local = np.column_stack((radius * np.sin(phi),
+                             side * (start_radius - radius * np.cos(phi))))
+    return _rotate(local, start)
+
+
+def spiral(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool,
+           turns: float, max_radius: float, arena: Arena) -> Path:
+    """A spiral ending after `turns`, at `max_radius`, or (neither given) before the wall."""
+    limits = [start_radius + growth * turns] if turns > 0 else []
+    limits += [max_radius] if max_radius > 0 else []
+    if limits and min(limits) <= start_radius:
+        raise PlanError(f'the spiral must end beyond its start radius {start_radius:g} m')
+    arena_diagonal = math.hypot(arena.max_x - arena.min_x, arena.max_y - arena.min_y)
+    points = spiral_points(start, start_radius=start_radius, growth=growth,
+                           clockwise=clockwise, end_radius=min(limits or [arena_diagonal]))
+    if not limits:
+        inside = ((points[:, 0] >= arena.min_x + arena.margin)
+                  & (points[:, 0] <= arena.max_x - arena.margin)
+                  & (points[:, 1] >= arena.min_y + arena.margin)
+                  & (points[:, 1] <= arena.max_y - arena.margin))
+        first_outside = int(np.argmin(inside)) if not inside.all() else len(points)
+        points = points[:first_outside]
+        if len(points) < 2 * math.pi * start_radius / SAMPLE_SPACING_M:
+            raise PlanError('not even one full turn of the spiral fits before the wall from '
+                            'here')
+    return Path((Curve(points),))
+
+
+def sine(start: Pose2D, *, amplitude: float, frequency: float, length: float,
+         corner_angle_rad: float) -> Path:
+    """A sine wave along the current heading: `frequency` cycles per metre for `length` m."""
+    spacing = min(SAMPLE_SPACING_M, 1.0 / (frequency * 60.0))
+    along = np.linspace(0.0, length, max(int(math.ceil(length / spacing)), 2) + 1)
+    local = np.column_stack((along, amplitude * np.sin(2 * math.pi * frequency * along)))
+    legs = legs_from_polyline(start, _rotate(local, start), corner_angle_rad=corner_angle_rad)
+    return Path(tuple(legs))
+
+
+def straight(start: Pose2D, *, distance: float) -> Path:
+    """Drive `distance` metres along the heading; negative drives backwards."""
+    end = _rotate(np.array([[distance, 0.0]]), start)[0]
+    return Path((Curve(np.vstack((start_xy(start), end)), reverse=distance < 0),))
+
+
+def rotation(start: Pose2D, *, angle_rad: float) -> Path:
+    """Turn in place by `angle_rad` (counter-clockwise positive)."""
+    return Path((Turn(start.x, start.y, start.theta, angle_rad),))
+
+
+def go_to(start: Pose2D, *, x: float, y: float, final_heading: float | None,
+          tolerance: float, corner_angle_rad: float) -> Path:
+    """Turn towards the goal, drive to it, then turn to `final_heading` if one is given."""
+    legs = []
+    if math.hypot(x - start.x, y - start.y) > tolerance:
+        legs += legs_from_polyline(start, np.array([[start.x, start.y], [x, y]]),
+                                   corner_angle_rad=corner_angle_rad)
+    if final_heading is not None:
+        heading = math.atan2(y - start.y, x - start.x) if legs else start.theta
+        legs.append(Turn(x, y, heading, shortest_angular_distance(heading, final_heading)))
+    return Path(tuple(legs), final_heading=final_heading)
+
+
+def follow(start: Pose2D, *, points: Sequence[tuple[float, float]], closed: bool,
+           corner_angle_rad: float) -> Path:
+    """A polyline through `points`, reached from the current position."""
+    waypoints = np.array(points, dtype=float).reshape(-1, 2)
+    if closed:
+        waypoints = np.vstack((waypoints, waypoints[:1]))
+    route = np.vstack((start_xy(start), waypoints))
+    legs = legs_from_polyline(start, route, corner_angle_rad=corner_angle_rad)
+    return Path(tuple(legs), closed=closed)
+
+
+def largest_fitting(build: Callable[[float], Path], arena: Arena, requested: float) -> float:
+    """Largest size in (0, requested] whose path stays inside the arena (0 if none)."""
+    low, high = 0.0, requested
+    for _ in range(40):
+        middle = 0.5 * (low + high)
+        try:
+            fits = arena.contains(build(middle).points())
+        except PlanError:
+            fits = False
+        low, high = (middle, high) if fits else (low, middle)
+    return low
