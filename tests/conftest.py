@@ -60,3 +60,15 @@ def sim(ros_context, tmp_path):
         yield harness
     finally:
         harness.close()
+
+
+@pytest.fixture
+def traj(ros_context, tmp_path):
+    """Simulator, trajectory node (both on simulated time) and a client, in one executor."""
+    from tests.ros_helpers import TrajHarness
+
+    harness = TrajHarness(ros_context, tmp_path / 'output')
+    try:
+        yield harness
+    finally:
+        harness.close()

@@ -9,6 +9,8 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
 from turtle_traj.geometry import shapes
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.geometry.shapes import Arena, PlanError
@@ -65,14 +67,24 @@ def _non_negative(name: str, value: float, default: float, unit: str, upper: flo
     return value or default
 
 
+def _fits(path: Path, arena: Arena, start: Pose2D) -> bool:
+    """Every planned point is inside the arena, except the start itself.
+
+    The start is exempt so that a turtle parked near a wall may still drive away from it.
+    """
+    points = path.points()
+    away = np.hypot(points[:, 0] - start.x, points[:, 1] - start.y) > 1e-9
+    return arena.contains(points[away]) if away.any() else True
+
+
 def _checked(path: Path, arena: Arena, start: Pose2D, what: str,
              rebuild: Callable[[float], Path] | None, size: float, unit: str) -> Path:
-    if arena.contains(path.points()):
+    if _fits(path, arena, start):
         return path
     message = (f'the {what} would leave the arena ({arena.describe()}, after the wall margin) '
                f'from ({start.x:.2f}, {start.y:.2f})')
     if rebuild is not None:
-        largest = shapes.largest_fitting(rebuild, arena, size)
+        largest = shapes.largest_fitting(rebuild, lambda p: _fits(p, arena, start), size)
         message += (f'; the largest that fits from here is {largest:.2f} {unit}' if largest > 1e-3
                     else '; nothing of this kind fits from here: move the turtle away from '
                          'the wall first')

@@ -160,14 +160,15 @@ def follow(start: Pose2D, *, points: Sequence[tuple[float, float]], closed: bool
     return Path(tuple(legs), closed=closed)
 
 
-def largest_fitting(build: Callable[[float], Path], arena: Arena, requested: float) -> float:
-    """Largest size in (0, requested] whose path stays inside the arena (0 if none)."""
+def largest_fitting(build: Callable[[float], Path], fits: Callable[[Path], bool],
+                    requested: float) -> float:
+    """Largest size in (0, requested] whose path `fits` (0 if none), by bisection."""
     low, high = 0.0, requested
     for _ in range(40):
         middle = 0.5 * (low + high)
         try:
-            fits = arena.contains(build(middle).points())
+            fits_here = fits(build(middle))
         except PlanError:
-            fits = False
-        low, high = (middle, high) if fits else (low, middle)
+            fits_here = False
+        low, high = (middle, high) if fits_here else (low, middle)
     return low

@@ -1,0 +1,348 @@
+"""TrajectoryNode: one service per trajectory, a control timer, live parameters.
+
+Service handlers validate and plan, hand the path to the control timer and await its end; the
+timer steps the pure PathFollower on the latest pose. A steady-clock watchdog aborts a
+trajectory when poses stop arriving (the simulator vanished), even if simulated time stopped.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+from geometry_msgs.msg import PoseStamped, Twist
+from nav_msgs.msg import Path as PathMsg
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile
+from rclpy.task import Future
+from rclpy.time import Time
+from std_srvs.srv import Empty, Trigger
+from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
+from turtlesim.msg import Pose
+
+from turtle_traj import planning
+from turtle_traj.control.follower import STOP, Command, PathFollower
+from turtle_traj.geometry.path import Path, Pose2D
+from turtle_traj.geometry.shapes import PlanError
+from turtle_traj.node import parameters
+from turtle_traj.sim.node import TURTLE_TOPIC_QOS
+
+PLAN_FRAME_ID = 'world'
+MAX_SPEED = 10.0  # m/s and rad/s: the largest speed a request may ask for
+_SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
+_WATCHDOG_PERIOD_S = 0.05
+_RESET_TIMEOUT_S = 5.0
+
+
+@dataclass
+class Outcome:
+    """How a trajectory ended, as the service response reports it."""
+
+    success: bool
+    message: str
+    pose: Pose2D | None = None
+    elapsed_s: float = 0.0
+    path_length: float = 0.0
+    max_deviation: float = 0.0
+    final_error: float = 0.0
+
+
+@dataclass
+class _Run:
+    """The trajectory being driven."""
+
+    kind: str
+    path: Path
+    follower: PathFollower
+    started: Time
+    speeds: dict[str, float]
+    start_wall_clearance: float
+    done: Future = field(default_factory=Future)
+    settle_periods: int = 0
+
+
+def fill_response(response, outcome: Outcome):
+    """Copy an outcome into any of our service responses (they share these fields)."""
+    response.success = outcome.success
+    response.message = outcome.message
+    if outcome.pose is not None:
+        response.final_x, response.final_y = outcome.pose.x, outcome.pose.y
+        response.final_theta = outcome.pose.theta
+    response.elapsed = outcome.elapsed_s
+    response.path_length = outcome.path_length
+    response.max_deviation = outcome.max_deviation
+    response.final_error = outcome.final_error
+    return response
+
+
+class TrajectoryNode(Node):
+    """Drives one turtle along trajectories on request (node name `turtle_traj`)."""
+
+    def __init__(self, node_name: str = 'turtle_traj', **kwargs) -> None:
+        super().__init__(node_name, **kwargs)
+        # The validator goes first so that overrides given at start-up are checked too.
+        self.add_on_set_parameters_callback(lambda params: parameters.validate(self, params))
+        parameters.declare(self)
+        self.settings = parameters.read_settings(self)
+        self.add_post_set_parameters_callback(self._on_parameters_set)
+        turtle = self.get_parameter('turtle_name').value
+
+        self._pose: Pose2D | None = None
+        self._pose_msg: Pose | None = None
+        self._pose_wall_s = -math.inf
+        self._run: _Run | None = None
+
+        self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
+        self.create_subscription(Pose, f'{turtle}/pose', self._on_pose, TURTLE_TOPIC_QOS)
+        self._cmd_vel = self.create_publisher(Twist, f'{turtle}/cmd_vel', TURTLE_TOPIC_QOS)
+        self._plan = self.create_publisher(
+            PathMsg, '~/plan', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+
+        # Handlers await the end of a trajectory, so they must not block the timer's group.
+        group = ReentrantCallbackGroup()
+        for shape in planning.SHAPES:
+            self.create_service(DrawShape, f'~/draw_{shape}', self._shape_handler(shape),
+                                callback_group=group)
+        self.create_service(GoTo, '~/go_to', self._handle_go_to, callback_group=group)
+        self.create_service(Move, '~/move', self._handle_move, callback_group=group)
+        self.create_service(Move, '~/rotate', self._handle_rotate, callback_group=group)
+        self.create_service(FollowPath, '~/follow_path', self._handle_follow_path,
+                            callback_group=group)
+        self.create_service(Trigger, '~/stop', self._handle_stop, callback_group=group)
+        self.create_service(Trigger, '~/reset', self._handle_reset, callback_group=group)
+        self.stop_service = self.resolve_service_name('~/stop')
+        self._sim_reset = self.create_client(Empty, 'reset', callback_group=group)
+
+        self.create_timer(1.0 / self.get_parameter('control_rate').value,
+                          self._on_control_timer)
+        self.create_timer(_WATCHDOG_PERIOD_S, self._on_watchdog,
+                          clock=Clock(clock_type=ClockType.STEADY_TIME))
+
+    # -- inputs ------------------------------------------------------------------------------
+
+    def _on_parameters_set(self, _parameters) -> None:
+        self.settings = parameters.read_settings(self)
+
+    def _on_pose(self, msg: Pose) -> None:
+        self._pose = Pose2D(msg.x, msg.y, msg.theta)
+        self._pose_msg = msg
+        self._pose_wall_s = time.monotonic()
+
+    @property
+    def busy(self) -> bool:
+        return self._run is not None
+
+    # -- control -----------------------------------------------------------------------------
+
+    def _on_control_timer(self) -> None:
+        run = self._run
+        if run is None or self._pose is None:
+            return
+        if run.follower.done:
+            self._publish(STOP)
+            msg = self._pose_msg
+            standing = msg.linear_velocity == 0.0 and msg.angular_velocity == 0.0
+            run.settle_periods += 1
+            if standing or run.settle_periods > _SETTLE_PERIODS:
+                self._finish(True, f'{run.kind} done')
+            return
+        clearance = self._wall_clearance(self._pose)
+        if clearance < self.settings.arena.margin / 2 and clearance < run.start_wall_clearance:
+            self._finish(False, f'{run.kind} stopped: the turtle came within {clearance:.3f} m '
+                                f'of the wall at ({self._pose.x:.2f}, {self._pose.y:.2f})')
+            return
+        config = replace(self.settings.control, **run.speeds)
+        self._publish(run.follower.update(self._pose, config))
+
+    def _on_watchdog(self) -> None:
+        if self._run is None:
+            return
+        silence = time.monotonic() - self._pose_wall_s
+        if silence > self.settings.pose_timeout_s:
+            self._finish(False, f'{self._run.kind} aborted: no pose on {self.pose_topic} for '
+                                f'{silence:.2f} s (pose_timeout {self.settings.pose_timeout_s:g} '
+                                's); is the simulator still running?')
+
+    def shutdown_turtle(self) -> None:
+        """End any trajectory and leave the turtle standing (called on program exit)."""
+        self._finish(False, 'aborted: the node is shutting down')
+        self._publish(STOP)
+
+    def _publish(self, command: Command) -> None:
+        twist = Twist()
+        twist.linear.x, twist.angular.z = command.linear, command.angular
+        self._cmd_vel.publish(twist)
+
+    def _wall_clearance(self, pose: Pose2D) -> float:
+        arena = self.settings.arena
+        return min(pose.x - arena.min_x, arena.max_x - pose.x,
+                   pose.y - arena.min_y, arena.max_y - pose.y)
+
+    def _finish(self, success: bool, message: str) -> None:
+        run, self._run = self._run, None
+        if run is None:
+            return
+        self._publish(STOP)
+        pose = self._pose
+        outcome = Outcome(
+            success, message, pose,
+            elapsed_s=(self.get_clock().now() - run.started).nanoseconds * 1e-9,
+            path_length=run.path.length, max_deviation=run.follower.max_deviation,
+            final_error=math.dist((pose.x, pose.y), run.path.end) if pose else math.nan)
+        log = self.get_logger().info if success else self.get_logger().warning
+        log(f'{message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
+            f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m)')
+        run.done.set_result(outcome)
+
+    # -- running a trajectory ----------------------------------------------------------------
+
+    def _refusal(self) -> str | None:
+        if self._run is not None:
+            return (f'busy: {self._run.kind} is running; wait for it or call '
+                    f'{self.stop_service} (std_srvs/srv/Trigger) to stop it')
+        silence = time.monotonic() - self._pose_wall_s
+        if self._pose is None or silence > self.settings.pose_timeout_s:
+            heard = 'never' if self._pose is None else f'not for {silence:.1f} s'
+            return (f'no pose on {self.pose_topic} ({heard}): is the simulator running and '
+                    f'turtle_name right?')
+        return None
+
+    async def _execute(self, kind: str, response, plan: Callable[[Pose2D], Path], *,
+                       linear_speed: float = 0.0, angular_speed: float = 0.0,
+                       end_tolerance: float | None = None):
+        """Refuse, or plan and drive to the end; the response is filled either way."""
+        refusal = self._refusal()
+        if refusal is None:
+            try:
+                speeds = self._speed_overrides(linear_speed, angular_speed)
+                path = plan(self._pose)
+            except PlanError as error:
+                refusal = f'{kind} refused: {error}'
+        if refusal is not None:
+            self.get_logger().warning(refusal)
+            return fill_response(response, Outcome(False, refusal, self._pose))
+
+        follower = PathFollower(path, end_tolerance=end_tolerance)
+        run = _Run(kind, path, follower, self.get_clock().now(), speeds,
+                   self._wall_clearance(self._pose))
+        self._run = run
+        self._publish_plan(path)
+        self.get_logger().info(
+            f'{kind}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} deg of '
+            'turns in place')
+        outcome = await run.done
+        if path.endless and outcome.message.startswith(f'{kind} stopped by request'):
+            outcome.success = True
+        return fill_response(response, outcome)
+
+    @staticmethod
+    def _speed_overrides(linear: float, angular: float) -> dict[str, float]:
+        overrides = {}
+        for name, value in (('linear_speed', linear), ('angular_speed', angular)):
+            planning.require_finite(**{name: value})
+            if not 0.0 <= value <= MAX_SPEED:
+                raise PlanError(f'{name} must be within 0 (default) and {MAX_SPEED:g}, '
+                                f'got {value:g}')
+            if value > 0.0:
+                overrides[name] = value
+        return overrides
+
+    def _publish_plan(self, path: Path) -> None:
+        msg = PathMsg()
+        msg.header.frame_id = PLAN_FRAME_ID
+        msg.header.stamp = self.get_clock().now().to_msg()
+        points = path.points()
+        stride = max(1, len(points) // 2000)
+        for x, y in points[::stride]:
+            stamped = PoseStamped()
+            stamped.header = msg.header
+            stamped.pose.position.x, stamped.pose.position.y = float(x), float(y)
+            msg.poses.append(stamped)
+        self._plan.publish(msg)
+
+    # -- services ----------------------------------------------------------------------------
+
+    def _shape_handler(self, shape: str):
+        async def handle(request: DrawShape.Request, response: DrawShape.Response):
+            fields = planning.ShapeRequest(
+                sides=request.sides, size=request.size, clockwise=request.clockwise,
+                turns=request.turns, growth=request.growth, max_radius=request.max_radius,
+                frequency=request.frequency, length=request.length)
+            return await self._execute(
+                shape, response,
+                lambda pose: planning.plan_shape(shape, fields, pose, self.settings.defaults,
+                                                 self.settings.arena),
+                linear_speed=request.linear_speed, angular_speed=request.angular_speed)
+        return handle
+
+    async def _handle_go_to(self, request: GoTo.Request, response: GoTo.Response):
+        tolerance = request.tolerance or self.settings.defaults.goal_tolerance
+        return await self._execute(
+            'go_to', response,
+            lambda pose: planning.plan_go_to(
+                pose, x=request.x, y=request.y,
+                theta=request.theta if request.use_theta else None,
+                tolerance=request.tolerance, defaults=self.settings.defaults,
+                arena=self.settings.arena),
+            linear_speed=request.linear_speed,
+            end_tolerance=tolerance if math.isfinite(tolerance) else None)
+
+    async def _handle_move(self, request: Move.Request, response: Move.Response):
+        return await self._execute(
+            'move', response,
+            lambda pose: planning.plan_move(pose, distance=request.distance,
+                                            arena=self.settings.arena),
+            linear_speed=request.speed)
+
+    async def _handle_rotate(self, request: Move.Request, response: Move.Response):
+        return await self._execute(
+            'rotate', response, lambda pose: planning.plan_rotation(pose, angle=request.angle),
+            angular_speed=request.speed)
+
+    async def _handle_follow_path(self, request: FollowPath.Request,
+                                  response: FollowPath.Response):
+        points = [(p.x, p.y) for p in request.points]
+        return await self._execute(
+            'follow_path', response,
+            lambda pose: planning.plan_follow(pose, points=points, closed=request.closed,
+                                              defaults=self.settings.defaults,
+                                              arena=self.settings.arena),
+            linear_speed=request.linear_speed)
+
+    def _handle_stop(self, request: Trigger.Request, response: Trigger.Response):
+        run = self._run
+        self._publish(STOP)
+        if run is None:
+            response.success, response.message = True, 'nothing was running; turtle stopped'
+        else:
+            self._finish(False, f'{run.kind} stopped by request')
+            response.success, response.message = True, f'stopped {run.kind}'
+        return response
+
+    async def _handle_reset(self, request: Trigger.Request, response: Trigger.Response):
+        if self._run is not None:
+            self._finish(False, f'{self._run.kind} aborted: reset requested')
+        if not self._sim_reset.service_is_ready():
+            response.message = (f'the simulator service {self._sim_reset.srv_name} is not '
+                                 'available')
+            return response
+        future = self._sim_reset.call_async(Empty.Request())
+        timer = self.create_timer(
+            _RESET_TIMEOUT_S, lambda: future.done() or future.cancel(),
+            clock=Clock(clock_type=ClockType.STEADY_TIME))
+        try:
+            await future
+        except Exception:  # cancelled by the timeout above
+            pass
+        finally:
+            self.destroy_timer(timer)
+        if future.cancelled() or not future.done():
+            response.message = (f'{self._sim_reset.srv_name} did not answer in '
+                                f'{_RESET_TIMEOUT_S:g} s')
+        else:
+            response.success, response.message = True, 'simulator reset; ready'
+        return response
