@@ -4,8 +4,8 @@ Pure Python: `PathFollower.update(pose, config)` returns the next velocity comma
 tracked with curvature feed-forward plus a heading set-point that steers back onto the path
 (`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
 towards the end of the curve and, near the end, by a fifth of the remaining distance per
-control period, so commands that act a period or two late still do not overshoot. A turtle facing more
-than `turn_first_angle` away from the path turns in place first.
+control period, so commands that act a period or two late still do not overshoot. A turtle
+facing more than `turn_first_angle` away from the path turns in place first.
 """
 
 from __future__ import annotations
@@ -55,7 +55,8 @@ STOP = Command()
 
 def _braking_speed(remaining: float, deceleration: float, period_s: float) -> float:
     """Fastest speed from which the turtle still stops within `remaining`, latency included."""
-    return min(math.sqrt(2.0 * deceleration * remaining), remaining / (_LATENCY_ALLOWANCE * period_s))
+    return min(math.sqrt(2.0 * deceleration * remaining),
+               remaining / (_LATENCY_ALLOWANCE * period_s))
 
 
 def _clamp(value: float, limit: float) -> float:
