@@ -193,9 +193,13 @@ class TrajectoryNode(Node):
             elapsed_s=(self.get_clock().now() - run.started).nanoseconds * 1e-9,
             path_length=run.path.length, max_deviation=run.follower.max_deviation,
             final_error=math.dist((pose.x, pose.y), run.path.end) if pose else math.nan)
-        log = self.get_logger().info if success else self.get_logger().warning
-        log(f'{message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
-            f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m)')
+        summary = (f'{message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
+                   f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m)')
+        # Two call sites: rclpy refuses one call site logging at two severities.
+        if success:
+            self.get_logger().info(summary)
+        else:
+            self.get_logger().warning(summary)
         run.done.set_result(outcome)
 
     # -- running a trajectory ----------------------------------------------------------------

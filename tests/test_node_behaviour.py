@@ -1,0 +1,153 @@
+"""Refusals, stop, live parameters, reset and a vanishing simulator: the node keeps serving."""
+
+import math
+
+import pytest
+from rcl_interfaces.msg import Parameter as ParameterMsg
+from rcl_interfaces.msg import ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from std_srvs.srv import Trigger
+from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
+
+from tests.ros_helpers import spin_until
+from turtle_traj.node.trajectory_node import TrajectoryNode
+from turtle_traj.sim.physics import SPAWN_XY_M, WORLD_SIZE_M
+
+# Room from the start pose to the right and top edges, after the default 0.3 m wall margin.
+ROOM = WORLD_SIZE_M - 0.3 - SPAWN_XY_M
+
+
+def _double(value: float) -> ParameterValue:
+    return ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=value)
+
+
+def _set(traj, **values):
+    request = SetParameters.Request(parameters=[
+        ParameterMsg(name=name, value=value) for name, value in values.items()])
+    return traj.call(SetParameters, '/turtle_traj/set_parameters', request).results
+
+
+@pytest.mark.parametrize(('service', 'service_type', 'fields', 'reason'), [
+    ('draw_square', DrawShape, dict(size=math.nan), 'size must be a finite number'),
+    ('draw_circle', DrawShape, dict(size=-1.0), 'size must be positive'),
+    ('draw_circle', DrawShape, dict(size=1e308), 'too large'),
+    ('draw_polygon', DrawShape, dict(sides=2), 'needs 3 to'),
+    ('draw_polygon', DrawShape, dict(sides=4_000_000_000), 'needs 3 to'),
+    ('draw_hexagon', DrawShape, dict(linear_speed=-1.0), 'linear_speed must be within'),
+    ('draw_sine', DrawShape, dict(angular_speed=math.inf), 'angular_speed must be a finite'),
+    ('draw_square', DrawShape, dict(size=6.0), f'the largest that fits from here is {ROOM:.2f}'),
+    ('draw_circle', DrawShape, dict(size=3.0),
+     f'the largest that fits from here is {ROOM / 2:.2f}'),
+    ('go_to', GoTo, dict(x=12.0, y=5.0), 'outside the arena'),
+    ('go_to', GoTo, dict(x=math.inf, y=5.0), 'x must be a finite number'),
+    ('move', Move, dict(distance=0.0), 'non-zero'),
+    ('move', Move, dict(distance=9.0), f'the largest that fits from here is {ROOM:.2f}'),
+    ('rotate', Move, dict(angle=math.nan), 'angle must be a finite number'),
+    ('follow_path', FollowPath, dict(), 'points is empty'),
+])
+def test_bad_requests_are_refused_and_the_node_still_works(traj, service, service_type,
+                                                            fields, reason):
+    response = traj.run(service_type, service, service_type.Request(**fields))
+    assert not response.success
+    assert reason in response.message
+    assert not traj.node.busy
+    assert max(p.linear_velocity for p in traj.poses) == 0.0  # refused before moving
+    after = traj.run(Move, 'rotate', Move.Request(angle=0.5))
+    assert after.success, after.message
+
+
+def test_busy_refusal_names_the_runner_and_stop_ends_it(traj):
+    circling = traj.start(DrawShape, 'draw_circle', DrawShape.Request(size=1.0))  # endless
+    assert traj.spin_until(lambda: traj.node.busy)
+    traj.spin_sim_seconds(2.0)
+    busy = traj.run(GoTo, 'go_to', GoTo.Request(x=2.0, y=2.0))
+    assert not busy.success
+    assert 'busy: circle is running' in busy.message and '/turtle_traj/stop' in busy.message
+    stopped = traj.call(Trigger, '/turtle_traj/stop')
+    assert stopped.success and stopped.message == 'stopped circle'
+    assert traj.spin_until(circling.done)
+    result = circling.result()
+    assert result.success  # an endless circle ends only by stop, which is its normal end
+    assert 'stopped by request' in result.message
+    assert traj.spin_until(lambda: traj.poses[-1].linear_velocity == 0.0)
+
+
+def test_stop_aborts_a_finite_trajectory(traj):
+    drawing = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+    assert traj.spin_until(lambda: traj.node.busy)
+    traj.spin_sim_seconds(1.0)
+    traj.call(Trigger, '/turtle_traj/stop')
+    assert traj.spin_until(drawing.done)
+    assert not drawing.result().success
+    assert drawing.result().message == 'square stopped by request'
+    assert traj.run(Move, 'move', Move.Request(distance=0.5)).success
+
+
+def test_live_parameters_change_speed_and_bad_values_are_refused(traj):
+    slow = traj.run(Move, 'move', Move.Request(distance=1.0))
+    results = _set(traj, linear_speed=_double(2.0))
+    assert results[0].successful
+    fast = traj.run(Move, 'move', Move.Request(distance=-1.0))
+    assert fast.elapsed < 0.7 * slow.elapsed
+    assert max(p.linear_velocity for p in traj.poses) == pytest.approx(2.0, abs=1e-6)
+
+    for name, value in [('linear_speed', _double(-1.0)), ('linear_speed', _double(math.nan)),
+                        ('heading_gain', ParameterValue(type=ParameterType.PARAMETER_STRING,
+                                                        string_value='fast')),
+                        ('control_rate', _double(100.0)),
+                        ('wall_margin', _double(5.4))]:
+        result = _set(traj, **{name: value})[0]
+        assert not result.successful, name
+        assert result.reason
+    assert traj.node.get_parameter('linear_speed').value == 2.0
+    assert traj.node.get_parameter('wall_margin').value == 0.3
+
+
+def test_wall_margin_change_applies_to_the_next_plan(traj):
+    assert _set(traj, wall_margin=_double(2.0))[0].successful
+    refused = traj.run(Move, 'move', Move.Request(distance=4.0))
+    assert f'the largest that fits from here is {ROOM - 1.7:.2f}' in refused.message
+
+
+def test_reset_returns_the_turtle_to_the_centre(traj):
+    assert traj.run(Move, 'move', Move.Request(distance=2.0)).success
+    response = traj.call(Trigger, '/turtle_traj/reset')
+    assert response.success, response.message
+    assert traj.spin_until(lambda: traj.poses[-1].x == SPAWN_XY_M)
+
+
+def test_vanishing_simulator_aborts_the_trajectory_and_node_keeps_serving(traj):
+    drawing = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+    assert traj.spin_until(lambda: traj.node.busy)
+    traj.spin_sim_seconds(0.5)
+    traj.executor.remove_node(traj.sim)  # the simulator stops: no more poses, no /clock
+    assert traj.spin_until(drawing.done, timeout_s=5.0)
+    result = drawing.result()
+    assert not result.success
+    assert 'no pose on /turtle1/pose' in result.message
+    refused = traj.run(Move, 'move', Move.Request(distance=1.0), timeout_s=5.0)
+    assert not refused.success and 'is the simulator running' in refused.message
+    traj.executor.add_node(traj.sim)  # it comes back
+    assert traj.spin_until(lambda: not traj.node._refusal())
+    assert traj.run(Move, 'move', Move.Request(distance=0.5)).success
+
+
+def test_node_without_simulator_refuses_at_once(ros_context):
+    node = TrajectoryNode(context=ros_context)
+    client_node = Node('lonely_client', context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    executor.add_node(client_node)
+    try:
+        client = client_node.create_client(DrawShape, '/turtle_traj/draw_square')
+        assert spin_until(executor, client.service_is_ready, timeout_s=10.0)
+        future = client.call_async(DrawShape.Request())
+        assert spin_until(executor, future.done, timeout_s=5.0)
+        assert not future.result().success
+        assert 'no pose on /turtle1/pose (never)' in future.result().message
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+        client_node.destroy_node()
