@@ -4,15 +4,7 @@ import math
 
 import numpy as np
 
-
-def distance_to_polyline(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """Distance of each point to the nearest segment of a polyline."""
-    a, b = vertices[:-1], vertices[1:]
-    ab = b - a
-    ap = points[:, None, :] - a[None, :, :]
-    t = np.clip(np.einsum('pkj,kj->pk', ap, ab) / np.einsum('kj,kj->k', ab, ab), 0.0, 1.0)
-    nearest = a[None] + t[..., None] * ab[None]
-    return np.min(np.linalg.norm(points[:, None, :] - nearest, axis=2), axis=1)
+from turtle_traj.geometry.path import distance_to_polyline  # noqa: F401  (re-exported)
 
 
 def regular_polygon(x: float, y: float, theta: float, sides: int, side: float,

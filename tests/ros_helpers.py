@@ -12,6 +12,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from turtle_traj.sim.node import SimNode
+from turtle_traj.system import InProcessSystem
 
 # Fast enough for whole trajectories in seconds, slow enough that a controller in the same
 # executor still sees (almost) every pose.
@@ -77,31 +78,9 @@ class SimHarness:
             node.destroy_node()
 
 
-class TrajHarness(SimHarness):
-    """SimHarness plus the trajectory node on simulated time, and a pose recorder."""
+class TrajHarness(InProcessSystem):
+    """The in-process system at the tests' time scale, plus extra nodes on its executor."""
 
     def __init__(self, context: Context, output_dir: Path, **node_parameters):
-        super().__init__(context, output_dir)
-        from turtlesim.msg import Pose
-
-        from turtle_traj.node.trajectory_node import TrajectoryNode
-
-        overrides = [Parameter('use_sim_time', value=True)]
-        overrides += [Parameter(name, value=value) for name, value in node_parameters.items()]
-        self.node = self.add_node(TrajectoryNode(context=context, parameter_overrides=overrides))
-        self.poses: list[Pose] = []
-        self.client.create_subscription(Pose, 'turtle1/pose', self.poses.append, 100)
-        assert self.spin_until(lambda: self.node._pose is not None and self.poses)
-
-    def start(self, service_type, name: str, request):
-        """Send a request and return its future without waiting."""
-        client = self.client.create_client(service_type, f'/turtle_traj/{name}')
-        assert self.spin_until(client.service_is_ready, timeout_s=10.0)
-        return client.call_async(request)
-
-    def run(self, service_type, name: str, request, *, timeout_s: float = 60.0):
-        """Call a trajectory service, record the poses it produced, return the response."""
-        self.poses.clear()
-        future = self.start(service_type, name, request)
-        assert self.spin_until(future.done, timeout_s=timeout_s), f'{name} did not finish'
-        return future.result()
+        super().__init__(context=context, time_scale=TEST_TIME_SCALE, output_dir=output_dir,
+                         **node_parameters)

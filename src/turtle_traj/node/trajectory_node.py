@@ -136,6 +136,11 @@ class TrajectoryNode(Node):
     def busy(self) -> bool:
         return self._run is not None
 
+    @property
+    def ready(self) -> bool:
+        """A fresh pose is in and nothing is running: a request would be accepted."""
+        return self._refusal() is None
+
     # -- control -----------------------------------------------------------------------------
 
     def _on_control_timer(self) -> None:
