@@ -151,3 +151,25 @@ def test_node_without_simulator_refuses_at_once(ros_context):
         executor.shutdown()
         node.destroy_node()
         client_node.destroy_node()
+
+
+def test_sigterm_ends_simulator_and_node_together_cleanly(tmp_path):
+    """Both programs in one process (--with-sim), then SIGTERM: exit 0, no traceback."""
+    import os
+    import subprocess
+    import sys
+
+    process = subprocess.Popen(
+        [sys.executable, '-m', 'turtle_traj', '--with-sim', '--time-scale', '5'],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
+        env={**os.environ, 'RCUTILS_LOGGING_BUFFERED_STREAM': '0'})
+    try:
+        for line in process.stderr:
+            if 'Spawning turtle [turtle1]' in line:
+                break
+        process.terminate()
+        _, stderr = process.communicate(timeout=15)
+    finally:
+        process.kill()
+    assert process.returncode == 0, stderr
+    assert 'Traceback' not in stderr
