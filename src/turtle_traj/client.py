@@ -1,0 +1,87 @@
+"""Script-side client of the trajectory node: it owns a private node and spins it itself.
+
+Not for use inside another node's callbacks (it spins); that is what async clients are for.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable
+
+import rclpy
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from std_srvs.srv import Trigger
+from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
+
+from turtle_traj import planning
+
+SERVICE_TYPES = {
+    **{f'draw_{shape}': DrawShape for shape in planning.SHAPES},
+    'go_to': GoTo, 'move': Move, 'rotate': Move, 'follow_path': FollowPath,
+    'stop': Trigger, 'reset': Trigger,
+}
+
+
+class TrajClientError(RuntimeError):
+    """The call could not be made or did not finish; the message says why."""
+
+
+class TrajClient:
+    """Calls the services of one trajectory node (default `/turtle_traj`)."""
+
+    def __init__(self, *, node: str = '/turtle_traj', connect_timeout_s: float = 3.0) -> None:
+        self.node_name = node if node.startswith('/') else f'/{node}'
+        self.connect_timeout_s = connect_timeout_s
+        self._context = Context()
+        rclpy.init(context=self._context)
+        self._node = rclpy.create_node(f'turtle_traj_cli_{os.getpid()}', context=self._context)
+        self._executor = SingleThreadedExecutor(context=self._context)
+        self._executor.add_node(self._node)
+
+    def __enter__(self) -> TrajClient:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
+    def call(self, service: str, request=None, *, timeout_s: float = 300.0,
+             on_progress: Callable[[float], None] | None = None):
+        """Call `<node>/<service>` and return its response.
+
+        :param on_progress: called about twice a second with the seconds waited so far.
+        :raises TrajClientError: when no node answers or the call outlives `timeout_s`.
+        """
+        try:
+            service_type = SERVICE_TYPES[service]
+        except KeyError:
+            raise TrajClientError(f'unknown service {service!r}; known: '
+                                  f'{", ".join(SERVICE_TYPES)}') from None
+        name = f'{self.node_name}/{service}'
+        client = self._node.create_client(service_type, name)
+        try:
+            if not client.wait_for_service(timeout_sec=self.connect_timeout_s):
+                raise TrajClientError(
+                    f'no trajectory node answers on {name} (waited '
+                    f'{self.connect_timeout_s:g} s): start one with `python -m turtle_traj '
+                    '--with-sim` (or `turtle-traj up`), and check ROS_DOMAIN_ID')
+            future = client.call_async(request if request is not None
+                                       else service_type.Request())
+            start = last_report = time.monotonic()
+            while not future.done():
+                self._executor.spin_once(timeout_sec=0.1)
+                now = time.monotonic()
+                if now - start > timeout_s:
+                    raise TrajClientError(f'{name} did not answer within {timeout_s:g} s')
+                if on_progress is not None and now - last_report >= 0.5:
+                    on_progress(now - start)
+                    last_report = now
+            return future.result()
+        finally:
+            self._node.destroy_client(client)
+
+    def close(self) -> None:
+        self._executor.shutdown()
+        self._node.destroy_node()
+        rclpy.try_shutdown(context=self._context)

@@ -1,0 +1,69 @@
+"""`turtle-traj` against a running simulator and node (one subprocess), and without one."""
+
+import math
+import subprocess
+import sys
+
+import pytest
+
+from turtle_traj import cli
+
+
+@pytest.fixture(scope='module')
+def running_system(tmp_path_factory):
+    """`python -m turtle_traj --with-sim` at 10x real time, in this test session's domain."""
+    process = subprocess.Popen(
+        [sys.executable, '-m', 'turtle_traj', '--with-sim', '--time-scale', '10'],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+        cwd=tmp_path_factory.mktemp('system'))
+    try:
+        for line in process.stderr:
+            if 'Spawning turtle [turtle1]' in line:
+                break
+        yield process
+    finally:
+        process.terminate()
+        process.communicate(timeout=15)
+
+
+@pytest.mark.parametrize(('argv', 'service', 'fields'), [
+    (['draw', 'polygon', '--sides', '5', '--size', '1.5', '--clockwise'], 'draw_polygon',
+     dict(sides=5, size=1.5, clockwise=True)),
+    (['draw', 'circle', '--size', '2', '--turns', '0'], 'draw_circle', dict(size=2.0)),
+    (['go-to', '8', '2', '--theta', '90'], 'go_to',
+     dict(x=8.0, y=2.0, use_theta=True, theta=math.pi / 2)),
+    (['move', '2', '--backward'], 'move', dict(distance=-2.0)),
+    (['rotate', '90', '--clockwise'], 'rotate', dict(angle=-math.pi / 2)),
+    (['stop'], 'stop', None),
+])
+def test_arguments_become_requests(argv, service, fields):
+    name, request = cli.to_request(cli.build_parser().parse_args(argv))
+    assert name == service
+    if fields is None:
+        assert request is None
+    else:
+        for field, value in fields.items():
+            assert getattr(request, field) == pytest.approx(value)
+
+
+def test_bad_arguments_exit_with_usage(capsys):
+    with pytest.raises(SystemExit) as exited:
+        cli.main(['draw', 'blob'])
+    assert exited.value.code == 2
+    assert "invalid choice: 'blob'" in capsys.readouterr().err
+
+
+def test_no_node_answers_within_seconds(capsys):
+    assert cli.main(['--node', '/nobody_here', 'draw', 'square']) == 2
+    assert 'no trajectory node answers on /nobody_here/draw_square' in capsys.readouterr().err
+
+
+def test_draw_and_refusal_against_a_running_system(running_system, capsys):
+    assert cli.main(['draw', 'square', '--size', '1']) == 0
+    out = capsys.readouterr().out
+    assert out.startswith('done: square done')
+    assert 'final pose  x=5.54' in out
+    assert cli.main(['draw', 'square', '--size', '9']) == 1
+    assert 'the largest that fits from here' in capsys.readouterr().err
+    assert cli.main(['reset']) == 0
+    assert 'simulator reset' in capsys.readouterr().out
