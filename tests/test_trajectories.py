@@ -18,6 +18,7 @@ START = (SPAWN_XY_M, SPAWN_XY_M, 0.0)
     ('draw_triangle', 3, 2.5, True),
     ('draw_hexagon', 6, 1.2, False),
     ('draw_polygon', 5, 1.5, True),
+    ('draw_polygon', 18, 0.5, False),  # exterior angle below corner_angle: still sharp
 ])
 def test_polygon_visits_every_vertex_and_closes(traj, service, sides, side, clockwise):
     response = traj.run(DrawShape, service, DrawShape.Request(

@@ -107,7 +107,7 @@ def plan_shape(shape: str, request: ShapeRequest, start: Pose2D, defaults: Shape
 
         def build(size: float) -> Path:
             return shapes.polygon(start, sides=sides, side_length=size,
-                                  clockwise=request.clockwise, corner_angle_rad=corner)
+                                  clockwise=request.clockwise)
         name = shape if shape != 'polygon' else f'{sides}-sided polygon'
         return _checked(build(side), arena, start, f'{name} of side {side:g} m', build, side,
                         'm (side length)')

@@ -123,7 +123,7 @@ class Path:
         """Every point the turtle is meant to visit, (N, 2)."""
         parts = [leg.points if isinstance(leg, Curve) else np.array([[leg.x, leg.y]])
                  for leg in self.legs]
-        return np.concatenate(parts)
+        return np.concatenate(parts) if parts else np.empty((0, 2))
 
     def lower_bound_s(self, linear_speed: float, angular_speed: float) -> float:
         """Kinematic lower bound of the time to drive it at the given top speeds."""

@@ -48,15 +48,17 @@ def _rotate(local: np.ndarray, start: Pose2D) -> np.ndarray:
                             start.y + s * local[:, 0] + c * local[:, 1]))
 
 
-def polygon(start: Pose2D, *, sides: int, side_length: float, clockwise: bool,
-            corner_angle_rad: float) -> Path:
-    """A regular polygon whose first side runs along the current heading."""
+def polygon(start: Pose2D, *, sides: int, side_length: float, clockwise: bool) -> Path:
+    """A regular polygon whose first side runs along the current heading.
+
+    Every vertex is turned in place, however small its angle: a polygon's corners stay sharp.
+    """
     turn = (-1.0 if clockwise else 1.0) * 2.0 * math.pi / sides
     angles = start.theta + turn * np.arange(sides)
     steps = side_length * np.column_stack((np.cos(angles), np.sin(angles)))
     vertices = np.vstack(([[start.x, start.y]], start_xy(start) + np.cumsum(steps, axis=0)))
     vertices[-1] = vertices[0]  # close exactly, free of rounding
-    legs = legs_from_polyline(start, vertices, corner_angle_rad=corner_angle_rad)
+    legs = legs_from_polyline(start, vertices, corner_angle_rad=1e-9)
     return Path(tuple(legs), closed=True)
 
 

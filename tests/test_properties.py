@@ -1,0 +1,112 @@
+"""Property-based tests of the pure core: planning, geometry and the follower (hypothesis)."""
+
+import math
+
+import numpy as np
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from turtle_traj import planning
+from turtle_traj.control.follower import ControlConfig, PathFollower
+from turtle_traj.geometry.angles import shortest_angular_distance, wrap_angle
+from turtle_traj.geometry.path import Pose2D
+from turtle_traj.geometry.shapes import Arena, PlanError
+from turtle_traj.sim.physics import WORLD_SIZE_M
+
+ARENA = Arena(0.0, 0.0, WORLD_SIZE_M, WORLD_SIZE_M, 0.3)
+DEFAULTS = planning.ShapeDefaults()
+SETTINGS = settings(max_examples=60, deadline=None,
+                    suppress_health_check=[HealthCheck.too_slow])
+
+angles = st.floats(-4 * math.pi, 4 * math.pi)
+near_pi = st.sampled_from([math.pi, -math.pi, math.pi - 1e-9, -math.pi + 1e-9, 3 * math.pi])
+starts = st.builds(Pose2D, st.floats(0.3, WORLD_SIZE_M - 0.3), st.floats(0.3, WORLD_SIZE_M - 0.3),
+                   st.one_of(angles, near_pi))
+shape_requests = st.builds(
+    planning.ShapeRequest,
+    sides=st.integers(3, 12), size=st.floats(0.0, 8.0), clockwise=st.booleans(),
+    turns=st.floats(0.0, 3.0), growth=st.floats(0.0, 1.0), max_radius=st.floats(0.0, 6.0),
+    frequency=st.floats(0.0, 3.0), length=st.floats(0.0, 10.0))
+
+
+@given(angles)
+def test_wrap_angle_is_half_open_and_equivalent(angle):
+    wrapped = wrap_angle(angle)
+    assert -math.pi <= wrapped < math.pi
+    assert math.isclose(math.cos(wrapped), math.cos(angle), abs_tol=1e-9)
+    assert math.isclose(math.sin(wrapped), math.sin(angle), abs_tol=1e-9)
+
+
+@given(angles, angles)
+def test_shortest_distance_turns_one_into_the_other(a, b):
+    delta = shortest_angular_distance(a, b)
+    assert abs(delta) <= math.pi
+    assert math.isclose(math.cos(a + delta), math.cos(b), abs_tol=1e-9)
+
+
+@SETTINGS
+@given(st.sampled_from(planning.SHAPES), shape_requests, starts)
+def test_every_planned_shape_stays_in_the_arena_or_is_refused(shape, request, start):
+    try:
+        path = planning.plan_shape(shape, request, start, DEFAULTS, ARENA)
+    except PlanError as error:
+        assert str(error)
+        return
+    points = path.points()
+    away = np.hypot(points[:, 0] - start.x, points[:, 1] - start.y) > 1e-9
+    assert ARENA.contains(points[away])
+    assert np.all(np.isfinite(points))
+
+
+@SETTINGS
+@given(st.integers(3, 60), st.floats(0.05, 2.0), st.booleans(), starts)
+def test_polygon_sides_are_equal_and_it_closes(sides, side, clockwise, start):
+    path = planning.shapes.polygon(start, sides=sides, side_length=side, clockwise=clockwise)
+    lengths = [leg.length for leg in path.legs if hasattr(leg, 'points')]
+    assert len(lengths) == sides
+    assert np.allclose(lengths, side)
+    assert math.dist(path.end, (start.x, start.y)) < 1e-9
+    turns = [leg.sweep_rad for leg in path.legs if hasattr(leg, 'sweep_rad')]
+    assert np.allclose(np.abs(turns), 2 * math.pi / sides)
+
+
+@SETTINGS
+@given(st.floats(0.05, 2.5), st.booleans(), starts)
+def test_circle_points_keep_the_radius(radius, clockwise, start):
+    path = planning.shapes.circle(start, radius=radius, clockwise=clockwise, turns=1.0)
+    side = -1.0 if clockwise else 1.0
+    center = (start.x - side * radius * math.sin(start.theta),
+              start.y + side * radius * math.cos(start.theta))
+    radii = np.hypot(*(path.points() - center).T)
+    assert np.allclose(radii, radius)
+
+
+poses_anywhere = st.builds(
+    Pose2D, st.floats(0.0, WORLD_SIZE_M), st.floats(0.0, WORLD_SIZE_M),
+    st.one_of(angles, near_pi))
+configs = st.builds(ControlConfig, linear_speed=st.floats(0.01, 10.0),
+                    angular_speed=st.floats(0.01, 10.0), heading_gain=st.floats(0.1, 50.0),
+                    cross_track_gain=st.floats(0.0, 50.0))
+
+
+@SETTINGS
+@given(st.sampled_from(planning.SHAPES + ('go_to', 'rotate')), starts,
+       st.lists(poses_anywhere, min_size=1, max_size=20), configs)
+def test_follower_commands_are_finite_and_within_limits(kind, start, poses, config):
+    if kind == 'go_to':
+        path = planning.plan_go_to(start, x=5.0, y=5.0, theta=1.0, tolerance=0.0,
+                                   defaults=DEFAULTS, arena=ARENA)
+    elif kind == 'rotate':
+        path = planning.plan_rotation(start, angle=-7.0)
+    else:
+        try:
+            path = planning.plan_shape(kind, planning.ShapeRequest(size=0.5, turns=1.0),
+                                       start, DEFAULTS, ARENA)
+        except PlanError:
+            return
+    follower = PathFollower(path)
+    for pose in poses:
+        command = follower.update(pose, config)
+        assert math.isfinite(command.linear) and math.isfinite(command.angular)
+        assert abs(command.linear) <= config.linear_speed + 1e-9
+        assert abs(command.angular) <= config.angular_speed + 1e-9
