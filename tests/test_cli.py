@@ -67,3 +67,40 @@ def test_draw_and_refusal_against_a_running_system(running_system, capsys):
     assert 'the largest that fits from here' in capsys.readouterr().err
     assert cli.main(['reset']) == 0
     assert 'simulator reset' in capsys.readouterr().out
+
+
+def test_params_show_and_set(running_system, capsys):
+    assert cli.main(['params']) == 0
+    shown = capsys.readouterr().out
+    assert 'linear_speed: 1.0' in shown and 'turtle_name: turtle1' in shown
+    assert cli.main(['params', 'linear_speed', '1.5']) == 0
+    assert cli.main(['params', 'linear_speed', '-3.0']) == 1
+    assert 'refused' in capsys.readouterr().err
+    assert cli.main(['params']) == 0
+    assert 'linear_speed: 1.5' in capsys.readouterr().out
+    assert cli.main(['params', 'linear_speed', '1.0']) == 0
+
+
+def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monkeypatch,
+                                                            capsys):
+    import io
+
+    answers = '\n'.join([
+        'x',            # unknown choice
+        '1',            # square
+        'big', '-4', 'nan', '1',   # side length: letters, out of range, NaN, then 1 m
+        'maybe', 'n',   # clockwise?
+        '',             # speed: default
+        '8',            # reset
+    ]) + '\n'          # then end of input (Ctrl-D)
+    monkeypatch.setattr('sys.stdin', io.StringIO(answers))
+    assert cli.main(['menu']) == 0
+    out = capsys.readouterr().out
+    assert "unknown choice 'x'" in out
+    assert "'big' is not a number" in out
+    assert '-4 is outside 0.01 to 10' in out
+    assert 'nan is outside' in out
+    assert 'please answer y or n' in out
+    assert 'done: square done' in out
+    assert 'done: simulator reset; ready' in out
+    assert out.rstrip().endswith('bye')

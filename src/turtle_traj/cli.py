@@ -60,6 +60,11 @@ def build_parser() -> argparse.ArgumentParser:
     commands.add_parser('stop', help='abort the running trajectory and stop the turtle')
     commands.add_parser('reset', help='abort, reset the simulator, ready again')
 
+    commands.add_parser('menu', help='interactive menu of every trajectory')
+    params = commands.add_parser('params', help='show the node\'s parameters, or set one')
+    params.add_argument('name', nargs='?', help='parameter to set')
+    params.add_argument('value', nargs='?', help='new value (YAML: 1.5, true, turtle2)')
+
     up = commands.add_parser('up', help='run simulator and node together in this process')
     up.add_argument('--gui', action='store_true')
     up.add_argument('--time-scale', type=float)
@@ -109,6 +114,8 @@ def main(args: Sequence[str] | None = None) -> int:
         if options.time_scale is not None:
             extra += ['--time-scale', str(options.time_scale)]
         return node_main(['--with-sim', *extra])
+    if options.command in ('menu', 'params'):
+        return _run_session(options)
     service, request = to_request(options)
     interactive = sys.stderr.isatty()
 
@@ -131,6 +138,31 @@ def main(args: Sequence[str] | None = None) -> int:
         print('\r', end='', file=sys.stderr)
     print(report(response), file=sys.stdout if response.success else sys.stderr)
     return 0 if response.success else 1
+
+
+def _run_session(options: argparse.Namespace) -> int:
+    """The menu, or the params subcommand."""
+    try:
+        with TrajClient(node=options.node) as client:
+            if options.command == 'menu':
+                from turtle_traj.menu import run_menu
+                return run_menu(client)
+            if options.name is None:
+                for name, value in client.parameters().items():
+                    print(f'{name}: {value}')
+                return 0
+            if options.value is None:
+                print('error: params NAME needs a VALUE', file=sys.stderr)
+                return 2
+            reason = client.set_parameter(options.name, options.value)
+    except TrajClientError as error:
+        print(f'error: {error}', file=sys.stderr)
+        return 2
+    if reason:
+        print(f'refused: {reason}', file=sys.stderr)
+        return 1
+    print(f'set {options.name} to {options.value}')
+    return 0
 
 
 if __name__ == '__main__':

@@ -10,8 +10,11 @@ import time
 from collections.abc import Callable
 
 import rclpy
+from rcl_interfaces.msg import Parameter as ParameterMsg
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
+from rclpy.parameter import Parameter, get_parameter_value, parameter_value_to_python
+from rclpy.parameter_client import AsyncParameterClient
 from std_srvs.srv import Trigger
 from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
 
@@ -80,6 +83,36 @@ class TrajClient:
             return future.result()
         finally:
             self._node.destroy_client(client)
+
+    def _wait(self, future, what: str, timeout_s: float = 5.0):
+        deadline = time.monotonic() + timeout_s
+        while not future.done():
+            if time.monotonic() > deadline:
+                raise TrajClientError(f'{what} did not answer within {timeout_s:g} s')
+            self._executor.spin_once(timeout_sec=0.1)
+        return future.result()
+
+    def _parameter_client(self) -> AsyncParameterClient:
+        parameters = AsyncParameterClient(self._node, self.node_name)
+        if not parameters.wait_for_services(timeout_sec=self.connect_timeout_s):
+            raise TrajClientError(f'no node {self.node_name} answers parameter requests')
+        return parameters
+
+    def parameters(self) -> dict[str, object]:
+        """Every parameter of the node with its current value, sorted by name."""
+        client = self._parameter_client()
+        names = sorted(self._wait(client.list_parameters(), 'list_parameters').result.names)
+        values = self._wait(client.get_parameters(names), 'get_parameters').values
+        return {name: parameter_value_to_python(value)
+                for name, value in zip(names, values, strict=True)}
+
+    def set_parameter(self, name: str, value: str) -> str | None:
+        """Set a parameter from its YAML text, as `ros2 param set` does; the refusal or None."""
+        parameter = Parameter.from_parameter_msg(ParameterMsg(
+            name=name, value=get_parameter_value(value)))
+        result = self._wait(self._parameter_client().set_parameters([parameter]),
+                            'set_parameters').results[0]
+        return None if result.successful else result.reason
 
     def close(self) -> None:
         self._executor.shutdown()
