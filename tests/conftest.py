@@ -50,25 +50,23 @@ def ros_context() -> Iterator[object]:
         rclpy.try_shutdown(context=context)
 
 
-@pytest.fixture
-def sim(ros_context, tmp_path):
-    """Our simulator and a sim-time client node in one executor."""
-    from tests.ros_helpers import SimHarness
+def _harness(kind: str, ros_context, tmp_path):
+    from tests import ros_helpers
 
-    harness = SimHarness(ros_context, tmp_path / 'output')
+    harness = getattr(ros_helpers, kind)(ros_context, tmp_path / 'output')
     try:
         yield harness
     finally:
         harness.close()
+
+
+@pytest.fixture
+def sim(ros_context, tmp_path):
+    """Our simulator and a sim-time client node in one executor."""
+    yield from _harness('SimHarness', ros_context, tmp_path)
 
 
 @pytest.fixture
 def traj(ros_context, tmp_path):
     """Simulator, trajectory node (both on simulated time) and a client, in one executor."""
-    from tests.ros_helpers import TrajHarness
-
-    harness = TrajHarness(ros_context, tmp_path / 'output')
-    try:
-        yield harness
-    finally:
-        harness.close()
+    yield from _harness('TrajHarness', ros_context, tmp_path)

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from rclpy.context import Context
@@ -84,3 +87,24 @@ class TrajHarness(InProcessSystem):
     def __init__(self, context: Context, output_dir: Path, **node_parameters):
         super().__init__(context=context, time_scale=TEST_TIME_SCALE, output_dir=output_dir,
                          **node_parameters)
+
+
+@contextmanager
+def program(*args: str, cwd: Path | None = None) -> Iterator[subprocess.Popen]:
+    """Run `python -m ARGS` until its turtle1 has spawned; always reaped afterwards."""
+    process = subprocess.Popen([sys.executable, '-m', *args], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True, cwd=cwd)
+    try:
+        for line in process.stderr:
+            if 'Spawning turtle [turtle1]' in line:
+                break
+        yield process
+    finally:
+        process.kill()
+        process.communicate(timeout=15)
+
+
+def terminate(process: subprocess.Popen) -> str:
+    """Send SIGTERM, wait for the exit and return what the program wrote to stderr."""
+    process.terminate()
+    return process.communicate(timeout=15)[1]

@@ -1,29 +1,19 @@
 """`turtle-traj` against a running simulator and node (one subprocess), and without one."""
 
 import math
-import subprocess
-import sys
 
 import pytest
 
+from tests.ros_helpers import program
 from turtle_traj import cli
 
 
 @pytest.fixture(scope='module')
 def running_system(tmp_path_factory):
     """`python -m turtle_traj --with-sim` at 10x real time, in this test session's domain."""
-    process = subprocess.Popen(
-        [sys.executable, '-m', 'turtle_traj', '--with-sim', '--time-scale', '10'],
-        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-        cwd=tmp_path_factory.mktemp('system'))
-    try:
-        for line in process.stderr:
-            if 'Spawning turtle [turtle1]' in line:
-                break
+    with program('turtle_traj', '--with-sim', '--time-scale', '10',
+                 cwd=tmp_path_factory.mktemp('system')) as process:
         yield process
-    finally:
-        process.terminate()
-        process.communicate(timeout=15)
 
 
 @pytest.mark.parametrize(('argv', 'service', 'fields'), [

@@ -11,7 +11,7 @@ from rclpy.node import Node
 from std_srvs.srv import Trigger
 from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
 
-from tests.ros_helpers import spin_until
+from tests.ros_helpers import program, spin_until, terminate
 from turtle_traj.node.trajectory_node import TrajectoryNode
 from turtle_traj.sim.physics import SPAWN_XY_M, WORLD_SIZE_M
 
@@ -155,21 +155,7 @@ def test_node_without_simulator_refuses_at_once(ros_context):
 
 def test_sigterm_ends_simulator_and_node_together_cleanly(tmp_path):
     """Both programs in one process (--with-sim), then SIGTERM: exit 0, no traceback."""
-    import os
-    import subprocess
-    import sys
-
-    process = subprocess.Popen(
-        [sys.executable, '-m', 'turtle_traj', '--with-sim', '--time-scale', '5'],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
-        env={**os.environ, 'RCUTILS_LOGGING_BUFFERED_STREAM': '0'})
-    try:
-        for line in process.stderr:
-            if 'Spawning turtle [turtle1]' in line:
-                break
-        process.terminate()
-        _, stderr = process.communicate(timeout=15)
-    finally:
-        process.kill()
+    with program('turtle_traj', '--with-sim', '--time-scale', '5', cwd=tmp_path) as process:
+        stderr = terminate(process)
     assert process.returncode == 0, stderr
     assert 'Traceback' not in stderr

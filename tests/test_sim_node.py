@@ -20,6 +20,7 @@ from turtlesim.action import RotateAbsolute
 from turtlesim.msg import Color, Pose
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelative
 
+from tests.ros_helpers import program, terminate
 from turtle_traj.sim.canvas import to_pixel
 from turtle_traj.sim.node import TURTLE_TOPIC_QOS
 from turtle_traj.sim.physics import SPAWN_XY_M, STEP_S, WORLD_SIZE_M
@@ -297,17 +298,8 @@ def test_gui_without_display_fails_with_a_clear_message():
 
 def test_sigterm_ends_the_program_cleanly_and_writes_the_snapshot(tmp_path):
     snapshot = tmp_path / 'last.png'
-    process = subprocess.Popen(
-        [sys.executable, '-m', 'turtle_traj.sim', '--snapshot', str(snapshot)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        for line in process.stderr:
-            if 'Spawning turtle [turtle1]' in line:
-                break
-        process.terminate()
-        _, stderr = process.communicate(timeout=10)
-    finally:
-        process.kill()
+    with program('turtle_traj.sim', '--snapshot', str(snapshot)) as process:
+        stderr = terminate(process)
     assert process.returncode == 0
     assert 'Traceback' not in stderr
     assert Image.open(snapshot).size == (500, 500)
