@@ -94,3 +94,16 @@ def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monke
     assert 'done: square done' in out
     assert 'done: simulator reset; ready' in out
     assert out.rstrip().endswith('bye')
+
+
+def test_expected_duration_is_the_kinematic_bound(running_system):
+    from turtle_traj_interfaces.srv import DrawShape
+
+    from turtle_traj.client import TrajClient
+
+    with TrajClient() as client:
+        assert client.call('reset').success
+        bound = client.expected_duration('draw_square', DrawShape.Request(size=1.0))
+        # 4 m at 1 m/s plus three quarter turns at 2 rad/s (the default speeds)
+        assert bound == pytest.approx(4.0 + 3 * (math.pi / 2) / 2.0)
+        assert client.expected_duration('draw_square', DrawShape.Request(size=99.0)) is None

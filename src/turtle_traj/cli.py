@@ -118,13 +118,18 @@ def main(args: Sequence[str] | None = None) -> int:
         return _run_session(options)
     service, request = to_request(options)
     interactive = sys.stderr.isatty()
+    expected = ''
 
     def progress(seconds: float) -> None:
         if interactive:
-            print(f'\r{service}: running {seconds:5.1f} s', end='', file=sys.stderr, flush=True)
+            print(f'\r{service}: running {seconds:5.1f} s{expected}', end='', file=sys.stderr,
+                  flush=True)
 
     try:
         with TrajClient(node=options.node) as client:
+            if interactive and request is not None:
+                bound = client.expected_duration(service, request)
+                expected = f' of at least {bound:.1f} s' if bound is not None else ''
             response = client.call(service, request, timeout_s=options.timeout,
                                    on_progress=progress)
     except TrajClientError as error:

@@ -15,16 +15,9 @@ from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.parameter import Parameter, get_parameter_value, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
-from std_srvs.srv import Trigger
-from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
+from rclpy.wait_for_message import wait_for_message
 
-from turtle_traj import planning
-
-SERVICE_TYPES = {
-    **{f'draw_{shape}': DrawShape for shape in planning.SHAPES},
-    'go_to': GoTo, 'move': Move, 'rotate': Move, 'follow_path': FollowPath,
-    'stop': Trigger, 'reset': Trigger,
-}
+from turtle_traj.services import SERVICE_TYPES
 
 
 class TrajClientError(RuntimeError):
@@ -113,6 +106,32 @@ class TrajClient:
         result = self._wait(self._parameter_client().set_parameters([parameter]),
                             'set_parameters').results[0]
         return None if result.successful else result.reason
+
+    def expected_duration(self, service: str, request) -> float | None:
+        """Lower bound of a trajectory call's duration (node clock), planned as the node will.
+
+        None when it cannot be known here (no pose, or a request the node will refuse).
+        """
+        from turtlesim.msg import Pose
+
+        from turtle_traj.geometry.path import Pose2D
+        from turtle_traj.geometry.shapes import PlanError
+        from turtle_traj.node.parameters import settings_from_values
+        from turtle_traj.node.plans import plan_request
+
+        try:
+            values = self.parameters()
+            namespace = self.node_name.rsplit('/', 1)[0]
+            found, pose = wait_for_message(Pose, self._node,
+                                           f'{namespace}/{values["turtle_name"]}/pose',
+                                           time_to_wait=1.0)
+            if not found:
+                return None
+            settings = settings_from_values(values)
+            plan = plan_request(service, request, Pose2D(pose.x, pose.y, pose.theta), settings)
+        except (TrajClientError, PlanError, KeyError):
+            return None
+        return plan.lower_bound_s(settings)
 
     def close(self) -> None:
         self._executor.shutdown()

@@ -95,7 +95,13 @@ def declare(node: Node) -> None:
 
 
 def read_settings(node: Node) -> Settings:
-    value = {spec.name: node.get_parameter(spec.name).value for spec in SPECS}
+    """Settings from the node's current parameters."""
+    return settings_from_values({spec.name: node.get_parameter(spec.name).value
+                                 for spec in SPECS})
+
+
+def settings_from_values(value: dict[str, object]) -> Settings:
+    """Settings from parameter values by name (a node's, or ones a client fetched)."""
     control = ControlConfig(
         linear_speed=value['linear_speed'], angular_speed=value['angular_speed'],
         heading_gain=value['heading_gain'], cross_track_gain=value['cross_track_gain'],

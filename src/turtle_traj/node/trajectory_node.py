@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from functools import partial
 
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Path as PathMsg
@@ -21,18 +21,17 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.task import Future
 from rclpy.time import Time
 from std_srvs.srv import Empty, Trigger
-from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
 from turtlesim.msg import Pose
 
-from turtle_traj import planning
 from turtle_traj.control.follower import STOP, Command, PathFollower
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.geometry.shapes import PlanError
 from turtle_traj.node import parameters
+from turtle_traj.node.plans import plan_request
+from turtle_traj.services import TRAJECTORY_SERVICES
 from turtle_traj.sim.node import TURTLE_TOPIC_QOS
 
 PLAN_FRAME_ID = 'world'
-MAX_SPEED = 10.0  # m/s and rad/s: the largest speed a request may ask for
 _SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
 _WATCHDOG_PERIOD_S = 0.05
 _RESET_TIMEOUT_S = 5.0
@@ -104,14 +103,9 @@ class TrajectoryNode(Node):
 
         # Handlers await the end of a trajectory, so they must not block the timer's group.
         group = ReentrantCallbackGroup()
-        for shape in planning.SHAPES:
-            self.create_service(DrawShape, f'~/draw_{shape}', self._shape_handler(shape),
+        for service, service_type in TRAJECTORY_SERVICES.items():
+            self.create_service(service_type, f'~/{service}', partial(self._execute, service),
                                 callback_group=group)
-        self.create_service(GoTo, '~/go_to', self._handle_go_to, callback_group=group)
-        self.create_service(Move, '~/move', self._handle_move, callback_group=group)
-        self.create_service(Move, '~/rotate', self._handle_rotate, callback_group=group)
-        self.create_service(FollowPath, '~/follow_path', self._handle_follow_path,
-                            callback_group=group)
         self.create_service(Trigger, '~/stop', self._handle_stop, callback_group=group)
         self.create_service(Trigger, '~/reset', self._handle_reset, callback_group=group)
         self.stop_service = self.resolve_service_name('~/stop')
@@ -220,45 +214,31 @@ class TrajectoryNode(Node):
                     f'turtle_name right?')
         return None
 
-    async def _execute(self, kind: str, response, plan: Callable[[Pose2D], Path], *,
-                       linear_speed: float = 0.0, angular_speed: float = 0.0,
-                       end_tolerance: float | None = None):
+    async def _execute(self, service: str, request, response):
         """Refuse, or plan and drive to the end; the response is filled either way."""
         refusal = self._refusal()
         if refusal is None:
             try:
-                speeds = self._speed_overrides(linear_speed, angular_speed)
-                path = plan(self._pose)
+                plan = plan_request(service, request, self._pose, self.settings)
             except PlanError as error:
-                refusal = f'{kind} refused: {error}'
+                refusal = f'{service.removeprefix("draw_")} refused: {error}'
         if refusal is not None:
             self.get_logger().warning(refusal)
             return fill_response(response, Outcome(False, refusal, self._pose))
 
-        follower = PathFollower(path, end_tolerance=end_tolerance)
-        run = _Run(kind, path, follower, self.get_clock().now(), speeds,
+        path, kind = plan.path, plan.kind
+        follower = PathFollower(path, end_tolerance=plan.end_tolerance)
+        run = _Run(kind, path, follower, self.get_clock().now(), plan.speeds,
                    self._wall_clearance(self._pose))
         self._run = run
         self._publish_plan(path)
         self.get_logger().info(
             f'{kind}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} deg of '
-            'turns in place')
+            f'turns in place, at least {plan.lower_bound_s(self.settings):.1f} s')
         outcome = await run.done
         if path.endless and outcome.message.startswith(f'{kind} stopped by request'):
             outcome.success = True
         return fill_response(response, outcome)
-
-    @staticmethod
-    def _speed_overrides(linear: float, angular: float) -> dict[str, float]:
-        overrides = {}
-        for name, value in (('linear_speed', linear), ('angular_speed', angular)):
-            planning.require_finite(**{name: value})
-            if not 0.0 <= value <= MAX_SPEED:
-                raise PlanError(f'{name} must be within 0 (default) and {MAX_SPEED:g}, '
-                                f'got {value:g}')
-            if value > 0.0:
-                overrides[name] = value
-        return overrides
 
     def _publish_plan(self, path: Path) -> None:
         msg = PathMsg()
@@ -274,53 +254,6 @@ class TrajectoryNode(Node):
         self._plan.publish(msg)
 
     # -- services ----------------------------------------------------------------------------
-
-    def _shape_handler(self, shape: str):
-        async def handle(request: DrawShape.Request, response: DrawShape.Response):
-            fields = planning.ShapeRequest(
-                sides=request.sides, size=request.size, clockwise=request.clockwise,
-                turns=request.turns, growth=request.growth, max_radius=request.max_radius,
-                frequency=request.frequency, length=request.length)
-            return await self._execute(
-                shape, response,
-                lambda pose: planning.plan_shape(shape, fields, pose, self.settings.defaults,
-                                                 self.settings.arena),
-                linear_speed=request.linear_speed, angular_speed=request.angular_speed)
-        return handle
-
-    async def _handle_go_to(self, request: GoTo.Request, response: GoTo.Response):
-        tolerance = request.tolerance or self.settings.defaults.goal_tolerance
-        return await self._execute(
-            'go_to', response,
-            lambda pose: planning.plan_go_to(
-                pose, x=request.x, y=request.y,
-                theta=request.theta if request.use_theta else None,
-                tolerance=request.tolerance, defaults=self.settings.defaults,
-                arena=self.settings.arena),
-            linear_speed=request.linear_speed,
-            end_tolerance=tolerance if math.isfinite(tolerance) else None)
-
-    async def _handle_move(self, request: Move.Request, response: Move.Response):
-        return await self._execute(
-            'move', response,
-            lambda pose: planning.plan_move(pose, distance=request.distance,
-                                            arena=self.settings.arena),
-            linear_speed=request.speed)
-
-    async def _handle_rotate(self, request: Move.Request, response: Move.Response):
-        return await self._execute(
-            'rotate', response, lambda pose: planning.plan_rotation(pose, angle=request.angle),
-            angular_speed=request.speed)
-
-    async def _handle_follow_path(self, request: FollowPath.Request,
-                                  response: FollowPath.Response):
-        points = [(p.x, p.y) for p in request.points]
-        return await self._execute(
-            'follow_path', response,
-            lambda pose: planning.plan_follow(pose, points=points, closed=request.closed,
-                                              defaults=self.settings.defaults,
-                                              arena=self.settings.arena),
-            linear_speed=request.linear_speed)
 
     def _handle_stop(self, request: Trigger.Request, response: Trigger.Response):
         run = self._run
