@@ -3,6 +3,7 @@
 import math
 
 import pytest
+from geometry_msgs.msg import Point
 from rcl_interfaces.msg import Parameter as ParameterMsg
 from rcl_interfaces.msg import ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
@@ -31,21 +32,25 @@ def _set(traj, **values):
 
 @pytest.mark.parametrize(('service', 'service_type', 'fields', 'reason'), [
     ('draw_square', DrawShape, dict(size=math.nan), 'size must be a finite number'),
-    ('draw_circle', DrawShape, dict(size=-1.0), 'size must be positive'),
+    ('draw_circle', DrawShape, dict(size=-1.0), 'size must be at least 0.001 m'),
     ('draw_circle', DrawShape, dict(size=1e308), 'too large'),
     ('draw_polygon', DrawShape, dict(sides=2), 'needs 3 to'),
     ('draw_polygon', DrawShape, dict(sides=4_000_000_000), 'needs 3 to'),
-    ('draw_hexagon', DrawShape, dict(linear_speed=-1.0), 'linear_speed must be within'),
+    ('draw_hexagon', DrawShape, dict(linear_speed=-1.0),
+     'linear_speed must be 0 (the default) or within'),
     ('draw_sine', DrawShape, dict(angular_speed=math.inf), 'angular_speed must be a finite'),
     ('draw_square', DrawShape, dict(size=6.0), f'the largest that fits from here is {ROOM:.2f}'),
     ('draw_circle', DrawShape, dict(size=3.0),
      f'the largest that fits from here is {ROOM / 2:.2f}'),
     ('go_to', GoTo, dict(x=12.0, y=5.0), 'outside the arena'),
     ('go_to', GoTo, dict(x=math.inf, y=5.0), 'x must be a finite number'),
-    ('move', Move, dict(distance=0.0), 'non-zero'),
+    ('move', Move, dict(distance=0.0), 'distance must be at least'),
     ('move', Move, dict(distance=9.0), f'the largest that fits from here is {ROOM:.2f}'),
     ('rotate', Move, dict(angle=math.nan), 'angle must be a finite number'),
     ('follow_path', FollowPath, dict(), 'points is empty'),
+    ('follow_path', FollowPath, dict(points=[Point(x=SPAWN_XY_M, y=SPAWN_XY_M)]),
+     'already there'),
+    ('draw_square', DrawShape, dict(size=5e-324), 'size must be at least'),
 ])
 def test_bad_requests_are_refused_and_the_node_still_works(traj, service, service_type,
                                                             fields, reason):

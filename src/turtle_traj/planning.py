@@ -57,10 +57,13 @@ def require_finite(**values: float) -> None:
             raise PlanError(f'{name} must be a finite number, got {value}')
 
 
+MIN_SIZE = 0.001  # m (or turns, cycles/m): anything smaller is noise, not a request
+
+
 def _non_negative(name: str, value: float, default: float, unit: str, upper: float) -> float:
     require_finite(**{name: value})
-    if value < 0:
-        raise PlanError(f'{name} must be positive, or 0 for the default '
+    if value < 0 or 0 < value < MIN_SIZE:
+        raise PlanError(f'{name} must be at least {MIN_SIZE:g} {unit}, or 0 for the default '
                         f'({default:g} {unit}); got {value:g}')
     if value > upper:
         raise PlanError(f'{name} {value:g} {unit} is too large (at most {upper:g} {unit})')
@@ -79,6 +82,8 @@ def _fits(path: Path, arena: Arena, start: Pose2D) -> bool:
 
 def _checked(path: Path, arena: Arena, start: Pose2D, what: str,
              rebuild: Callable[[float], Path] | None, size: float, unit: str) -> Path:
+    if not path.legs:
+        raise PlanError(f'the {what} is too small to drive')
     if _fits(path, arena, start):
         return path
     message = (f'the {what} would leave the arena ({arena.describe()}, after the wall margin) '
@@ -168,8 +173,9 @@ def plan_go_to(start: Pose2D, *, x: float, y: float, theta: float | None, tolera
 def plan_move(start: Pose2D, *, distance: float, arena: Arena) -> Path:
     """Validate a straight move and return its path."""
     require_finite(distance=distance)
-    if distance == 0:
-        raise PlanError('distance must be non-zero (negative drives backwards)')
+    if abs(distance) < MIN_SIZE:
+        raise PlanError(f'distance must be at least {MIN_SIZE:g} m either way (negative '
+                        f'drives backwards); got {distance:g}')
     limit = math.hypot(arena.max_x - arena.min_x, arena.max_y - arena.min_y)
     if abs(distance) > limit:
         raise PlanError(f'distance {distance:g} m is longer than the arena diagonal')
@@ -185,8 +191,9 @@ def plan_move(start: Pose2D, *, distance: float, arena: Arena) -> Path:
 def plan_rotation(start: Pose2D, *, angle: float) -> Path:
     """Validate an in-place rotation and return its path."""
     require_finite(angle=angle)
-    if angle == 0:
-        raise PlanError('angle must be non-zero (negative turns clockwise)')
+    if abs(angle) < MIN_SIZE:
+        raise PlanError(f'angle must be at least {MIN_SIZE:g} rad either way (negative turns '
+                        f'clockwise); got {angle:g}')
     if abs(angle) > 2 * math.pi * shapes.MAX_TURNS:
         raise PlanError(f'angle {angle:g} rad is more than {shapes.MAX_TURNS:g} turns')
     return shapes.rotation(start, angle_rad=angle)

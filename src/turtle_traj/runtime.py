@@ -13,6 +13,7 @@ from rclpy.signals import SignalHandlerOptions
 
 # How long the executor may wait before Python gets to run a pending signal handler.
 _SIGNAL_LATENCY_S = 0.1
+_STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
 def _raise_keyboard_interrupt(signum: int, frame: object) -> None:
@@ -43,25 +44,30 @@ def run_nodes(
     executor = SingleThreadedExecutor()
     exit_code = 0
     try:
-        nodes.extend(create_nodes())
+        # A signal during construction waits until the nodes exist, so on_exit still sees them.
+        signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
+        try:
+            nodes.extend(create_nodes())
+        finally:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)
         for node in nodes:
             executor.add_node(node)
-        try:
-            while rclpy.ok():
-                executor.spin_once(timeout_sec=_SIGNAL_LATENCY_S)
-            raise ExternalShutdownException
-        finally:
-            if on_exit is not None:
-                on_exit(nodes)
-            executor.shutdown()
-            for node in nodes:
-                node.destroy_node()
+        while rclpy.ok():
+            executor.spin_once(timeout_sec=_SIGNAL_LATENCY_S)
+        raise ExternalShutdownException
     except KeyboardInterrupt:
         pass
     except ExternalShutdownException:
         exit_code = 1
     finally:
-        rclpy.try_shutdown()
+        try:
+            if nodes and on_exit is not None and rclpy.ok():
+                on_exit(nodes)
+        finally:
+            executor.shutdown()
+            for node in nodes:
+                node.destroy_node()
+            rclpy.try_shutdown()
     return exit_code
 
 

@@ -145,9 +145,10 @@ def go_to(start: Pose2D, *, x: float, y: float, final_heading: float | None,
     if math.hypot(x - start.x, y - start.y) > tolerance:
         legs += legs_from_polyline(start, np.array([[start.x, start.y], [x, y]]),
                                    corner_angle_rad=corner_angle_rad)
-    if final_heading is not None:
-        heading = math.atan2(y - start.y, x - start.x) if legs else start.theta
-        legs.append(Turn(x, y, heading, shortest_angular_distance(heading, final_heading)))
+    heading = math.atan2(y - start.y, x - start.x) if legs else start.theta
+    goal_heading = heading if final_heading is None else final_heading
+    if final_heading is not None or not legs:  # already there: a (possibly zero) turn
+        legs.append(Turn(x, y, heading, shortest_angular_distance(heading, goal_heading)))
     return Path(tuple(legs), final_heading=final_heading)
 
 

@@ -13,7 +13,7 @@ from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.geometry.shapes import PlanError
 from turtle_traj.node.parameters import Settings
 
-MAX_SPEED = 10.0  # m/s and rad/s: the largest speed a request may ask for
+MIN_SPEED, MAX_SPEED = 0.01, 10.0  # m/s and rad/s a request may ask for (as the parameters)
 
 
 @dataclass(frozen=True)
@@ -37,9 +37,9 @@ def speed_overrides(linear: float, angular: float) -> dict[str, float]:
     overrides = {}
     for name, value in (('linear_speed', linear), ('angular_speed', angular)):
         planning.require_finite(**{name: value})
-        if not 0.0 <= value <= MAX_SPEED:
-            raise PlanError(f'{name} must be within 0 (default) and {MAX_SPEED:g}, '
-                            f'got {value:g}')
+        if value != 0.0 and not MIN_SPEED <= value <= MAX_SPEED:
+            raise PlanError(f'{name} must be 0 (the default) or within {MIN_SPEED:g} and '
+                            f'{MAX_SPEED:g}; got {value:g}')
         if value > 0.0:
             overrides[name] = value
     return overrides
@@ -47,6 +47,13 @@ def speed_overrides(linear: float, angular: float) -> dict[str, float]:
 
 def plan_request(service: str, request, pose: Pose2D, settings: Settings) -> Plan:
     """The plan for a request to `service` (e.g. 'draw_square'), or PlanError saying why."""
+    plan = _plan(service, request, pose, settings)
+    if not plan.path.legs:  # the follower and the report need at least one leg
+        raise PlanError('nothing to drive: the turtle is already there')
+    return plan
+
+
+def _plan(service: str, request, pose: Pose2D, settings: Settings) -> Plan:
     arena, defaults = settings.arena, settings.defaults
     if service.startswith('draw_'):
         shape = service.removeprefix('draw_')

@@ -35,6 +35,8 @@ PLAN_FRAME_ID = 'world'
 _SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
 _WATCHDOG_PERIOD_S = 0.05
 _RESET_TIMEOUT_S = 5.0
+# Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.
+_MAX_POSE_JUMP_M = 0.5
 
 
 @dataclass
@@ -122,7 +124,12 @@ class TrajectoryNode(Node):
         self.settings = parameters.read_settings(self)
 
     def _on_pose(self, msg: Pose) -> None:
-        self._pose = Pose2D(msg.x, msg.y, msg.theta)
+        previous, self._pose = self._pose, Pose2D(msg.x, msg.y, msg.theta)
+        if self._run is not None and previous is not None:
+            jump = math.dist((previous.x, previous.y), (msg.x, msg.y))
+            if jump > _MAX_POSE_JUMP_M:
+                self._finish(False, f'{self._run.kind} aborted: the turtle jumped {jump:.2f} m '
+                                    'between two poses (teleported, reset or respawned)')
         self._pose_msg = msg
         self._pose_wall_s = time.monotonic()
 

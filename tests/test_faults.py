@@ -1,0 +1,95 @@
+"""Faults and hostile input: the turtle killed, reset or raced for; the node keeps serving."""
+
+import math
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from rcl_interfaces.msg import Parameter as ParameterMsg
+from rcl_interfaces.msg import ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
+from std_srvs.srv import Empty
+from turtle_traj_interfaces.srv import DrawShape, GoTo, Move
+from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
+
+from turtle_traj.sim.physics import SPAWN_XY_M
+
+
+def _running(traj, service_type, name, request):
+    future = traj.start(service_type, name, request)
+    assert traj.spin_until(lambda: traj.node.busy)
+    traj.spin_sim_seconds(0.5)
+    return future
+
+
+def test_turtle_killed_mid_run_aborts_then_a_new_turtle1_is_driven(traj):
+    drawing = _running(traj, DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+    traj.call(Kill, '/kill', Kill.Request(name='turtle1'))
+    assert traj.spin_until(drawing.done, timeout_s=5.0)
+    assert not drawing.result().success
+    assert 'no pose on /turtle1/pose' in drawing.result().message
+    spawned = traj.call(Spawn, '/spawn', Spawn.Request(x=3.0, y=3.0, name='turtle1'))
+    assert spawned.name == 'turtle1'
+    assert traj.spin_until(lambda: traj.node.ready)
+    assert traj.run(Move, 'move', Move.Request(distance=1.0)).success
+
+
+def test_simulator_reset_mid_run_aborts_as_a_jump(traj):
+    drawing = _running(traj, GoTo, 'go_to', GoTo.Request(x=9.0, y=9.0))
+    traj.spin_sim_seconds(1.5)
+    traj.call(Empty, '/reset')
+    assert traj.spin_until(drawing.done, timeout_s=5.0)
+    assert not drawing.result().success
+    assert 'jumped' in drawing.result().message
+    assert traj.run(Move, 'move', Move.Request(distance=1.0)).success
+
+
+def test_two_clients_racing_get_one_run_and_one_busy_refusal(traj):
+    first = traj.start(Move, 'move', Move.Request(distance=1.0))
+    second = traj.start(Move, 'rotate', Move.Request(angle=1.0))
+    assert traj.spin_until(lambda: first.done() and second.done(), timeout_s=30.0)
+    results = sorted([first.result(), second.result()], key=lambda r: r.success)
+    assert [r.success for r in results] == [False, True]
+    assert results[0].message.startswith('busy:')
+
+
+def test_parameter_change_mid_run_takes_effect_and_the_run_succeeds(traj):
+    moving = _running(traj, Move, 'move', Move.Request(distance=4.0))
+    request = SetParameters.Request(parameters=[ParameterMsg(
+        name='linear_speed',
+        value=ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=2.0))])
+    assert traj.call(SetParameters, '/turtle_traj/set_parameters', request).results[0].successful
+    assert traj.spin_until(moving.done, timeout_s=30.0)
+    assert moving.result().success
+    assert max(p.linear_velocity for p in traj.poses) == 2.0
+    assert moving.result().final_x == SPAWN_XY_M + 4.0 or abs(
+        moving.result().final_x - SPAWN_XY_M - 4.0) < 0.01
+
+
+hostile_floats = st.sampled_from([math.nan, math.inf, -math.inf, 1e308, -1e308, -1.0, 5e-324])
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[
+    HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(service=st.sampled_from(['draw_square', 'draw_polygon', 'draw_circle', 'draw_spiral',
+                                'draw_sine']),
+       size=hostile_floats, speed=hostile_floats, sides=st.integers(0, 2**32 - 1))
+def test_hostile_shape_requests_are_answered_and_refused(traj, service, size, speed, sides):
+    response = traj.run(DrawShape, service, DrawShape.Request(
+        size=size, linear_speed=speed, sides=sides, turns=size, growth=size))
+    assert not response.success, response.message
+    assert 'refused' in response.message
+    assert not traj.node.busy
+
+
+def test_hostile_simulator_requests_leave_it_working(traj):
+    for name in ['', 'x' * 10_000, 'bad name', '/abs/olute', '..', 'ünïcode', 'turtle1']:
+        traj.call(Spawn, '/spawn', Spawn.Request(x=1.0, y=1.0, name=name))
+    traj.call(Spawn, '/spawn', Spawn.Request(x=math.nan, y=math.inf, name='nanny'))
+    traj.call(TeleportAbsolute, '/turtle1/teleport_absolute',
+              TeleportAbsolute.Request(x=math.inf, y=1.0, theta=0.0))
+    traj.call(SetPen, '/turtle1/set_pen', SetPen.Request(r=255, width=255))
+    traj.call(Kill, '/kill', Kill.Request(name='y' * 10_000))
+    assert 'nanny' not in traj.sim.world.turtles
+    pose = traj.sim.world.turtles['turtle1']
+    assert all(math.isfinite(v) for v in (pose.x, pose.y, pose.theta))
+    assert traj.run(Move, 'move', Move.Request(distance=1.0)).success
