@@ -129,7 +129,8 @@ class TrajectoryNode(Node):
             jump = math.dist((previous.x, previous.y), (msg.x, msg.y))
             if jump > _MAX_POSE_JUMP_M:
                 self._finish(False, f'{self._run.kind} aborted: the turtle jumped {jump:.2f} m '
-                                    'between two poses (teleported, reset or respawned)')
+                                    'between two poses (teleported, reset, respawned, or this '
+                                    'node fell behind the simulator)')
         self._pose_msg = msg
         self._pose_wall_s = time.monotonic()
 

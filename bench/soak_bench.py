@@ -1,0 +1,204 @@
+"""Soak: 500 back-to-back trajectories with random valid parameters, simulator in its own process.
+
+Prints successes, failures with reasons, resident memory of both processes at runs 1, 50, 250
+and 500, and the service-call overhead (request sent -> first velocity command seen), p50/p99.
+Run: .venv/bin/python bench/soak_bench.py [--runs N] [--time-scale F]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import random
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections import Counter
+from pathlib import Path
+
+os.environ.setdefault('ROS_DOMAIN_ID', '79')
+os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='turtle_traj_bench_logs_'))
+
+import rclpy  # noqa: E402
+from geometry_msgs.msg import Point, Twist  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.node import Node  # noqa: E402
+from rclpy.parameter import Parameter  # noqa: E402
+from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move  # noqa: E402
+from turtlesim.srv import TeleportAbsolute  # noqa: E402
+
+from turtle_traj.node.trajectory_node import TrajectoryNode  # noqa: E402
+from turtle_traj.sim.node import TURTLE_TOPIC_QOS  # noqa: E402
+from turtle_traj.sim.physics import SPAWN_XY_M  # noqa: E402
+
+CHECKPOINTS = (1, 50, 250, 500)
+
+
+def rss_mb(pid: int) -> float:
+    for line in Path(f'/proc/{pid}/status').read_text().splitlines():
+        if line.startswith('VmRSS:'):
+            return int(line.split()[1]) / 1024.0
+    return math.nan
+
+
+def random_request(rng: random.Random):
+    """A random, valid request of a random kind, sized to fit from the arena's centre."""
+    kind = rng.choice(['square', 'triangle', 'hexagon', 'polygon', 'circle', 'spiral', 'sine',
+                       'go_to', 'move', 'rotate', 'follow_path'])
+    speed = rng.choice([0.0, rng.uniform(0.5, 3.0)])
+    if kind in ('square', 'triangle', 'hexagon', 'polygon'):
+        return kind, DrawShape, f'draw_{kind}', DrawShape.Request(
+            sides=rng.randint(3, 9), size=rng.uniform(0.3, 1.5),
+            clockwise=rng.random() < 0.5, linear_speed=speed)
+    if kind == 'circle':
+        return kind, DrawShape, 'draw_circle', DrawShape.Request(
+            size=rng.uniform(0.3, 1.5), turns=rng.uniform(0.3, 1.5),
+            clockwise=rng.random() < 0.5, linear_speed=speed)
+    if kind == 'spiral':
+        return kind, DrawShape, 'draw_spiral', DrawShape.Request(
+            size=rng.uniform(0.2, 0.5), growth=rng.uniform(0.2, 0.6),
+            turns=rng.uniform(0.5, 2.0), linear_speed=speed)
+    if kind == 'sine':
+        return kind, DrawShape, 'draw_sine', DrawShape.Request(
+            size=rng.uniform(0.1, 1.0), frequency=rng.uniform(0.2, 1.0),
+            length=rng.uniform(0.5, 4.0), linear_speed=speed)
+    if kind == 'go_to':
+        return kind, GoTo, 'go_to', GoTo.Request(
+            x=rng.uniform(2.0, 9.0), y=rng.uniform(2.0, 9.0), use_theta=rng.random() < 0.5,
+            theta=rng.uniform(-math.pi, math.pi), linear_speed=speed)
+    if kind == 'move':
+        return kind, Move, 'move', Move.Request(distance=rng.choice([-1, 1]) *
+                                                rng.uniform(0.2, 3.0))
+    if kind == 'rotate':
+        return kind, Move, 'rotate', Move.Request(angle=rng.uniform(-7.0, 7.0))
+    points = [Point(x=rng.uniform(3.0, 8.0), y=rng.uniform(3.0, 8.0))
+              for _ in range(rng.randint(1, 5))]
+    return kind, FollowPath, 'follow_path', FollowPath.Request(
+        points=points, closed=rng.random() < 0.5, linear_speed=speed)
+
+
+class SoakClient(Node):
+    """Calls the node and notes when the first velocity command of each run appears."""
+
+    def __init__(self) -> None:
+        super().__init__('soak_client')
+        self.first_command_s: float | None = None
+        self.create_subscription(Twist, 'turtle1/cmd_vel', self._on_cmd_vel, TURTLE_TOPIC_QOS)
+        self._service_clients = {}
+
+    def _on_cmd_vel(self, msg: Twist) -> None:
+        if self.first_command_s is None and (msg.linear.x or msg.angular.z):
+            self.first_command_s = time.monotonic()
+
+    def client(self, service_type, name: str):
+        if name not in self._service_clients:
+            self._service_clients[name] = self.create_client(service_type, name)
+        return self._service_clients[name]
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument('--runs', type=int, default=500)
+    parser.add_argument('--time-scale', type=float, default=20.0)
+    parser.add_argument('--seed', type=int, default=7)
+    options = parser.parse_args()
+    rng = random.Random(options.seed)
+
+    sim = subprocess.Popen([sys.executable, '-m', 'turtle_traj.sim', '--time-scale',
+                            str(options.time_scale), '--output-dir', tempfile.mkdtemp()],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        return soak(options, rng, sim)
+    finally:
+        sim.terminate()
+        sim.wait(timeout=10)
+
+
+def soak(options: argparse.Namespace, rng: random.Random, sim: subprocess.Popen) -> int:
+    rclpy.init()
+    node = TrajectoryNode(parameter_overrides=[Parameter('use_sim_time', value=True)])
+    client = SoakClient()
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    executor.add_node(client)
+
+    def spin_until(condition, timeout_s: float) -> bool:
+        deadline = time.monotonic() + timeout_s
+        while not condition():
+            if time.monotonic() > deadline:
+                return False
+            executor.spin_once(timeout_sec=0.01)
+        return True
+
+    def call(service_type, name, request, timeout_s=120.0):
+        service = client.client(service_type, name)
+        if not spin_until(service.service_is_ready, 10.0):
+            raise RuntimeError(f'no service {name}')
+        future = service.call_async(request)
+        if not spin_until(future.done, timeout_s):
+            raise RuntimeError(f'{name} did not answer in {timeout_s:g} s')
+        return future.result()
+
+    outcomes: Counter[str] = Counter()
+    failures: list[str] = []
+    overheads_ms: list[float] = []
+    memory: list[tuple[int, float, float]] = []
+    start = time.monotonic()
+    try:
+        if not spin_until(lambda: node.ready, 20.0):
+            print('the simulator did not come up', file=sys.stderr)
+            return 1
+        for run in range(1, options.runs + 1):
+            call(TeleportAbsolute, '/turtle1/teleport_absolute', TeleportAbsolute.Request(
+                x=SPAWN_XY_M, y=SPAWN_XY_M, theta=rng.uniform(-math.pi, math.pi)))
+            spin_until(lambda: node.ready and math.dist(
+                (node._pose.x, node._pose.y), (SPAWN_XY_M, SPAWN_XY_M)) < 1e-3, 5.0)
+            kind, service_type, service, request = random_request(rng)
+            client.first_command_s = None
+            sent = time.monotonic()
+            response = call(service_type, f'/turtle_traj/{service}', request)
+            if response.success:
+                outcomes['succeeded'] += 1
+                if client.first_command_s is not None:
+                    overheads_ms.append((client.first_command_s - sent) * 1e3)
+            elif 'refused' in response.message and 'arena' in response.message:
+                outcomes['refused: would leave the arena (intended)'] += 1
+            else:
+                outcomes['failed'] += 1
+                failures.append(f'run {run} {kind}: {response.message}')
+            if run in CHECKPOINTS or run == options.runs:
+                memory.append((run, rss_mb(os.getpid()), rss_mb(sim.pid)))
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+        client.destroy_node()
+        rclpy.try_shutdown()
+
+    print(f'soak: {options.runs} trajectories in {time.monotonic() - start:.0f} s wall '
+          f'(simulator at {options.time_scale:g}x in its own process)')
+    for outcome, count in sorted(outcomes.items()):
+        print(f'  {outcome}: {count}')
+    for failure in failures[:20]:
+        print(f'  {failure}')
+    print('  resident memory (MB):  run   node+client   simulator')
+    for run, node_mb, sim_mb in memory:
+        print(f'                        {run:4d}   {node_mb:11.1f}   {sim_mb:9.1f}')
+    by_run = {run: (node_mb, sim_mb) for run, node_mb, sim_mb in memory}
+    if 50 in by_run and options.runs in by_run:
+        print(f'  growth run 50 -> {options.runs}: node+client '
+              f'{by_run[options.runs][0] - by_run[50][0]:+.1f} MB, simulator '
+              f'{by_run[options.runs][1] - by_run[50][1]:+.1f} MB')
+    if overheads_ms:
+        quantiles = statistics.quantiles(overheads_ms, n=100, method='inclusive')
+        print(f'  call overhead (request -> first velocity command): p50 '
+              f'{statistics.median(overheads_ms):.1f} ms, p99 {quantiles[98]:.1f} ms, '
+              f'max {max(overheads_ms):.1f} ms')
+    return 0 if not failures else 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())
