@@ -2,12 +2,13 @@
 
 import math
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from rcl_interfaces.msg import Parameter as ParameterMsg
 from rcl_interfaces.msg import ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
-from std_srvs.srv import Empty
+from std_srvs.srv import Empty, Trigger
 from turtle_traj_interfaces.srv import DrawShape, GoTo, Move
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
 
@@ -93,3 +94,50 @@ def test_hostile_simulator_requests_leave_it_working(traj):
     pose = traj.sim.world.turtles['turtle1']
     assert all(math.isfinite(v) for v in (pose.x, pose.y, pose.theta))
     assert traj.run(Move, 'move', Move.Request(distance=1.0)).success
+
+
+@pytest.mark.parametrize(('service_type', 'name', 'request_fields'), [
+    (Move, 'rotate', dict(angle=6.0)),                      # in-place turn
+    (DrawShape, 'draw_circle', dict(size=1.0)),             # continuous curve (endless)
+    (GoTo, 'go_to', dict(x=9.0, y=2.0)),                    # turn, then straight
+])
+def test_stop_in_each_kind_of_phase_leaves_the_turtle_still(traj, service_type, name,
+                                                            request_fields):
+    running = _running(traj, service_type, name, service_type.Request(**request_fields))
+    assert traj.call(Trigger, '/turtle_traj/stop').success
+    assert traj.spin_until(running.done, timeout_s=5.0)
+    traj.spin_sim_seconds(0.2)
+    last = traj.poses[-1]
+    assert (last.linear_velocity, last.angular_velocity) == (0.0, 0.0)
+    assert not traj.node.busy
+
+
+def test_sigterm_mid_run_sends_a_final_stop_command(ros_context, tmp_path):
+    """The node program is ended while it drives: the last cmd_vel it sends is all zero."""
+    from geometry_msgs.msg import Twist
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.node import Node
+
+    from tests.ros_helpers import program, spin_until, terminate
+    from turtle_traj.sim.node import TURTLE_TOPIC_QOS
+
+    observer = Node('sigterm_observer', context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(observer)
+    commands: list[Twist] = []
+    observer.create_subscription(Twist, 'turtle1/cmd_vel', commands.append, TURTLE_TOPIC_QOS)
+    client = observer.create_client(DrawShape, '/turtle_traj/draw_circle')
+    try:
+        with program('turtle_traj', '--with-sim', cwd=tmp_path) as process:
+            assert spin_until(executor, client.service_is_ready, timeout_s=10.0)
+            client.call_async(DrawShape.Request(size=1.0))  # endless circle
+            assert spin_until(executor, lambda: any(c.linear.x > 0 for c in commands),
+                              timeout_s=10.0)
+            stderr = terminate(process)
+            spin_until(executor, lambda: commands[-1].linear.x == 0.0, timeout_s=3.0)
+        assert process.returncode == 0, stderr
+        assert 'Traceback' not in stderr
+        assert (commands[-1].linear.x, commands[-1].angular.z) == (0.0, 0.0)
+    finally:
+        executor.shutdown()
+        observer.destroy_node()
