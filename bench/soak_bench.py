@@ -31,6 +31,7 @@ from rclpy.parameter import Parameter  # noqa: E402
 from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move  # noqa: E402
 from turtlesim.srv import TeleportAbsolute  # noqa: E402
 
+from turtle_traj import runtime  # noqa: E402
 from turtle_traj.node.trajectory_node import TrajectoryNode  # noqa: E402
 from turtle_traj.sim.node import TURTLE_TOPIC_QOS  # noqa: E402
 from turtle_traj.sim.physics import SPAWN_XY_M  # noqa: E402
@@ -127,12 +128,7 @@ def soak(options: argparse.Namespace, rng: random.Random, sim: subprocess.Popen)
     executor.add_node(client)
 
     def spin_until(condition, timeout_s: float) -> bool:
-        deadline = time.monotonic() + timeout_s
-        while not condition():
-            if time.monotonic() > deadline:
-                return False
-            executor.spin_once(timeout_sec=0.01)
-        return True
+        return runtime.spin_until(executor, condition, timeout_s=timeout_s)
 
     def call(service_type, name, request, timeout_s=120.0):
         service = client.client(service_type, name)

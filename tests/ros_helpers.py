@@ -4,32 +4,22 @@ from __future__ import annotations
 
 import subprocess
 import sys
-import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
 from rclpy.context import Context
-from rclpy.executors import Executor, SingleThreadedExecutor
+from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
+from turtle_traj.runtime import spin_until
 from turtle_traj.sim.node import SimNode
 from turtle_traj.system import InProcessSystem
 
 # Fast enough for whole trajectories in seconds, slow enough that a controller in the same
 # executor still sees (almost) every pose.
 TEST_TIME_SCALE = 20.0
-
-
-def spin_until(executor: Executor, condition: Callable[[], bool], *, timeout_s: float) -> bool:
-    """Spin until condition() holds or timeout_s of wall time passed; return condition()."""
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        executor.spin_once(timeout_sec=0.02)
-    return True
 
 
 class SimHarness:

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import signal
 import sys
+import time
 from collections.abc import Callable, Sequence
 
 import rclpy
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import Executor, ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
@@ -69,6 +70,20 @@ def run_nodes(
                 node.destroy_node()
             rclpy.try_shutdown()
     return exit_code
+
+
+def spin_until(executor: Executor, condition: Callable[[], bool], *,
+               timeout_s: float) -> bool:
+    """Spin until condition() holds or timeout_s of wall time passed; return condition().
+
+    For scripts and tests that own their executor; never call it from a callback.
+    """
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        executor.spin_once(timeout_sec=0.01)
+    return True
 
 
 def fail(message: str) -> int:

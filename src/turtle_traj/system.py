@@ -6,7 +6,6 @@ never use it from inside another node's callback.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from pathlib import Path
 
@@ -17,6 +16,7 @@ from rclpy.parameter import Parameter
 from turtlesim.msg import Pose
 
 from turtle_traj.node.trajectory_node import TrajectoryNode
+from turtle_traj.runtime import spin_until
 from turtle_traj.sim.node import TURTLE_TOPIC_QOS, SimNode
 
 
@@ -43,12 +43,7 @@ class InProcessSystem:
 
     def spin_until(self, condition: Callable[[], bool], *, timeout_s: float = 20.0) -> bool:
         """Spin until condition() holds or timeout_s of wall time passed; return condition()."""
-        deadline = time.monotonic() + timeout_s
-        while not condition():
-            if time.monotonic() > deadline:
-                return False
-            self.executor.spin_once(timeout_sec=0.02)
-        return True
+        return spin_until(self.executor, condition, timeout_s=timeout_s)
 
     def spin_sim_seconds(self, seconds: float) -> None:
         """Spin until the simulator has advanced by `seconds` of simulated time."""
