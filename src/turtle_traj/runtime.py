@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import signal
 import sys
+import threading
 import time
 from collections.abc import Callable, Sequence
 
@@ -17,8 +18,6 @@ _SIGNAL_LATENCY_S = 0.1
 _STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
-def _raise_keyboard_interrupt(signum: int, frame: object) -> None:
-    raise KeyboardInterrupt
 
 
 def run_nodes(
@@ -39,24 +38,23 @@ def run_nodes(
         the ROS context down.
     """
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-    signal.signal(signal.SIGINT, _raise_keyboard_interrupt)
-    signal.signal(signal.SIGTERM, _raise_keyboard_interrupt)
+    # The handlers only set a flag the loop checks: an exception raised from a handler could
+    # land inside rclpy's C++ bindings and come out as an unrelated RuntimeError.
+    stop = threading.Event()
+    for signum in _STOP_SIGNALS:
+        signal.signal(signum, lambda *_: stop.set())
     nodes: list[Node] = []
     executor = SingleThreadedExecutor()
     exit_code = 0
     try:
-        # A signal during construction waits until the nodes exist, so on_exit still sees them.
-        signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
-        try:
-            nodes.extend(create_nodes())
-        finally:
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)
+        nodes.extend(create_nodes())
         for node in nodes:
             executor.add_node(node)
-        while rclpy.ok():
+        while rclpy.ok() and not stop.is_set():
             executor.spin_once(timeout_sec=_SIGNAL_LATENCY_S)
-        raise ExternalShutdownException
-    except KeyboardInterrupt:
+        if not stop.is_set():
+            raise ExternalShutdownException
+    except KeyboardInterrupt:  # raised by a callback, e.g. the GUI window being closed
         pass
     except ExternalShutdownException:
         exit_code = 1
