@@ -110,3 +110,16 @@ def test_follower_commands_are_finite_and_within_limits(kind, start, poses, conf
         assert math.isfinite(command.linear) and math.isfinite(command.angular)
         assert abs(command.linear) <= config.linear_speed + 1e-9
         assert abs(command.angular) <= config.angular_speed + 1e-9
+
+
+@SETTINGS
+@given(st.floats(0.001, 7.0), st.floats(0.001, 20.0), st.floats(0.0, 100.0),
+       st.floats(0.0, 15.0), starts)
+def test_any_spiral_request_is_planned_with_bounded_work(size, growth, turns, max_radius, start):
+    request = planning.ShapeRequest(size=size, growth=growth, turns=turns, max_radius=max_radius)
+    try:
+        path = planning.plan_shape('spiral', request, start, DEFAULTS, ARENA)
+    except PlanError:
+        return
+    # 100 turns of the largest radius that fits in the arena, at 2 cm spacing.
+    assert len(path.points()) < 100 * 2 * math.pi * WORLD_SIZE_M / 0.02

@@ -29,12 +29,16 @@ class Arena:
     max_y: float
     margin: float
 
-    def contains(self, points: np.ndarray) -> bool:
+    def inside(self, points: np.ndarray) -> np.ndarray:
+        """Per point: inside the rectangle shrunk by the margin."""
         points = np.atleast_2d(points)
-        return bool(np.all((points[:, 0] >= self.min_x + self.margin)
-                           & (points[:, 0] <= self.max_x - self.margin)
-                           & (points[:, 1] >= self.min_y + self.margin)
-                           & (points[:, 1] <= self.max_y - self.margin)))
+        return ((points[:, 0] >= self.min_x + self.margin)
+                & (points[:, 0] <= self.max_x - self.margin)
+                & (points[:, 1] >= self.min_y + self.margin)
+                & (points[:, 1] <= self.max_y - self.margin))
+
+    def contains(self, points: np.ndarray) -> bool:
+        return bool(self.inside(points).all())
 
     def describe(self) -> str:
         return (f'x in [{self.min_x + self.margin:.2f}, {self.max_x - self.margin:.2f}], '
@@ -82,12 +86,18 @@ def circle(start: Pose2D, *, radius: float, clockwise: bool, turns: float) -> Pa
 
 def spiral_points(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool,
                   end_radius: float) -> np.ndarray:
-    """An Archimedean spiral tangent to the heading, growing `growth` metres per turn."""
+    """An Archimedean spiral tangent to the heading, growing `growth` metres per turn.
+
+    With r(phi) = r0 + k' phi, the arc length (radial term neglected) is
+    s = r0 phi + growth phi^2 / (4 pi); sampling s evenly and solving for phi puts the points
+    SAMPLE_SPACING_M apart along the curve, in one vectorised step.
+    """
     side = -1.0 if clockwise else 1.0
-    phis = [0.0]
-    while (radius := start_radius + growth * phis[-1] / (2 * math.pi)) < end_radius:
-        phis.append(phis[-1] + SAMPLE_SPACING_M / radius)
-    phi = np.array(phis)
+    k = growth / (4 * math.pi)
+    phi_end = 2 * math.pi * (end_radius - start_radius) / growth
+    length = start_radius * phi_end + k * phi_end ** 2
+    arc = np.linspace(0.0, length, max(int(math.ceil(length / SAMPLE_SPACING_M)), 2) + 1)
+    phi = (np.sqrt(start_radius ** 2 + 4 * k * arc) - start_radius) / (2 * k)
     radius = start_radius + growth * phi / (2 * math.pi)
     local = np.column_stack((radius * np.sin(phi),
                              side * (start_radius - radius * np.cos(phi))))
@@ -96,21 +106,24 @@ def spiral_points(start: Pose2D, *, start_radius: float, growth: float, clockwis
 
 def spiral(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool,
            turns: float, max_radius: float, arena: Arena) -> Path:
-    """A spiral ending after `turns`, at `max_radius`, or (neither given) before the wall."""
+    """A spiral ending after `turns`, at `max_radius`, or (neither given) before the wall.
+
+    At most MAX_TURNS turns. Sampling stops at the arena's diagonal: a spiral that grows
+    beyond it has left the arena anyway, so the check fails without building the rest.
+    """
     limits = [start_radius + growth * turns] if turns > 0 else []
     limits += [max_radius] if max_radius > 0 else []
     if limits and min(limits) <= start_radius:
         raise PlanError(f'the spiral must end beyond its start radius {start_radius:g} m')
+    end_radius = min(limits or [start_radius + growth * MAX_TURNS])
+    if (end_radius - start_radius) / growth > MAX_TURNS + 1e-9:
+        raise PlanError(f'the spiral would take more than {MAX_TURNS:g} turns; grow it faster')
     arena_diagonal = math.hypot(arena.max_x - arena.min_x, arena.max_y - arena.min_y)
     points = spiral_points(start, start_radius=start_radius, growth=growth,
-                           clockwise=clockwise, end_radius=min(limits or [arena_diagonal]))
+                           clockwise=clockwise, end_radius=min(end_radius, arena_diagonal))
     if not limits:
-        inside = ((points[:, 0] >= arena.min_x + arena.margin)
-                  & (points[:, 0] <= arena.max_x - arena.margin)
-                  & (points[:, 1] >= arena.min_y + arena.margin)
-                  & (points[:, 1] <= arena.max_y - arena.margin))
-        first_outside = int(np.argmin(inside)) if not inside.all() else len(points)
-        points = points[:first_outside]
+        inside = arena.inside(points)
+        points = points[:len(points) if inside.all() else int(np.argmin(inside))]
         if len(points) < 2 * math.pi * start_radius / SAMPLE_SPACING_M:
             raise PlanError('not even one full turn of the spiral fits before the wall from '
                             'here')
