@@ -37,12 +37,6 @@ class SimHarness:
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.sim)
         self.executor.add_node(self.client)
-        self._extra_nodes: list[Node] = []
-
-    def add_node(self, node: Node) -> Node:
-        self.executor.add_node(node)
-        self._extra_nodes.append(node)
-        return node
 
     def spin_until(self, condition: Callable[[], bool], *, timeout_s: float = 20.0) -> bool:
         return spin_until(self.executor, condition, timeout_s=timeout_s)
@@ -67,7 +61,7 @@ class SimHarness:
 
     def close(self) -> None:
         self.executor.shutdown()
-        for node in [*self._extra_nodes, self.client, self.sim]:
+        for node in (self.client, self.sim):
             node.destroy_node()
 
 

@@ -107,3 +107,14 @@ def test_expected_duration_is_the_kinematic_bound(running_system):
         # 4 m at 1 m/s plus three quarter turns at 2 rad/s (the default speeds)
         assert bound == pytest.approx(4.0 + 3 * (math.pi / 2) / 2.0)
         assert client.expected_duration('draw_square', DrawShape.Request(size=99.0)) is None
+
+
+def test_menu_enter_on_speed_keeps_the_nodes_parameter():
+    from turtle_traj.menu import CHOICES, ask_field
+
+    speed = next(f for f in CHOICES['1'].fields if f.name == 'linear_speed')
+    prompts = []
+    assert ask_field(speed, lambda prompt: prompts.append(prompt) or '', print) == 0.0
+    assert "Enter = the node's default" in prompts[0]
+    request = CHOICES['1'].build({'size': 1.0, 'clockwise': 0.0, 'linear_speed': 0.0})
+    assert request.linear_speed == 0.0  # 0 in the request: the node uses its linear_speed

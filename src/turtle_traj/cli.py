@@ -150,7 +150,7 @@ def _run_session(options: argparse.Namespace) -> int:
     try:
         with TrajClient(node=options.node) as client:
             if options.command == 'menu':
-                from turtle_traj.menu import run_menu
+                from turtle_traj.menu import run_menu  # here: menu imports report from us
                 return run_menu(client)
             if options.name is None:
                 for name, value in client.parameters().items():

@@ -16,7 +16,12 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.parameter import Parameter, get_parameter_value, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.wait_for_message import wait_for_message
+from turtlesim.msg import Pose
 
+from turtle_traj.geometry.path import Pose2D
+from turtle_traj.geometry.shapes import PlanError
+from turtle_traj.node.parameters import settings_from_values
+from turtle_traj.node.plans import plan_request
 from turtle_traj.services import SERVICE_TYPES
 
 
@@ -112,13 +117,6 @@ class TrajClient:
 
         None when it cannot be known here (no pose, or a request the node will refuse).
         """
-        from turtlesim.msg import Pose
-
-        from turtle_traj.geometry.path import Pose2D
-        from turtle_traj.geometry.shapes import PlanError
-        from turtle_traj.node.parameters import settings_from_values
-        from turtle_traj.node.plans import plan_request
-
         try:
             values = self.parameters()
             namespace = self.node_name.rsplit('/', 1)[0]

@@ -26,7 +26,10 @@ class _Leave(Exception):
 
 @dataclass(frozen=True)
 class Field:
-    """One question: request field, prompt, default and inclusive range."""
+    """One question: request field, prompt, default and inclusive range.
+
+    A default of 0 stands for the node's own parameter (the request field's 0 means that).
+    """
 
     name: str
     prompt: str
@@ -56,7 +59,7 @@ def _shape(**fixed: float) -> Callable[[dict[str, float]], DrawShape.Request]:
 
 
 _CLOCKWISE = Field('clockwise', 'clockwise', 0, 0, 1, yes_no=True)
-_SPEED = Field('linear_speed', 'speed in m/s', 1.0, 0.01, 10.0)
+_SPEED = Field('linear_speed', 'speed in m/s', 0.0, 0.01, 10.0)
 
 CHOICES = {
     '1': Choice('square', 'draw_square', (
@@ -109,7 +112,7 @@ def ask_field(field: Field, ask: Callable[[str], str], say: Callable[[str], None
             if answer in ('', 'n', 'no', 'y', 'yes'):
                 return float(answer in ('y', 'yes'))
             say('  please answer y or n')
-    shown = f'{field.default:g}'
+    shown = f'{field.default:g}' if field.default else "the node's default"
     while True:
         answer = _read(ask, f'  {field.prompt} ({field.low:g} to {field.high:g}, '
                             f'Enter = {shown}): ')

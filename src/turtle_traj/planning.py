@@ -121,13 +121,12 @@ def plan_shape(shape: str, request: ShapeRequest, start: Pose2D, defaults: Shape
     if shape == 'circle':
         radius = _non_negative('size', request.size, defaults.radius, 'm', diagonal / 2)
 
-        def build(size: float) -> Path:
-            return shapes.circle(start, radius=size, clockwise=request.clockwise, turns=turns)
+        def one_lap(size: float) -> Path:
+            return shapes.circle(start, radius=size, clockwise=request.clockwise, turns=1.0)
         # Checking one lap is enough: every lap covers the same points.
-        one_lap = shapes.circle(start, radius=radius, clockwise=request.clockwise, turns=1.0)
-        _checked(one_lap, arena, start, f'circle of radius {radius:g} m', build, radius,
-                 'm (radius)')
-        return build(radius)
+        _checked(one_lap(radius), arena, start, f'circle of radius {radius:g} m', one_lap,
+                 radius, 'm (radius)')
+        return shapes.circle(start, radius=radius, clockwise=request.clockwise, turns=turns)
 
     if shape == 'spiral':
         start_radius = _non_negative('size', request.size, defaults.spiral_start_radius, 'm',

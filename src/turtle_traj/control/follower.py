@@ -90,7 +90,6 @@ class _CurveTracker:
         self.curve = curve
         self.end_tolerance = end_tolerance
         self.segment = 0
-        self.laps = 0
 
     def _project(self, pose: Pose2D) -> tuple[int, float, float]:
         """Nearest segment near the last one: index, fraction along it, signed offset."""
@@ -111,8 +110,6 @@ class _CurveTracker:
         index = int(candidates[best])
         cross = along[best, 0] * relative[best, 1] - along[best, 1] * relative[best, 0]
         offset = cross / math.sqrt(squared[best])
-        if self.curve.repeat and index < self.segment - count // 2:
-            self.laps += 1
         return index, float(fraction[best]), float(offset)
 
     def update(self, pose: Pose2D, config: ControlConfig) -> tuple[Command | None, float]:
@@ -171,11 +168,6 @@ class PathFollower:
     @property
     def done(self) -> bool:
         return self.leg_index >= len(self.path.legs)
-
-    @property
-    def laps(self) -> int:
-        """Completed laps of an endless loop."""
-        return self._tracker.laps if isinstance(self._tracker, _CurveTracker) else 0
 
     def update(self, pose: Pose2D, config: ControlConfig) -> Command:
         """The command for this control period; STOP once done."""

@@ -7,7 +7,7 @@ curve, a go-to a turn and a straight curve. One follower (turtle_traj.control) d
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
@@ -104,7 +104,6 @@ class Path:
     legs: tuple[Leg, ...]
     closed: bool = False
     endless: bool = False
-    final_heading: float | None = field(default=None)
 
     @property
     def end(self) -> tuple[float, float]:

@@ -52,6 +52,10 @@ def _rotate(local: np.ndarray, start: Pose2D) -> np.ndarray:
                             start.y + s * local[:, 0] + c * local[:, 1]))
 
 
+def _start_xy(start: Pose2D) -> np.ndarray:
+    return np.array([start.x, start.y])
+
+
 def polygon(start: Pose2D, *, sides: int, side_length: float, clockwise: bool) -> Path:
     """A regular polygon whose first side runs along the current heading.
 
@@ -60,14 +64,11 @@ def polygon(start: Pose2D, *, sides: int, side_length: float, clockwise: bool) -
     turn = (-1.0 if clockwise else 1.0) * 2.0 * math.pi / sides
     angles = start.theta + turn * np.arange(sides)
     steps = side_length * np.column_stack((np.cos(angles), np.sin(angles)))
-    vertices = np.vstack(([[start.x, start.y]], start_xy(start) + np.cumsum(steps, axis=0)))
+    origin = _start_xy(start)
+    vertices = np.vstack((origin, origin + np.cumsum(steps, axis=0)))
     vertices[-1] = vertices[0]  # close exactly, free of rounding
     legs = legs_from_polyline(start, vertices, corner_angle_rad=1e-9)
     return Path(tuple(legs), closed=True)
-
-
-def start_xy(start: Pose2D) -> np.ndarray:
-    return np.array([start.x, start.y])
 
 
 def circle(start: Pose2D, *, radius: float, clockwise: bool, turns: float) -> Path:
@@ -143,7 +144,7 @@ def sine(start: Pose2D, *, amplitude: float, frequency: float, length: float,
 def straight(start: Pose2D, *, distance: float) -> Path:
     """Drive `distance` metres along the heading; negative drives backwards."""
     end = _rotate(np.array([[distance, 0.0]]), start)[0]
-    return Path((Curve(np.vstack((start_xy(start), end)), reverse=distance < 0),))
+    return Path((Curve(np.vstack((_start_xy(start), end)), reverse=distance < 0),))
 
 
 def rotation(start: Pose2D, *, angle_rad: float) -> Path:
@@ -162,7 +163,7 @@ def go_to(start: Pose2D, *, x: float, y: float, final_heading: float | None,
     goal_heading = heading if final_heading is None else final_heading
     if final_heading is not None or not legs:  # already there: a (possibly zero) turn
         legs.append(Turn(x, y, heading, shortest_angular_distance(heading, goal_heading)))
-    return Path(tuple(legs), final_heading=final_heading)
+    return Path(tuple(legs))
 
 
 def follow(start: Pose2D, *, points: Sequence[tuple[float, float]], closed: bool,
@@ -171,7 +172,7 @@ def follow(start: Pose2D, *, points: Sequence[tuple[float, float]], closed: bool
     waypoints = np.array(points, dtype=float).reshape(-1, 2)
     if closed:
         waypoints = np.vstack((waypoints, waypoints[:1]))
-    route = np.vstack((start_xy(start), waypoints))
+    route = np.vstack((_start_xy(start), waypoints))
     legs = legs_from_polyline(start, route, corner_angle_rad=corner_angle_rad)
     return Path(tuple(legs), closed=closed)
 

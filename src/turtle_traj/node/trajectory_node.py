@@ -50,6 +50,7 @@ class Outcome:
     path_length: float = 0.0
     max_deviation: float = 0.0
     final_error: float = 0.0
+    stopped_by_request: bool = False
 
 
 @dataclass
@@ -189,7 +190,7 @@ class TrajectoryNode(Node):
         return min(pose.x - arena.min_x, arena.max_x - pose.x,
                    pose.y - arena.min_y, arena.max_y - pose.y)
 
-    def _finish(self, success: bool, message: str) -> None:
+    def _finish(self, success: bool, message: str, *, stopped_by_request: bool = False) -> None:
         run, self._run = self._run, None
         if run is None:
             return
@@ -199,7 +200,8 @@ class TrajectoryNode(Node):
             success, message, pose,
             elapsed_s=(self.get_clock().now() - run.started).nanoseconds * 1e-9,
             path_length=run.path.length, max_deviation=run.follower.max_deviation,
-            final_error=math.dist((pose.x, pose.y), run.path.end) if pose else math.nan)
+            final_error=math.dist((pose.x, pose.y), run.path.end) if pose else math.nan,
+            stopped_by_request=stopped_by_request)
         summary = (f'{message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
                    f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m)')
         # Two call sites: rclpy refuses one call site logging at two severities.
@@ -244,8 +246,8 @@ class TrajectoryNode(Node):
             f'{kind}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} deg of '
             f'turns in place, at least {plan.lower_bound_s(self.settings):.1f} s')
         outcome = await run.done
-        if path.endless and outcome.message.startswith(f'{kind} stopped by request'):
-            outcome.success = True
+        if path.endless and outcome.stopped_by_request:
+            outcome.success = True  # an endless trajectory ends only this way
         return fill_response(response, outcome)
 
     def _publish_plan(self, path: Path) -> None:
@@ -269,7 +271,7 @@ class TrajectoryNode(Node):
         if run is None:
             response.success, response.message = True, 'nothing was running; turtle stopped'
         else:
-            self._finish(False, f'{run.kind} stopped by request')
+            self._finish(False, f'{run.kind} stopped by request', stopped_by_request=True)
             response.success, response.message = True, f'stopped {run.kind}'
         return response
 

@@ -45,12 +45,9 @@ class _TurtleEndpoints:
         group = node.reentrant_group
         self.pose = node.create_publisher(Pose, f'{name}/pose', TURTLE_TOPIC_QOS)
         self.color = node.create_publisher(Color, f'{name}/color_sensor', TURTLE_TOPIC_QOS)
-        self.entities = [
-            self.pose,
-            self.color,
-            node.create_subscription(
-                Twist, f'{name}/cmd_vel', lambda msg: node.on_cmd_vel(name, msg),
-                TURTLE_TOPIC_QOS),
+        self.cmd_vel = node.create_subscription(
+            Twist, f'{name}/cmd_vel', lambda msg: node.on_cmd_vel(name, msg), TURTLE_TOPIC_QOS)
+        self.services = [
             node.create_service(
                 SetPen, f'{name}/set_pen', lambda req, res: node.handle_set_pen(name, req, res)),
             node.create_service(
@@ -69,13 +66,11 @@ class _TurtleEndpoints:
 
     def destroy(self, node: Node) -> None:
         self.action.destroy()
-        for entity in self.entities:
-            destroy = {
-                'Publisher': node.destroy_publisher,
-                'Subscription': node.destroy_subscription,
-                'Service': node.destroy_service,
-            }[type(entity).__name__]
-            destroy(entity)
+        node.destroy_publisher(self.pose)
+        node.destroy_publisher(self.color)
+        node.destroy_subscription(self.cmd_vel)
+        for service in self.services:
+            node.destroy_service(service)
 
 
 class _Rotation:
@@ -84,10 +79,6 @@ class _Rotation:
     def __init__(self, handle) -> None:
         self.handle = handle
         self.finished = Future()
-
-
-def _describe(description: str, **constraints: object) -> ParameterDescriptor:
-    return ParameterDescriptor(description=description, **constraints)
 
 
 def _color_range() -> list[IntegerRange]:
@@ -102,22 +93,23 @@ class SimNode(Node):
         self.reentrant_group = ReentrantCallbackGroup()
         self.world = World()
         self.add_post_set_parameters_callback(self._apply_parameters)
-        self.declare_parameter('background_r', 69, _describe(
-            'Red channel of the background color', integer_range=_color_range()))
-        self.declare_parameter('background_g', 86, _describe(
-            'Green channel of the background color', integer_range=_color_range()))
-        self.declare_parameter('background_b', 255, _describe(
-            'Blue channel of the background color', integer_range=_color_range()))
-        self.declare_parameter('holonomic', False, _describe(
-            'If true, then turtles will be holonomic'))
-        time_scale = self.declare_parameter('time_scale', 1.0, _describe(
-            'Simulated seconds per wall-clock second (turtle_traj extension)', read_only=True,
+        self.declare_parameter('background_r', 69, ParameterDescriptor(
+            description='Red channel of the background color', integer_range=_color_range()))
+        self.declare_parameter('background_g', 86, ParameterDescriptor(
+            description='Green channel of the background color', integer_range=_color_range()))
+        self.declare_parameter('background_b', 255, ParameterDescriptor(
+            description='Blue channel of the background color', integer_range=_color_range()))
+        self.declare_parameter('holonomic', False, ParameterDescriptor(
+            description='If true, then turtles will be holonomic'))
+        time_scale = self.declare_parameter('time_scale', 1.0, ParameterDescriptor(
+            description='Simulated seconds per wall-clock second (turtle_traj extension)',
+            read_only=True,
             floating_point_range=[FloatingPointRange(from_value=0.1, to_value=1000.0)])).value
-        publish_clock = self.declare_parameter('publish_clock', False, _describe(
-            'Publish simulated time on /clock, for nodes with use_sim_time (turtle_traj '
-            'extension)', read_only=True)).value
-        self.output_dir = Path(self.declare_parameter('output_dir', 'output', _describe(
-            'Folder that save_image writes into (turtle_traj extension)',
+        publish_clock = self.declare_parameter('publish_clock', False, ParameterDescriptor(
+            description='Publish simulated time on /clock, for nodes with use_sim_time '
+                        '(turtle_traj extension)', read_only=True)).value
+        self.output_dir = Path(self.declare_parameter('output_dir', 'output', ParameterDescriptor(
+            description='Folder that save_image writes into (turtle_traj extension)',
             read_only=True)).value).resolve()
 
         self.canvas = Canvas()
@@ -315,9 +307,11 @@ class SimNode(Node):
 
     def _finish_rotation(self, rotation: _Rotation, status: GoalStatus, delta_rad: float) -> None:
         handle = rotation.handle
-        if rotation.finished.done() or not handle.is_active:
+        if rotation.finished.done():
             return
-        if status is GoalStatus.SUCCEEDED:
+        if not handle.is_active:
+            pass  # already ended by rclpy; still release the awaiting execute callback
+        elif status is GoalStatus.SUCCEEDED:
             handle.succeed()
         elif status is GoalStatus.CANCELED and handle.is_cancel_requested:
             handle.canceled()
