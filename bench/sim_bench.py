@@ -10,6 +10,7 @@ import resource
 import statistics
 import tempfile
 import time
+from pathlib import Path
 
 os.environ.setdefault('ROS_DOMAIN_ID', '77')
 os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
@@ -18,9 +19,11 @@ os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='turtle_traj_bench_
 import rclpy  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
+from turtle_traj_interfaces.srv import DrawShape  # noqa: E402
 
 from turtle_traj.sim.node import SimNode  # noqa: E402
 from turtle_traj.sim.physics import STEP_S  # noqa: E402
+from turtle_traj.system import InProcessSystem  # noqa: E402
 
 
 def _cpu_s() -> float:
@@ -48,6 +51,19 @@ def real_time_factor(time_scale: float, seconds: float = 4.0) -> float:
         node.destroy_node()
 
 
+def lockstep_real_time_factor() -> float:
+    """Simulator, trajectory node and client in one lock-step process, drawing a square."""
+    system = InProcessSystem(output_dir=Path(tempfile.mkdtemp()))
+    try:
+        start_wall, start_sim = time.monotonic(), system.sim_time_s
+        response = system.run(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+        if not response.success:
+            raise RuntimeError(response.message)
+        return (system.sim_time_s - start_sim) / (time.monotonic() - start_wall)
+    finally:
+        system.close()
+
+
 def cpu_share_at_real_time(seconds: float = 5.0) -> float:
     node = SimNode()
     executor = SingleThreadedExecutor()
@@ -64,8 +80,7 @@ def cpu_share_at_real_time(seconds: float = 5.0) -> float:
 
 def update_cost_ms(turtles: int, updates: int = 300) -> tuple[float, float]:
     """Median and worst wall time of one update (physics, drawing, publishing)."""
-    node = SimNode()
-    node.step_timer.cancel()  # we call the update ourselves
+    node = SimNode(lockstep=True)  # no timer: we call the update ourselves
     try:
         for index in range(turtles - 1):
             node.world.spawn(1.0 + (index % 10) * 0.9, 1.0 + (index // 10) * 0.9, 0.0)
@@ -79,7 +94,7 @@ def update_cost_ms(turtles: int, updates: int = 300) -> tuple[float, float]:
                 for turtle in node.world:
                     node.world.command(turtle.name, 0.5, 0.0, 0.3)
             start = time.perf_counter()
-            node.on_step_timer()
+            node.step()
             costs.append((time.perf_counter() - start) * 1e3)
         return statistics.median(costs), max(costs)
     finally:
@@ -92,6 +107,8 @@ def main() -> None:
         print('turtle_traj simulator benchmark (SingleThreadedExecutor, one process)')
         for scale in (100.0, 1000.0):
             print(f'  real-time factor, time_scale={scale:g}: {real_time_factor(scale):7.1f}x')
+        print(f'  real-time factor, lock-step simulator + trajectory node + client drawing a '
+              f'square: {lockstep_real_time_factor():7.1f}x')
         print(f'  CPU of one turtle at real time: {100 * cpu_share_at_real_time():5.1f}% '
               'of one core')
         budget_ms = STEP_S * 1e3

@@ -50,10 +50,13 @@ def ros_context() -> Iterator[object]:
         rclpy.try_shutdown(context=context)
 
 
-def _harness(kind: str, ros_context, tmp_path):
-    from tests import ros_helpers
+@pytest.fixture
+def sim(ros_context, tmp_path):
+    """Our simulator and a sim-time client node in one lock-step executor."""
+    from turtle_traj.system import LockstepSim
 
-    harness = getattr(ros_helpers, kind)(ros_context, tmp_path / 'output')
+    harness = LockstepSim(context=ros_context, output_dir=tmp_path / 'output',
+                          client_name='test_client')
     try:
         yield harness
     finally:
@@ -61,12 +64,12 @@ def _harness(kind: str, ros_context, tmp_path):
 
 
 @pytest.fixture
-def sim(ros_context, tmp_path):
-    """Our simulator and a sim-time client node in one executor."""
-    yield from _harness('SimHarness', ros_context, tmp_path)
-
-
-@pytest.fixture
 def traj(ros_context, tmp_path):
-    """Simulator, trajectory node (both on simulated time) and a client, in one executor."""
-    yield from _harness('TrajHarness', ros_context, tmp_path)
+    """Simulator, trajectory node and a pose-recording client in one lock-step executor."""
+    from turtle_traj.system import InProcessSystem
+
+    harness = InProcessSystem(context=ros_context, output_dir=tmp_path / 'output')
+    try:
+        yield harness
+    finally:
+        harness.close()

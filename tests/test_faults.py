@@ -117,7 +117,8 @@ def test_sigterm_mid_run_sends_a_final_stop_command(ros_context, tmp_path):
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
 
-    from tests.ros_helpers import program, spin_until, terminate
+    from tests.ros_helpers import program, terminate
+    from turtle_traj.runtime import spin_until
     from turtle_traj.sim.node import TURTLE_TOPIC_QOS
 
     observer = Node('sigterm_observer', context=ros_context)

@@ -13,7 +13,7 @@ from rclpy.node import Node
 from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
 from turtlesim.msg import Pose
 
-from tests.ros_helpers import spin_until
+from turtle_traj.runtime import spin_until
 
 
 def test_ament_index_lists_both_packages():

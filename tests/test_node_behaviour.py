@@ -12,8 +12,9 @@ from rclpy.node import Node
 from std_srvs.srv import Trigger
 from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
 
-from tests.ros_helpers import program, spin_until, terminate
+from tests.ros_helpers import program, terminate
 from turtle_traj.node.trajectory_node import TrajectoryNode
+from turtle_traj.runtime import spin_until
 from turtle_traj.sim.physics import SPAWN_XY_M, WORLD_SIZE_M
 
 # Room from the start pose to the right and top edges, after the default 0.3 m wall margin.
@@ -58,6 +59,7 @@ def test_bad_requests_are_refused_and_the_node_still_works(traj, service, servic
     assert not response.success
     assert reason in response.message
     assert not traj.node.busy
+    traj.spin_sim_seconds(0.1)
     assert max(p.linear_velocity for p in traj.poses) == 0.0  # refused before moving
     after = traj.run(Move, 'rotate', Move.Request(angle=0.5))
     assert after.success, after.message

@@ -63,8 +63,8 @@ SPECS = (
     Spec('arena_min_y', 0.0, 'Arena bottom edge', 'm', -1000.0, 1000.0),
     Spec('arena_max_x', WORLD_SIZE_M, 'Arena right edge', 'm', -1000.0, 1000.0),
     Spec('arena_max_y', WORLD_SIZE_M, 'Arena top edge', 'm', -1000.0, 1000.0),
-    Spec('pose_timeout', 0.5, 'Wall-clock time without a pose after which a trajectory '
-         'aborts', 's', 0.05, 60.0),
+    Spec('pose_timeout', 0.5, 'Time without a pose after which a trajectory aborts (node '
+         'clock; wall clock while a simulated clock stands still)', 's', 0.05, 60.0),
     Spec('default_side_length', 2.0, 'Polygon side when a request leaves size 0', 'm',
          0.01, 50.0),
     Spec('default_radius', 1.5, 'Circle radius when a request leaves size 0', 'm', 0.01, 50.0),

@@ -1,8 +1,10 @@
 """TrajectoryNode: one service per trajectory, a control timer, live parameters.
 
 Service handlers validate and plan, hand the path to the control timer and await its end; the
-timer steps the pure PathFollower on the latest pose. A steady-clock watchdog aborts a
-trajectory when poses stop arriving (the simulator vanished), even if simulated time stopped.
+timer steps the pure PathFollower on the latest pose. A watchdog aborts a trajectory when poses
+stop arriving: silence is measured on the node's clock (so simulated time gives the same verdict
+under any load) and on the wall clock only while the node's clock stands still (a simulator that
+published /clock has vanished).
 """
 
 from __future__ import annotations
@@ -96,6 +98,7 @@ class TrajectoryNode(Node):
         self._pose: Pose2D | None = None
         self._pose_msg: Pose | None = None
         self._pose_wall_s = -math.inf
+        self._pose_time: Time | None = None
         self._run: _Run | None = None
 
         self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
@@ -134,6 +137,16 @@ class TrajectoryNode(Node):
                                     'node fell behind the simulator)')
         self._pose_msg = msg
         self._pose_wall_s = time.monotonic()
+        self._pose_time = self.get_clock().now()
+
+    def _pose_silence_s(self) -> float:
+        """Time since the last pose, on the node clock (wall clock while that one stands still)."""
+        if self._pose_time is None:
+            return math.inf
+        silence = (self.get_clock().now() - self._pose_time).nanoseconds * 1e-9
+        if silence > 0.0:
+            return silence
+        return time.monotonic() - self._pose_wall_s
 
     @property
     def busy(self) -> bool:
@@ -169,7 +182,7 @@ class TrajectoryNode(Node):
     def _on_watchdog(self) -> None:
         if self._run is None:
             return
-        silence = time.monotonic() - self._pose_wall_s
+        silence = self._pose_silence_s()
         if silence > self.settings.pose_timeout_s:
             self._finish(False, f'{self._run.kind} aborted: no pose on {self.pose_topic} for '
                                 f'{silence:.2f} s (pose_timeout {self.settings.pose_timeout_s:g} '
@@ -217,7 +230,7 @@ class TrajectoryNode(Node):
         if self._run is not None:
             return (f'busy: {self._run.kind} is running; wait for it or call '
                     f'{self.stop_service} (std_srvs/srv/Trigger) to stop it')
-        silence = time.monotonic() - self._pose_wall_s
+        silence = self._pose_silence_s()
         if self._pose is None or silence > self.settings.pose_timeout_s:
             heard = 'never' if self._pose is None else f'not for {silence:.1f} s'
             return (f'no pose on {self.pose_topic} ({heard}): is the simulator running and '

@@ -86,9 +86,14 @@ def _color_range() -> list[IntegerRange]:
 
 
 class SimNode(Node):
-    """A headless, wire-compatible `turtlesim_node` (node name `turtlesim` by default)."""
+    """A headless, wire-compatible `turtlesim_node` (node name `turtlesim` by default).
 
-    def __init__(self, node_name: str = 'turtlesim', **kwargs) -> None:
+    It steps itself on a (scaled) wall-clock timer, as turtlesim does; with `lockstep` it has no
+    timer and publishes /clock, and whoever runs it calls `step()` (see `LockstepExecutor`).
+    """
+
+    def __init__(self, node_name: str = 'turtlesim', *, lockstep: bool = False,
+                 **kwargs) -> None:
         super().__init__(node_name, **kwargs)
         self.reentrant_group = ReentrantCallbackGroup()
         self.world = World()
@@ -116,16 +121,16 @@ class SimNode(Node):
         self._endpoints: dict[str, _TurtleEndpoints] = {}
 
         self._clock_publisher = (
-            self.create_publisher(ClockMsg, '/clock', 10) if publish_clock else None)
+            self.create_publisher(ClockMsg, '/clock', 10) if publish_clock or lockstep else None)
         self.create_service(Empty, 'clear', self.handle_clear)
         self.create_service(Empty, 'reset', self.handle_reset)
         self.create_service(Spawn, 'spawn', self.handle_spawn)
         self.create_service(Kill, 'kill', self.handle_kill)
         self.create_service(SaveImage, '~/save_image', self.handle_save_image)
-        # The physics runs on wall time (scaled); ROS time may itself follow our /clock.
-        self.step_timer = self.create_timer(
-            STEP_S / time_scale, self.on_step_timer,
-            clock=Clock(clock_type=ClockType.STEADY_TIME))
+        if not lockstep:
+            # The physics runs on wall time (scaled); ROS time may itself follow our /clock.
+            self.create_timer(STEP_S / time_scale, self.step,
+                              clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(
             f'Starting turtlesim with node name {self.get_fully_qualified_name()}')
         self._spawn('', SPAWN_XY_M, SPAWN_XY_M, 0.0)
@@ -145,7 +150,7 @@ class SimNode(Node):
 
     # -- simulation ------------------------------------------------------------------------
 
-    def on_step_timer(self) -> None:
+    def step(self) -> None:
         """Advance the world one step, then publish and draw what it produced."""
         report = self.world.step()
         if self._clock_publisher is not None:

@@ -1,0 +1,75 @@
+"""Lock-step simulated time: the simulator steps only when everything else in the process is idle.
+
+Fast DDS delivers a message between two nodes of one process before `publish()` returns, so an
+executor pass that finds nothing new to run means that everything the last simulator step
+triggered has been handled: the pose delivered, every timer due at the new simulated time fired,
+the commands those timers published taken by the simulator. Only then does the next step run.
+Nothing waits on the wall clock, so simulated time runs as fast as the CPU allows, and the same
+requests give the same callbacks in the same order, hence bit-identical poses, whatever the load.
+"""
+
+from __future__ import annotations
+
+import weakref
+from typing import TYPE_CHECKING
+
+from rclpy.context import Context
+from rclpy.executors import (
+    ConditionReachedException,
+    ShutdownException,
+    SingleThreadedExecutor,
+    TimeoutException,
+)
+from rclpy.task import Future, Task
+
+if TYPE_CHECKING:
+    from turtle_traj.sim.node import SimNode
+
+
+class LockstepExecutor(SingleThreadedExecutor):
+    """A single-threaded executor that steps `simulator` whenever a whole pass found no new work.
+
+    `spin_once` then never blocks: it runs one ready callback, or advances simulated time by one
+    step. A coroutine callback still awaiting something (an async service handler waiting for its
+    trajectory to end) is resumed on every pass, as rclpy does; resuming it is not new work.
+    While the simulator is not among the executor's nodes (removed, as if it had vanished),
+    nothing steps and `spin_once` waits like a plain SingleThreadedExecutor.
+    """
+
+    def __init__(self, simulator: SimNode, *, context: Context | None = None) -> None:
+        super().__init__(context=context)
+        self._simulator = simulator
+        self._started: weakref.WeakSet[Task] = weakref.WeakSet()
+        self._pass_found_work = False
+        self.steps = 0
+
+    def spin_once(self, timeout_sec: float | None = None) -> None:
+        """Run one ready callback or, when the last pass found nothing new, step the simulator.
+
+        :param timeout_sec: how long to wait for work while the simulator is not being spun;
+            ignored otherwise, as lock-step never waits for the wall clock.
+        """
+        if self._simulator not in self.get_nodes():
+            super().spin_once(timeout_sec)
+            return
+        try:
+            handler, _entity, _node = self.wait_for_ready_callbacks(timeout_sec=0)
+        except TimeoutException:  # the end of one pass over everything that was ready
+            if not self._pass_found_work:
+                self._simulator.step()
+                self.steps += 1
+            self._pass_found_work = False
+            return
+        except (ShutdownException, ConditionReachedException):
+            return
+        if handler not in self._started:
+            self._started.add(handler)
+            self._pass_found_work = True
+        handler()
+        if handler.exception() is not None:
+            raise handler.exception()
+
+    def spin_once_until_future_complete(self, future: Future,
+                                        timeout_sec: float | None = None) -> None:
+        """As `spin_once`: futures complete through callbacks, which lock-step runs in turn."""
+        self.spin_once(timeout_sec)
