@@ -34,10 +34,14 @@ class LockstepSim:
     """
 
     def __init__(self, *, context: Context | None = None, output_dir: Path = Path('output'),
-                 client_name: str = 'turtle_traj_client') -> None:
+                 client_name: str = 'turtle_traj_client',
+                 sim_parameters: dict[str, object] | None = None) -> None:
         self.sim = SimNode(context=context, lockstep=True, parameter_overrides=[
-            Parameter('output_dir', value=str(output_dir))])
-        self.client = Node(client_name, context=context, parameter_overrides=[SIM_TIME])
+            Parameter('output_dir', value=str(output_dir)),
+            *(Parameter(name, value=value) for name, value in (sim_parameters or {}).items())])
+        # The client only calls and listens: no parameter services of its own to wait on.
+        self.client = Node(client_name, context=context, parameter_overrides=[SIM_TIME],
+                           start_parameter_services=False)
         self.executor = LockstepExecutor(self.sim, context=context)
         self.nodes: list[Node] = []
         self._service_clients: dict[tuple[type, str], Client] = {}
@@ -101,8 +105,9 @@ class InProcessSystem(LockstepSim):
     """LockstepSim plus a TrajectoryNode; the client records turtle1's poses in `poses`."""
 
     def __init__(self, *, context: Context | None = None, output_dir: Path = Path('output'),
+                 sim_parameters: dict[str, object] | None = None,
                  **node_parameters: object) -> None:
-        super().__init__(context=context, output_dir=output_dir)
+        super().__init__(context=context, output_dir=output_dir, sim_parameters=sim_parameters)
         self.node = TrajectoryNode(context=context, parameter_overrides=[SIM_TIME] + [
             Parameter(name, value=value) for name, value in node_parameters.items()])
         self.add_node(self.node)

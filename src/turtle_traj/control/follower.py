@@ -1,11 +1,13 @@
 """One path follower for every trajectory: in-place turns and continuous curve tracking.
 
-Pure Python: `PathFollower.update(pose, config)` returns the next velocity command. Curves are
-tracked with curvature feed-forward plus a heading set-point that steers back onto the path
+Pure Python: `PathFollower.update(pose, config, echo)` returns the next velocity command. It
+steers from the pose predicted for the moment that command takes effect (see `latency`), so the
+latency between pose and command is accounted for, not guessed. Curves are tracked with
+curvature feed-forward plus a heading set-point that steers back onto the path
 (`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
-towards the end of the curve and, near the end, by a fifth of the remaining distance per
-control period, so commands that act a period or two late still do not overshoot. A turtle
-facing more than `turn_first_angle` away from the path turns in place first.
+towards the end of the curve and, near the end, by half of the remaining distance per control
+period, which absorbs a misjudged period of latency without overshoot. A turtle facing more than
+`turn_first_angle` away from the path turns in place first.
 """
 
 from __future__ import annotations
@@ -15,15 +17,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from turtle_traj.control.commands import STOP, Command
+from turtle_traj.control.latency import LatencyPredictor
 from turtle_traj.geometry.angles import wrap_angle
 from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn
 
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
-# Near the end of a leg each command covers at most 1/5 of what remains. A command acts one or
-# two periods after the pose it was computed from (pose -> controller -> simulator); with 1/5
-# the delayed loop r[n+1] = r[n] - r[n-2]/5 still settles without overshoot.
-_LATENCY_ALLOWANCE = 5.0
+# Near the end of a leg each command covers at most half of what remains (of the predicted
+# remainder): exact prediction converges geometrically, and a latency misjudged by one period
+# still settles without overshoot.
+_LATENCY_ALLOWANCE = 2.0
 
 
 @dataclass(frozen=True)
@@ -40,17 +44,6 @@ class ControlConfig:
     heading_tolerance: float = 0.002  # rad, end of a turn reached
     turn_first_angle: float = 0.6  # rad, heading error beyond which the turtle turns in place
     period_s: float = 0.016  # s, control period
-
-
-@dataclass(frozen=True)
-class Command:
-    """A velocity command: forward speed (m/s) and turn rate (rad/s, counter-clockwise)."""
-
-    linear: float = 0.0
-    angular: float = 0.0
-
-
-STOP = Command()
 
 
 def _braking_speed(remaining: float, deceleration: float, period_s: float) -> float:
@@ -71,10 +64,11 @@ class _TurnTracker:
         self.turned = wrap_angle(pose.theta - turn.start_heading)
         self.previous = pose.theta
 
-    def update(self, pose: Pose2D, config: ControlConfig) -> tuple[Command | None, float]:
+    def update(self, pose: Pose2D, predicted: Pose2D,
+               config: ControlConfig) -> tuple[Command | None, float]:
         self.turned += wrap_angle(pose.theta - self.previous)
         self.previous = pose.theta
-        error = self.turn.sweep_rad - self.turned
+        error = self.turn.sweep_rad - self.turned - wrap_angle(predicted.theta - pose.theta)
         deviation = math.hypot(pose.x - self.turn.x, pose.y - self.turn.y)
         if abs(error) < config.heading_tolerance:
             return None, deviation
@@ -112,10 +106,13 @@ class _CurveTracker:
         offset = cross / math.sqrt(squared[best])
         return index, float(fraction[best]), float(offset)
 
-    def update(self, pose: Pose2D, config: ControlConfig) -> tuple[Command | None, float]:
+    def update(self, pose: Pose2D, predicted: Pose2D,
+               config: ControlConfig) -> tuple[Command | None, float]:
+        """Steer from the predicted pose; the deviation reported is the actual pose's."""
         curve = self.curve
-        self.segment, fraction, offset = self._project(pose)
-        deviation = abs(offset)
+        deviation = abs(self._project(pose)[2])
+        self.segment, fraction, offset = self._project(predicted)
+        pose = predicted
         last = len(curve.points) - 2
         if curve.repeat:
             remaining = math.inf
@@ -164,13 +161,30 @@ class PathFollower:
         self.max_deviation = 0.0
         self._end_tolerance = end_tolerance
         self._tracker: _TurnTracker | _CurveTracker | None = None
+        self._latency: LatencyPredictor | None = None
 
     @property
     def done(self) -> bool:
         return self.leg_index >= len(self.path.legs)
 
-    def update(self, pose: Pose2D, config: ControlConfig) -> Command:
-        """The command for this control period; STOP once done."""
+    def update(self, pose: Pose2D, config: ControlConfig,
+               echo: tuple[float, float] | None = None) -> Command:
+        """The command for this control period; STOP once done.
+
+        :param pose: the latest pose.
+        :param config: the tuning to use.
+        :param echo: that pose's (linear_velocity, angular_velocity), which tells which of the
+            commands sent are still on their way; None if unknown (no latency compensation).
+        """
+        if self._latency is None:
+            self._latency = LatencyPredictor(config.period_s)
+        if echo is not None:
+            self._latency.observe(*echo)
+        command = self._next_command(pose, self._latency.predict(pose), config)
+        self._latency.sent(command)
+        return command
+
+    def _next_command(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig) -> Command:
         while not self.done:
             leg = self.path.legs[self.leg_index]
             if self._tracker is None:
@@ -180,7 +194,7 @@ class PathFollower:
                     tolerance = self._end_tolerance
                 self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
                                  else _CurveTracker(leg, tolerance))
-            command, deviation = self._tracker.update(pose, config)
+            command, deviation = self._tracker.update(pose, predicted, config)
             self.max_deviation = max(self.max_deviation, deviation)
             if command is not None:
                 return command

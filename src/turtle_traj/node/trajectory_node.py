@@ -25,7 +25,8 @@ from rclpy.time import Time
 from std_srvs.srv import Empty, Trigger
 from turtlesim.msg import Pose
 
-from turtle_traj.control.follower import STOP, Command, PathFollower
+from turtle_traj.control.commands import STOP, Command
+from turtle_traj.control.follower import PathFollower
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.geometry.shapes import PlanError
 from turtle_traj.node import parameters
@@ -177,7 +178,8 @@ class TrajectoryNode(Node):
                                 f'of the wall at ({self._pose.x:.2f}, {self._pose.y:.2f})')
             return
         config = replace(self.settings.control, **run.speeds)
-        self._publish(run.follower.update(self._pose, config))
+        echo = (self._pose_msg.linear_velocity, self._pose_msg.angular_velocity)
+        self._publish(run.follower.update(self._pose, config, echo))
 
     def _on_watchdog(self) -> None:
         if self._run is None:

@@ -23,6 +23,7 @@ from turtlesim.msg import Color, Pose
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelative
 
 from turtle_traj.sim.canvas import Canvas
+from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.physics import (
     SPAWN_XY_M,
     STEP_S,
@@ -116,6 +117,18 @@ class SimNode(Node):
         self.output_dir = Path(self.declare_parameter('output_dir', 'output', ParameterDescriptor(
             description='Folder that save_image writes into (turtle_traj extension)',
             read_only=True)).value).resolve()
+        self._command_delay = CommandDelay(
+            self.declare_parameter('command_delay', 0.0, ParameterDescriptor(
+                description='Apply each cmd_vel this long after it arrives [s] (turtle_traj '
+                            'extension for latency tests; simulated time)', read_only=True,
+                floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1.0)])).value,
+            self.declare_parameter('command_jitter', 0.0, ParameterDescriptor(
+                description='Plus a random extra delay of up to this much [s], order kept '
+                            '(turtle_traj extension)', read_only=True,
+                floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1.0)])).value,
+            seed=self.declare_parameter('command_jitter_seed', 0, ParameterDescriptor(
+                description='Seed of the jitter, so runs repeat (turtle_traj extension)',
+                read_only=True)).value)
 
         self.canvas = Canvas()
         self._endpoints: dict[str, _TurtleEndpoints] = {}
@@ -152,6 +165,8 @@ class SimNode(Node):
 
     def step(self) -> None:
         """Advance the world one step, then publish and draw what it produced."""
+        for name, msg in self._command_delay.due(self.world.time_s):
+            self._apply_cmd_vel(name, msg)
         report = self.world.step()
         if self._clock_publisher is not None:
             stamp = ClockMsg()
@@ -201,6 +216,12 @@ class SimNode(Node):
         self._endpoints.pop(name).destroy(self)
 
     def on_cmd_vel(self, name: str, msg: Twist) -> None:
+        if self._command_delay.active:
+            self._command_delay.push(self.world.time_s, name, msg)
+        else:
+            self._apply_cmd_vel(name, msg)
+
+    def _apply_cmd_vel(self, name: str, msg: Twist) -> None:
         if name not in self.world.turtles:
             return  # a message still queued for a turtle killed a moment ago
         try:

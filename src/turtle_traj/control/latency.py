@@ -1,0 +1,67 @@
+"""Latency compensation: where the turtle will be when the next command takes effect.
+
+A command acts one or more simulator steps after the pose it was computed from (pose ->
+controller -> simulator), more under load. turtlesim's pose echoes the velocities in effect at
+its step (the linear one as a magnitude, in float32), so the newest command sent whose values
+match the echo is the one acting; those sent after it are still on their way. Replaying them
+with turtlesim's own integration (heading first, then position along the new heading) predicts
+the pose from which the next command will act. Pure Python: no ROS.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+
+from turtle_traj.control.commands import Command
+from turtle_traj.geometry.path import Pose2D
+
+_HISTORY = 32  # commands remembered: far more than any latency we can steer through
+
+
+def _as_echoed(command: Command) -> tuple[float, float]:
+    """The (linear_velocity, angular_velocity) a turtlesim pose reports for `command`."""
+    return float(np.float32(abs(command.linear))), float(np.float32(command.angular))
+
+
+class LatencyPredictor:
+    """Commands sent but not yet in effect, and the pose they will lead to.
+
+    :param period_s: how long each command acts (the simulator step, turtlesim's 16 ms).
+    """
+
+    def __init__(self, period_s: float) -> None:
+        self.period_s = period_s
+        self._sent: deque[Command] = deque(maxlen=_HISTORY)
+        self.in_flight = 0  # commands sent after the one the last pose showed in effect
+
+    def sent(self, command: Command) -> None:
+        """Record a command as it is published."""
+        self._sent.append(command)
+
+    def observe(self, linear_echo: float, angular_echo: float) -> int:
+        """Update the count of commands in flight from a pose's velocity echo; return it.
+
+        A run of identical commands matches more than once; the match nearest the previous
+        count wins, as latency changes slowly. An echo that matches nothing (the turtle has not
+        yet seen our first command) means every command sent is still in flight.
+        """
+        echo = (linear_echo, angular_echo)
+        matches = [back for back, command in enumerate(reversed(self._sent))
+                   if _as_echoed(command) == echo]
+        # Between two poses one command is sent and one takes effect: the count holds.
+        self.in_flight = (min(matches, key=lambda back: abs(back - self.in_flight)) if matches
+                          else len(self._sent))
+        return self.in_flight
+
+    def predict(self, pose: Pose2D) -> Pose2D:
+        """The pose after every command in flight has acted for one period."""
+        x, y, theta = pose.x, pose.y, pose.theta
+        pending = list(self._sent)[len(self._sent) - self.in_flight:] if self.in_flight else []
+        for command in pending:
+            theta += command.angular * self.period_s
+            x += command.linear * math.cos(theta) * self.period_s
+            y += command.linear * math.sin(theta) * self.period_s
+        return Pose2D(x, y, math.remainder(theta, math.tau))
