@@ -26,14 +26,17 @@ def test_polygon_visits_every_vertex_and_closes(traj, service, sides, side, cloc
     assert response.success, response.message
     ideal = regular_polygon(*START, sides, side, clockwise)
     path = xy(traj.poses)
-    for vertex in ideal:
-        assert np.min(np.linalg.norm(path - vertex, axis=1)) < 0.01
-    assert distance_to_polyline(path, ideal).max() < 0.02
-    assert math.dist((response.final_x, response.final_y), START[:2]) < 0.01
-    assert response.final_error < 0.01
+    for vertex in ideal:  # every corner is visited to the millimetre
+        assert np.min(np.linalg.norm(path - vertex, axis=1)) < 0.001
+    assert distance_to_polyline(path, ideal).max() < 0.001
+    assert math.dist((response.final_x, response.final_y), START[:2]) < 0.001
+    assert response.final_error < 0.001
     assert response.path_length == pytest.approx(sides * side)
-    assert response.max_deviation < 0.02
-    assert response.elapsed > sides * side / 1.0  # cannot beat the 1 m/s default speed
+    assert response.max_deviation < 0.001
+    # Within 10% of the kinematic bound at the default 1 m/s and 2 rad/s (one turn fewer than
+    # sides: the last corner is not turned).
+    bound = sides * side / 1.0 + (sides - 1) * (2 * math.pi / sides) / 2.0
+    assert bound < response.elapsed <= 1.10 * bound
 
 
 def test_circle_keeps_its_radius(traj):
@@ -41,10 +44,10 @@ def test_circle_keeps_its_radius(traj):
     assert response.success, response.message
     center = np.array([START[0], START[1] + 1.0])  # counter-clockwise: centre on the left
     radii = np.linalg.norm(xy(traj.poses) - center, axis=1)
-    assert np.all(np.abs(radii - 1.0) < 0.01)
+    assert np.all(np.abs(radii - 1.0) < 0.002)  # 0.2% of the radius
     angles = np.unwrap(np.arctan2(*(xy(traj.poses) - center).T[::-1]))
     assert angles[-1] - angles[0] == pytest.approx(2 * math.pi, abs=0.05)
-    assert response.final_error < 0.01
+    assert response.final_error < 0.001
 
 
 def test_clockwise_spiral_grows_by_its_growth_per_turn(traj):
@@ -57,7 +60,7 @@ def test_clockwise_spiral_grows_by_its_growth_per_turn(traj):
     turned = -(np.unwrap(np.arctan2(relative[:, 1], relative[:, 0])) - math.pi / 2)
     assert turned[-1] == pytest.approx(4 * math.pi, abs=0.05)
     expected = 0.5 + 0.4 * turned / (2 * math.pi)
-    assert np.abs(radii - expected).max() < 0.02
+    assert np.abs(radii - expected).max() < 0.01
 
 
 def test_sine_wave_follows_the_heading(traj):
@@ -66,9 +69,9 @@ def test_sine_wave_follows_the_heading(traj):
     assert response.success, response.message
     moved = xy(traj.poses) - START[:2]
     on_wave = moved[moved[:, 0] > 0.01]
-    assert np.abs(on_wave[:, 1] - 0.6 * np.sin(math.pi * on_wave[:, 0])).max() < 0.02
+    assert np.abs(on_wave[:, 1] - 0.6 * np.sin(math.pi * on_wave[:, 0])).max() < 0.005
     assert (response.final_x, response.final_y) == pytest.approx(
-        (START[0] + 4.0, START[1]), abs=0.01)
+        (START[0] + 4.0, START[1]), abs=0.001)
 
 
 def test_go_to_reaches_the_goal_and_heading(traj):
@@ -76,20 +79,20 @@ def test_go_to_reaches_the_goal_and_heading(traj):
         x=2.0, y=8.0, use_theta=True, theta=-math.pi / 2, tolerance=0.02))
     assert response.success, response.message
     assert math.dist((response.final_x, response.final_y), (2.0, 8.0)) <= 0.02
-    assert response.final_theta == pytest.approx(-math.pi / 2, abs=0.01)
+    assert response.final_theta == pytest.approx(-math.pi / 2, abs=0.001)
     straight = np.array([START[:2], (2.0, 8.0)])
-    assert distance_to_polyline(xy(traj.poses), straight).max() < 0.02
+    assert distance_to_polyline(xy(traj.poses), straight).max() < 0.001
 
 
 def test_move_backwards_and_rotate_clockwise(traj):
     response = traj.run(Move, 'move', Move.Request(distance=-1.5))
     assert response.success, response.message
     assert (response.final_x, response.final_y) == pytest.approx(
-        (START[0] - 1.5, START[1]), abs=0.01)
-    assert abs(response.final_theta) < 0.01  # it drove backwards, it did not turn round
+        (START[0] - 1.5, START[1]), abs=0.001)
+    assert abs(response.final_theta) < 0.001  # it drove backwards, it did not turn round
     response = traj.run(Move, 'rotate', Move.Request(angle=-3 * math.pi / 2, speed=1.0))
     assert response.success, response.message
-    assert response.final_theta == pytest.approx(math.pi / 2, abs=0.01)
+    assert response.final_theta == pytest.approx(math.pi / 2, abs=0.001)
     thetas = np.unwrap([p.theta for p in traj.poses])
     assert thetas.min() < -math.pi  # it went the long, clockwise, way round as asked
 
@@ -100,5 +103,6 @@ def test_follow_path_through_points(traj):
         points=[Point(x=x, y=y) for x, y in points], closed=True))
     assert response.success, response.message
     route = np.array([START[:2], *points, points[0]])
-    assert distance_to_polyline(xy(traj.poses), route).max() < 0.02
-    assert math.dist((response.final_x, response.final_y), points[0]) < 0.01
+    # The first leg starts 1.8 degrees off the turtle's heading: it steers in while driving.
+    assert distance_to_polyline(xy(traj.poses), route).max() < 0.005
+    assert math.dist((response.final_x, response.final_y), points[0]) < 0.001

@@ -5,8 +5,8 @@ steers from the pose predicted for the moment that command takes effect (see `la
 latency between pose and command is accounted for, not guessed. Curves are tracked with
 curvature feed-forward plus a heading set-point that steers back onto the path
 (`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
-towards the end of the curve and, near the end, by half of the remaining distance per control
-period, which absorbs a misjudged period of latency without overshoot. A turtle facing more than
+towards the end of the curve and, near the end, by the predicted remaining distance per
+control period, so the turtle stops on the end point. A turtle facing more than
 `turn_first_angle` away from the path turns in place first.
 """
 
@@ -24,10 +24,10 @@ from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn
 
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
-# Near the end of a leg each command covers at most half of what remains (of the predicted
-# remainder): exact prediction converges geometrically, and a latency misjudged by one period
-# still settles without overshoot.
-_LATENCY_ALLOWANCE = 2.0
+# Near the end of a leg a command covers at most what remains of the predicted remainder in one
+# period: with the latency compensated it lands on the end point (deadbeat); a misjudged
+# period is corrected on the next command, backing up if needed (the remainder is signed).
+_LATENCY_ALLOWANCE = 1.0
 
 
 @dataclass(frozen=True)
@@ -38,10 +38,10 @@ class ControlConfig:
     angular_speed: float = 2.0  # rad/s, top turn rate
     heading_gain: float = 8.0  # 1/s, turn rate per radian of heading error
     cross_track_gain: float = 2.5  # 1/m, how hard curves pull the turtle back onto the path
-    deceleration: float = 4.0  # m/s^2, braking towards the end of a curve
-    angular_deceleration: float = 10.0  # rad/s^2, braking towards the end of a turn
-    position_tolerance: float = 0.003  # m, end of a curve reached (corners, line ends)
-    heading_tolerance: float = 0.002  # rad, end of a turn reached
+    deceleration: float = 20.0  # m/s^2, braking towards the end of a curve
+    angular_deceleration: float = 50.0  # rad/s^2, braking towards the end of a turn
+    position_tolerance: float = 0.0005  # m, end of a curve reached (corners, line ends)
+    heading_tolerance: float = 0.0005  # rad, end of a turn reached
     turn_first_angle: float = 0.6  # rad, heading error beyond which the turtle turns in place
     period_s: float = 0.016  # s, control period
 
@@ -133,8 +133,6 @@ class _CurveTracker:
         path_heading = float(curve.headings[self.segment])
         curvature = float(curve.curvatures[self.segment])
         heading_error = wrap_angle(path_heading - facing)
-        target = path_heading - math.atan(config.cross_track_gain * offset)
-        steering = config.heading_gain * wrap_angle(target - facing)
 
         speed = config.linear_speed
         if abs(curvature) > 1e-9:
@@ -147,6 +145,11 @@ class _CurveTracker:
             speed = 0.0
         else:
             speed *= math.cos(heading_error)
+        # turtlesim turns first and then moves along the new heading, so on an arc the motion
+        # leads the heading by the turn of one period: aim half a chord behind the tangent.
+        lead = abs(speed) * curvature * config.period_s / 2.0
+        target = path_heading - lead - math.atan(config.cross_track_gain * offset)
+        steering = config.heading_gain * wrap_angle(target - facing)
         angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
         linear = -speed if curve.reverse else speed
         return Command(linear, angular), deviation

@@ -36,6 +36,7 @@ class LatencyPredictor:
         self.period_s = period_s
         self._sent: deque[Command] = deque(maxlen=_HISTORY)
         self.in_flight = 0  # commands sent after the one the last pose showed in effect
+        self._seen_in_effect = False
 
     def sent(self, command: Command) -> None:
         """Record a command as it is published."""
@@ -45,15 +46,19 @@ class LatencyPredictor:
         """Update the count of commands in flight from a pose's velocity echo; return it.
 
         A run of identical commands matches more than once; the match nearest the previous
-        count wins, as latency changes slowly. An echo that matches nothing (the turtle has not
-        yet seen our first command) means every command sent is still in flight.
+        count wins, as latency changes slowly. An echo that matches nothing means, before any
+        command was seen in effect, that all are still in flight; later it is someone else's
+        command (a stale one, the 1 s timeout) and the last count stands.
         """
         echo = (linear_echo, angular_echo)
         matches = [back for back, command in enumerate(reversed(self._sent))
                    if _as_echoed(command) == echo]
-        # Between two poses one command is sent and one takes effect: the count holds.
-        self.in_flight = (min(matches, key=lambda back: abs(back - self.in_flight)) if matches
-                          else len(self._sent))
+        if matches:
+            # Between two poses one command is sent and one takes effect: the count holds.
+            self.in_flight = min(matches, key=lambda back: abs(back - self.in_flight))
+            self._seen_in_effect = True
+        elif not self._seen_in_effect:
+            self.in_flight = len(self._sent)
         return self.in_flight
 
     def predict(self, pose: Pose2D) -> Pose2D:

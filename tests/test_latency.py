@@ -1,0 +1,98 @@
+"""Latency compensation (pure): which commands are in flight, and where they take the turtle."""
+
+import math
+
+import pytest
+
+from turtle_traj.control.commands import Command
+from turtle_traj.control.latency import LatencyPredictor
+from turtle_traj.geometry.path import Pose2D
+from turtle_traj.sim.delay import CommandDelay
+from turtle_traj.sim.physics import STEP_S, World
+
+COMMANDS = [Command(1.0, 0.5), Command(0.8, -1.0), Command(0.6, 2.0), Command(0.3, 0.1)]
+
+
+def _echo(command: Command) -> tuple[float, float]:
+    """What a turtlesim pose reports for a command in effect (float32, speed as magnitude)."""
+    import numpy as np
+
+    return float(np.float32(abs(command.linear))), float(np.float32(command.angular))
+
+
+@pytest.mark.parametrize('in_effect', range(len(COMMANDS)))
+def test_the_echo_tells_how_many_commands_are_in_flight(in_effect):
+    predictor = LatencyPredictor(STEP_S)
+    for command in COMMANDS:
+        predictor.sent(command)
+    assert predictor.observe(*_echo(COMMANDS[in_effect])) == len(COMMANDS) - 1 - in_effect
+
+
+def test_an_echo_of_nothing_sent_means_everything_is_in_flight():
+    predictor = LatencyPredictor(STEP_S)
+    for command in COMMANDS[:2]:
+        predictor.sent(command)
+    assert predictor.observe(0.0, 0.0) == 2
+
+
+def test_a_foreign_echo_mid_run_keeps_the_count():
+    predictor = LatencyPredictor(STEP_S)
+    for _ in range(10):
+        predictor.sent(Command(1.0, 0.0))
+    assert predictor.observe(*_echo(Command(1.0, 0.0))) == 0
+    predictor.sent(Command(1.0, 0.0))
+    assert predictor.observe(0.7, 0.3) == 0  # not ours: e.g. a stale command
+    predictor.sent(Command(1.0, 0.0))
+    assert predictor.observe(*_echo(Command(1.0, 0.0))) == 0
+
+
+def test_identical_commands_keep_the_previous_count():
+    predictor = LatencyPredictor(STEP_S)
+    for command in [Command(0.5, 0.0), Command(1.0, 0.0), Command(1.0, 0.0)]:
+        predictor.sent(command)
+    assert predictor.observe(*_echo(Command(0.5, 0.0))) == 2
+    predictor.sent(Command(1.0, 0.0))
+    assert predictor.observe(*_echo(Command(1.0, 0.0))) == 2  # not 0: the nearest match
+
+
+@pytest.mark.parametrize('in_flight', [0, 1, 2, 3])
+@pytest.mark.parametrize('theta', [0.0, 3.1, -3.1])
+def test_prediction_matches_the_simulator_physics(in_flight, theta):
+    world = World()
+    turtle = world.spawn(5.0, 5.0, theta)
+    predictor = LatencyPredictor(STEP_S)
+    for command in COMMANDS:
+        predictor.sent(command)
+    acted = COMMANDS[:len(COMMANDS) - in_flight]
+    for command in acted:
+        world.command(turtle.name, command.linear, 0.0, command.angular)
+        world.step()
+    now = Pose2D(turtle.x, turtle.y, turtle.theta)
+    predictor.observe(*_echo(acted[-1]) if acted else (0.0, 0.0))
+    for command in COMMANDS[len(acted):]:
+        world.command(turtle.name, command.linear, 0.0, command.angular)
+        world.step()
+    predicted = predictor.predict(now)
+    assert (predicted.x, predicted.y) == pytest.approx((turtle.x, turtle.y), abs=1e-9)
+    assert math.remainder(predicted.theta - turtle.theta, math.tau) == pytest.approx(0.0,
+                                                                                     abs=1e-7)
+
+
+def test_command_delay_holds_commands_in_order():
+    delay = CommandDelay(0.032, 0.05, seed=3)
+    for index in range(20):
+        delay.push(index * STEP_S, 'turtle1', index)
+    released = []
+    for step in range(200):
+        released += [message for _turtle, message in delay.due(step * STEP_S)]
+        if step * STEP_S < 0.032:
+            assert not released
+    assert released == list(range(20))
+
+
+def test_command_delay_off_by_default_and_fixed_delay_is_exact():
+    assert not CommandDelay(0.0, 0.0).active
+    delay = CommandDelay(0.032, 0.0)
+    delay.push(1.0, 'turtle1', 'go')
+    assert list(delay.due(1.016)) == []
+    assert list(delay.due(1.032)) == [('turtle1', 'go')]
