@@ -116,6 +116,7 @@ def test_sigterm_mid_run_sends_a_final_stop_command(ros_context, tmp_path):
     from geometry_msgs.msg import Twist
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
+    from turtlesim.msg import Pose
 
     from tests.ros_helpers import program, terminate
     from turtle_traj.runtime import spin_until
@@ -130,6 +131,10 @@ def test_sigterm_mid_run_sends_a_final_stop_command(ros_context, tmp_path):
     try:
         with program('turtle_traj', '--with-sim', cwd=tmp_path) as process:
             assert spin_until(executor, client.service_is_ready, timeout_s=10.0)
+            # The node refuses requests until it has a pose: wait for the simulator to publish.
+            poses = []
+            observer.create_subscription(Pose, 'turtle1/pose', poses.append, TURTLE_TOPIC_QOS)
+            assert spin_until(executor, lambda: len(poses) > 10, timeout_s=10.0)
             client.call_async(DrawShape.Request(size=1.0))  # endless circle
             assert spin_until(executor, lambda: any(c.linear.x > 0 for c in commands),
                               timeout_s=10.0)
