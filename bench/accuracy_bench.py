@@ -1,6 +1,6 @@
 """Accuracy and speed of every trajectory, closed loop against the classic open-loop method.
 
-Runs our simulator and the trajectory node in one process on simulated time (time_scale 20)
+Runs our simulator and the trajectory node in one process on lock-step simulated time
 at default speeds, and prints one table. Run: .venv/bin/python bench/accuracy_bench.py
 """
 
