@@ -96,3 +96,11 @@ def test_command_delay_off_by_default_and_fixed_delay_is_exact():
     delay.push(1.0, 'turtle1', 'go')
     assert list(delay.due(1.016)) == []
     assert list(delay.due(1.032)) == [('turtle1', 'go')]
+
+
+def test_commands_queued_for_a_removed_turtle_are_dropped():
+    delay = CommandDelay(0.032, 0.0)
+    delay.push(0.0, 'turtle1', 'old')
+    delay.push(0.0, 'turtle2', 'other')
+    delay.drop('turtle1')
+    assert list(delay.due(1.0)) == [('turtle2', 'other')]

@@ -35,6 +35,10 @@ class CommandDelay(Generic[Message]):
             due = max(due, self._queue[-1][0])
         self._queue.append((due, turtle, message))
 
+    def drop(self, turtle: str) -> None:
+        """Forget the commands queued for `turtle` (killed or reset: its subscription is gone)."""
+        self._queue = deque(entry for entry in self._queue if entry[1] != turtle)
+
     def due(self, now_s: float) -> Iterator[tuple[str, Message]]:
         """Take, in order, the commands due by `now_s`."""
         while self._queue and self._queue[0][0] <= now_s + 1e-9:

@@ -210,6 +210,7 @@ class SimNode(Node):
 
     def _remove(self, name: str) -> None:
         turtle = self.world.kill(name)
+        self._command_delay.drop(name)
         if turtle.rotation is not None:
             self._finish_rotation(turtle.rotation.token, GoalStatus.ABORTED,
                                   turtle.rotation.delta_rad)
