@@ -48,7 +48,7 @@ def test_bad_arguments_exit_with_usage(capsys):
 
 
 def test_no_node_answers_within_seconds(capsys):
-    assert cli.main(['--node', '/nobody_here', 'draw', 'square']) == 2
+    assert cli.main(['--node', '/nobody_here', '--wait', '1', 'draw', 'square']) == 2
     assert 'no trajectory node answers on /nobody_here/draw_square' in capsys.readouterr().err
 
 

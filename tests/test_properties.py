@@ -8,6 +8,7 @@ from hypothesis import strategies as st
 
 from turtle_traj import planning
 from turtle_traj.control.follower import ControlConfig, PathFollower
+from turtle_traj.geometry import shapes
 from turtle_traj.geometry.angles import shortest_angular_distance, wrap_angle
 from turtle_traj.geometry.path import Pose2D
 from turtle_traj.geometry.shapes import Arena, PlanError
@@ -123,3 +124,17 @@ def test_any_spiral_request_is_planned_with_bounded_work(size, growth, turns, ma
         return
     # 100 turns of the largest radius that fits in the arena, at 2 cm spacing.
     assert len(path.points()) < 100 * 2 * math.pi * WORLD_SIZE_M / 0.02
+
+
+@SETTINGS
+@given(st.floats(0.05, 3.0), st.floats(0.01, 5.0), st.booleans(), starts)
+def test_a_spiral_leaves_its_start_along_the_heading(radius, growth, clockwise, start):
+    points = shapes.spiral_points(start, start_radius=radius, growth=growth,
+                                  clockwise=clockwise, end_radius=radius + growth)
+    first = points[1] - points[0]
+    # The first chord turns from the tangent by about half the angle it subtends at the start
+    # radius (a little more: the spiral curves harder than its start circle).
+    chord_angle = math.hypot(*first) / radius
+    assert np.allclose(points[0], (start.x, start.y))
+    assert abs(shortest_angular_distance(start.theta, math.atan2(first[1], first[0]))) \
+        <= chord_angle

@@ -54,10 +54,14 @@ def test_clockwise_spiral_grows_by_its_growth_per_turn(traj):
     response = traj.run(DrawShape, 'draw_spiral', DrawShape.Request(
         size=0.5, growth=0.4, turns=2.0, clockwise=True, linear_speed=2.0))
     assert response.success, response.message
-    center = np.array([START[0], START[1] - 0.5])  # clockwise: centre on the right
+    # Clockwise: the centre is on the right, 0.5 m away, turned back by the angle at which an
+    # Archimedean spiral leaves its start circle, so that the spiral leaves along the heading.
+    outward = math.atan2(0.4 / (2 * math.pi), 0.5)
+    center = np.array([START[0] - 0.5 * math.sin(outward), START[1] - 0.5 * math.cos(outward)])
     relative = xy(traj.poses) - center
     radii = np.linalg.norm(relative, axis=1)
-    turned = -(np.unwrap(np.arctan2(relative[:, 1], relative[:, 0])) - math.pi / 2)
+    start_angle = math.pi / 2 - outward
+    turned = -(np.unwrap(np.arctan2(relative[:, 1], relative[:, 0])) - start_angle)
     assert turned[-1] == pytest.approx(4 * math.pi, abs=0.05)
     expected = 0.5 + 0.4 * turned / (2 * math.pi)
     assert np.abs(radii - expected).max() < 0.01

@@ -22,6 +22,9 @@ def build_parser() -> argparse.ArgumentParser:
                              '/turtle_traj; e.g. /sim1/turtle_traj)')
     parser.add_argument('--timeout', type=float, default=300.0,
                         help='give up after this many seconds (default: 300)')
+    parser.add_argument('--wait', type=float, default=10.0,
+                        help='seconds to wait for the node to be found (default: 10; a busy '
+                             'machine can take several to discover it)')
     commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
 
     draw = commands.add_parser('draw', help='draw a shape from where the turtle stands')
@@ -126,7 +129,7 @@ def main(args: Sequence[str] | None = None) -> int:
                   flush=True)
 
     try:
-        with TrajClient(node=options.node) as client:
+        with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
             if interactive and request is not None:
                 bound = client.expected_duration(service, request)
                 expected = f' of at least {bound:.1f} s' if bound is not None else ''
@@ -148,7 +151,7 @@ def main(args: Sequence[str] | None = None) -> int:
 def _run_session(options: argparse.Namespace) -> int:
     """The menu, or the params subcommand."""
     try:
-        with TrajClient(node=options.node) as client:
+        with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
             if options.command == 'menu':
                 from turtle_traj.menu import run_menu  # here: menu imports report from us
                 return run_menu(client)

@@ -68,10 +68,12 @@ class _TurnTracker:
                config: ControlConfig) -> tuple[Command | None, float]:
         self.turned += wrap_angle(pose.theta - self.previous)
         self.previous = pose.theta
-        error = self.turn.sweep_rad - self.turned - wrap_angle(predicted.theta - pose.theta)
+        remaining = self.turn.sweep_rad - self.turned
+        error = remaining - wrap_angle(predicted.theta - pose.theta)
         deviation = math.hypot(pose.x - self.turn.x, pose.y - self.turn.y)
         if abs(error) < config.heading_tolerance:
-            return None, deviation
+            # Done once the turtle itself got there, not just its prediction.
+            return (None if abs(remaining) < config.heading_tolerance else STOP), deviation
         rate = min(config.angular_speed,
                    _braking_speed(abs(error), config.angular_deceleration, config.period_s))
         return Command(0.0, math.copysign(rate, error)), deviation
@@ -106,28 +108,42 @@ class _CurveTracker:
         offset = cross / math.sqrt(squared[best])
         return index, float(fraction[best]), float(offset)
 
+    def _remaining(self, pose: Pose2D, segment: int, fraction: float) -> float:
+        """Distance left to the end (inf on a repeating curve), signed: negative past it."""
+        curve = self.curve
+        if curve.repeat:
+            return math.inf
+        last = len(curve.points) - 2
+        end = curve.points[-1]
+        heading = curve.headings[last]
+        to_end = (end[0] - pose.x) * math.cos(heading) + (end[1] - pose.y) * math.sin(heading)
+        along_rest = curve.length - curve.cumulative_length[segment + 1]
+        return along_rest + (to_end if segment == last else
+                             (1.0 - fraction) * curve.segment_lengths[segment])
+
+    def _arrived(self, pose: Pose2D, segment: int, remaining: float) -> bool:
+        if self.curve.repeat:
+            return False
+        end = self.curve.points[-1]
+        return abs(remaining) <= self.end_tolerance or (
+            segment == len(self.curve.points) - 2
+            and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
+
     def update(self, pose: Pose2D, predicted: Pose2D,
                config: ControlConfig) -> tuple[Command | None, float]:
         """Steer from the predicted pose; the deviation reported is the actual pose's."""
         curve = self.curve
-        deviation = abs(self._project(pose)[2])
+        actual_segment, actual_fraction, actual_offset = self._project(pose)
+        deviation = abs(actual_offset)
         self.segment, fraction, offset = self._project(predicted)
+        remaining = self._remaining(predicted, self.segment, fraction)
+        if self._arrived(predicted, self.segment, remaining):
+            # Done once the turtle itself got there; until then the commands on their way
+            # carry it, and a misjudged latency shows up here and is corrected.
+            arrived = self._arrived(pose, actual_segment,
+                                    self._remaining(pose, actual_segment, actual_fraction))
+            return (None if arrived else STOP), deviation
         pose = predicted
-        last = len(curve.points) - 2
-        if curve.repeat:
-            remaining = math.inf
-        else:
-            # Signed distance to the end along the last segment, so an overshoot backs up.
-            end = curve.points[-1]
-            heading = curve.headings[last]
-            to_end = (end[0] - pose.x) * math.cos(heading) + (end[1] - pose.y) * math.sin(heading)
-            along_rest = curve.length - curve.cumulative_length[self.segment + 1]
-            remaining = along_rest + (to_end if self.segment == last else
-                                      (1.0 - fraction) * curve.segment_lengths[self.segment])
-            if abs(remaining) <= self.end_tolerance or (
-                    self.segment == last and math.hypot(end[0] - pose.x, end[1] - pose.y)
-                    <= self.end_tolerance):
-                return None, deviation
 
         facing = pose.theta + (math.pi if curve.reverse else 0.0)
         path_heading = float(curve.headings[self.segment])

@@ -102,7 +102,10 @@ def spiral_points(start: Pose2D, *, start_radius: float, growth: float, clockwis
     radius = start_radius + growth * phi / (2 * math.pi)
     local = np.column_stack((radius * np.sin(phi),
                              side * (start_radius - radius * np.cos(phi))))
-    return _rotate(local, start)
+    # The radius grows from the first point on, so the curve leaves it angled outwards by
+    # atan(growth / (2 pi r0)); turn the spiral so that it leaves along the heading instead.
+    outward = math.atan2(-side * growth / (2 * math.pi), start_radius)
+    return _rotate(_rotate(local, Pose2D(0.0, 0.0, -outward)), start)
 
 
 def spiral(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool,

@@ -18,6 +18,7 @@ from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Path as PathMsg
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.task import Future
@@ -38,6 +39,7 @@ PLAN_FRAME_ID = 'world'
 _SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
 _WATCHDOG_PERIOD_S = 0.05
 _RESET_TIMEOUT_S = 5.0
+_POLL_PERIOD_S = 0.005
 # Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.
 _MAX_POSE_JUMP_M = 0.5
 
@@ -237,6 +239,9 @@ class TrajectoryNode(Node):
             heard = 'never' if self._pose is None else f'not for {silence:.1f} s'
             return (f'no pose on {self.pose_topic} ({heard}): is the simulator running and '
                     f'turtle_name right?')
+        if self._cmd_vel.get_subscription_count() == 0:
+            return (f'nothing subscribes to {self._cmd_vel.topic_name} yet: is the simulator '
+                    f'running and turtle_name right?')
         return None
 
     async def _execute(self, service: str, request, response):
@@ -298,18 +303,42 @@ class TrajectoryNode(Node):
                                  'available')
             return response
         future = self._sim_reset.call_async(Empty.Request())
-        timer = self.create_timer(
-            _RESET_TIMEOUT_S, lambda: future.done() or future.cancel(),
-            clock=Clock(clock_type=ClockType.STEADY_TIME))
-        try:
-            await future
-        except Exception:  # cancelled by the timeout above
-            pass
-        finally:
-            self.destroy_timer(timer)
-        if future.cancelled() or not future.done():
+        if not await self._wait_until(future.done, _RESET_TIMEOUT_S):
+            future.cancel()
             response.message = (f'{self._sim_reset.srv_name} did not answer in '
                                 f'{_RESET_TIMEOUT_S:g} s')
-        else:
+            return response
+        # The simulator made a new turtle: forget the old one's pose and wait until the new
+        # one's topics are connected, so that a trajectory requested next starts at once.
+        self._pose = self._pose_msg = self._pose_time = None
+        if await self._wait_until(self._connected, _RESET_TIMEOUT_S):
             response.success, response.message = True, 'simulator reset; ready'
+        else:
+            response.message = f'simulator reset, but not ready: {self._refusal()}'
         return response
+
+    def _connected(self) -> bool:
+        """A fresh pose is in and the simulator acknowledged a stop command (it hears us)."""
+        if self._refusal() is not None:
+            return False
+        if self._cmd_vel.wait_for_all_acked(Duration()):
+            return True
+        self._publish(STOP)
+        return False
+
+    async def _wait_until(self, condition, timeout_s: float) -> bool:
+        """Await `condition()` (polled on the steady clock) for at most `timeout_s`."""
+        waited = Future()
+        deadline = time.monotonic() + timeout_s
+
+        def poll() -> None:
+            if not waited.done() and (condition() or time.monotonic() > deadline):
+                waited.set_result(condition())
+
+        timer = self.create_timer(_POLL_PERIOD_S, poll,
+                                  clock=Clock(clock_type=ClockType.STEADY_TIME))
+        try:
+            poll()
+            return await waited
+        finally:
+            self.destroy_timer(timer)
