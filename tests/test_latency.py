@@ -104,3 +104,34 @@ def test_commands_queued_for_a_removed_turtle_are_dropped():
     delay.push(0.0, 'turtle2', 'other')
     delay.drop('turtle1')
     assert list(delay.due(1.0)) == [('turtle2', 'other')]
+
+
+def _drive(predictor: LatencyPredictor, commands: list[Command], in_flight: list[int]) -> None:
+    """Send each command, then observe the echo of the one `in_flight[i]` sends back."""
+    sent: list[Command] = []
+    for command, behind in zip(commands, in_flight, strict=True):
+        predictor.sent(command)
+        sent.append(command)
+        predictor.observe(*(_echo(sent[-1 - behind]) if behind < len(sent) else (0.0, 0.0)))
+
+
+def test_a_steady_latency_has_no_spread_and_a_varying_one_has():
+    commands = [Command(0.1 * k, 0.0) for k in range(1, 11)]  # all distinct
+    steady = LatencyPredictor(STEP_S)
+    _drive(steady, commands, [2] * 10)
+    assert steady.in_flight == 2 and steady.spread == 0
+    jittery = LatencyPredictor(STEP_S)
+    _drive(jittery, commands, [0, 1, 2, 1, 0, 1, 2, 3, 1, 0])
+    assert jittery.spread == 3
+
+
+def test_still_only_when_standing_with_nothing_but_stops_on_their_way():
+    predictor = LatencyPredictor(STEP_S)
+    _drive(predictor, [Command(0.5, 0.0), Command(0.0, 0.0), Command(0.0, 0.0)], [0, 1, 2])
+    assert not predictor.still  # the 0.5 m/s command is in effect
+    predictor.sent(Command(0.0, 0.0))
+    predictor.observe(0.0, 0.0)
+    assert predictor.still
+    predictor.sent(Command(0.0, 1.0))
+    predictor.observe(0.0, 0.0)
+    assert not predictor.still  # a turn is on its way

@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
 _NO_WAIT = Duration()
 _ACK_POLL = Duration(nanoseconds=1_000_000)
-_DELIVERY_GRACE_S = 0.5
+_DELIVERY_GRACE_S = 0.1
 
 
 class LockstepExecutor(SingleThreadedExecutor):
@@ -83,8 +83,8 @@ class LockstepExecutor(SingleThreadedExecutor):
         Fast DDS usually hands a message to a subscriber of the same process before `publish()`
         returns, but not always (a subscriber matched a moment ago may get it from a resend a
         few milliseconds later): stepping then would act on a command one step late, or several.
-        A subscriber that never acknowledges (another process that hangs) holds the simulator
-        back for at most `_DELIVERY_GRACE_S` of wall time.
+        A subscriber that does not acknowledge (one destroyed but not yet unmatched, another
+        process that hangs) holds each step back for at most `_DELIVERY_GRACE_S` of wall time.
         """
         waiting_since = self._undelivered_since
         for publisher in self._publishers():

@@ -24,10 +24,6 @@ from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn
 
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
-# Near the end of a leg a command covers at most what remains of the predicted remainder in one
-# period: with the latency compensated it lands on the end point (deadbeat); a misjudged
-# period is corrected on the next command, backing up if needed (the remainder is signed).
-_LATENCY_ALLOWANCE = 1.0
 
 
 @dataclass(frozen=True)
@@ -46,10 +42,30 @@ class ControlConfig:
     period_s: float = 0.016  # s, control period
 
 
-def _braking_speed(remaining: float, deceleration: float, period_s: float) -> float:
-    """Fastest speed from which the turtle still stops within `remaining`, latency included."""
+def _braking_speed(remaining: float, deceleration: float, period_s: float,
+                   latency: LatencyPredictor) -> float:
+    """Fastest speed from which the turtle still stops within `remaining`.
+
+    Near the end a command covers what remains of the predicted remainder in one period, so it
+    lands on the end point (deadbeat) when the latency is steady. When the latency varies by
+    `spread` periods, a command may act that much longer: it covers only its share of the
+    remainder then, and a misjudged period is corrected by the next command (backing up if
+    needed: the remainder is signed).
+    """
     return min(math.sqrt(2.0 * deceleration * remaining),
-               remaining / (_LATENCY_ALLOWANCE * period_s))
+               remaining / ((1 + latency.spread) * period_s))
+
+
+def _finished(arrived: bool, latency: LatencyPredictor) -> Command | None:
+    """None when a leg is over: the predicted pose is there, and the turtle itself too.
+
+    Until then the commands on their way carry the turtle, so hold with a stop. When the
+    latency varies, the turtle must also stand still: a command acting a period longer than
+    predicted would carry it on.
+    """
+    if arrived and (latency.spread == 0 or latency.still):
+        return None
+    return STOP
 
 
 def _clamp(value: float, limit: float) -> float:
@@ -64,18 +80,18 @@ class _TurnTracker:
         self.turned = wrap_angle(pose.theta - turn.start_heading)
         self.previous = pose.theta
 
-    def update(self, pose: Pose2D, predicted: Pose2D,
-               config: ControlConfig) -> tuple[Command | None, float]:
+    def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
+               latency: LatencyPredictor) -> tuple[Command | None, float]:
         self.turned += wrap_angle(pose.theta - self.previous)
         self.previous = pose.theta
         remaining = self.turn.sweep_rad - self.turned
         error = remaining - wrap_angle(predicted.theta - pose.theta)
         deviation = math.hypot(pose.x - self.turn.x, pose.y - self.turn.y)
         if abs(error) < config.heading_tolerance:
-            # Done once the turtle itself got there, not just its prediction.
-            return (None if abs(remaining) < config.heading_tolerance else STOP), deviation
+            return _finished(abs(remaining) < config.heading_tolerance, latency), deviation
         rate = min(config.angular_speed,
-                   _braking_speed(abs(error), config.angular_deceleration, config.period_s))
+                   _braking_speed(abs(error), config.angular_deceleration, config.period_s,
+                                  latency))
         return Command(0.0, math.copysign(rate, error)), deviation
 
 
@@ -129,8 +145,8 @@ class _CurveTracker:
             segment == len(self.curve.points) - 2
             and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
 
-    def update(self, pose: Pose2D, predicted: Pose2D,
-               config: ControlConfig) -> tuple[Command | None, float]:
+    def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
+               latency: LatencyPredictor) -> tuple[Command | None, float]:
         """Steer from the predicted pose; the deviation reported is the actual pose's."""
         curve = self.curve
         actual_segment, actual_fraction, actual_offset = self._project(pose)
@@ -138,11 +154,9 @@ class _CurveTracker:
         self.segment, fraction, offset = self._project(predicted)
         remaining = self._remaining(predicted, self.segment, fraction)
         if self._arrived(predicted, self.segment, remaining):
-            # Done once the turtle itself got there; until then the commands on their way
-            # carry it, and a misjudged latency shows up here and is corrected.
             arrived = self._arrived(pose, actual_segment,
                                     self._remaining(pose, actual_segment, actual_fraction))
-            return (None if arrived else STOP), deviation
+            return _finished(arrived, latency), deviation
         pose = predicted
 
         facing = pose.theta + (math.pi if curve.reverse else 0.0)
@@ -155,7 +169,7 @@ class _CurveTracker:
             speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
         if remaining != math.inf:
             speed = min(speed, _braking_speed(abs(remaining), config.deceleration,
-                                              config.period_s))
+                                              config.period_s, latency))
             speed = math.copysign(speed, remaining)
         if abs(heading_error) > config.turn_first_angle:
             speed = 0.0
@@ -199,11 +213,12 @@ class PathFollower:
             self._latency = LatencyPredictor(config.period_s)
         if echo is not None:
             self._latency.observe(*echo)
-        command = self._next_command(pose, self._latency.predict(pose), config)
+        command = self._next_command(pose, self._latency.predict(pose), config, self._latency)
         self._latency.sent(command)
         return command
 
-    def _next_command(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig) -> Command:
+    def _next_command(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
+                      latency: LatencyPredictor) -> Command:
         while not self.done:
             leg = self.path.legs[self.leg_index]
             if self._tracker is None:
@@ -213,7 +228,7 @@ class PathFollower:
                     tolerance = self._end_tolerance
                 self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
                                  else _CurveTracker(leg, tolerance))
-            command, deviation = self._tracker.update(pose, predicted, config)
+            command, deviation = self._tracker.update(pose, predicted, config, latency)
             self.max_deviation = max(self.max_deviation, deviation)
             if command is not None:
                 return command

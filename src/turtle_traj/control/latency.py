@@ -15,10 +15,11 @@ from collections import deque
 
 import numpy as np
 
-from turtle_traj.control.commands import Command
+from turtle_traj.control.commands import STOP, Command
 from turtle_traj.geometry.path import Pose2D
 
 _HISTORY = 32  # commands remembered: far more than any latency we can steer through
+_SPREAD_WINDOW = 64  # observations over which the latency's variation is judged (about 1 s)
 
 
 def _as_echoed(command: Command) -> tuple[float, float]:
@@ -37,6 +38,8 @@ class LatencyPredictor:
         self._sent: deque[Command] = deque(maxlen=_HISTORY)
         self.in_flight = 0  # commands sent after the one the last pose showed in effect
         self._seen_in_effect = False
+        self._recent: deque[int] = deque(maxlen=_SPREAD_WINDOW)
+        self._echo = (0.0, 0.0)
 
     def sent(self, command: Command) -> None:
         """Record a command as it is published."""
@@ -59,13 +62,29 @@ class LatencyPredictor:
             self._seen_in_effect = True
         elif not self._seen_in_effect:
             self.in_flight = len(self._sent)
+        self._echo = echo
+        if self._seen_in_effect:
+            self._recent.append(self.in_flight)
         return self.in_flight
+
+    @property
+    def spread(self) -> int:
+        """How many periods the latency varied by lately: 0 when it is steady (lock-step, or
+        a fixed delay), so that the prediction is exact; more under jitter."""
+        return max(self._recent) - min(self._recent) if self._recent else 0
+
+    @property
+    def still(self) -> bool:
+        """Nothing moves the turtle: it stands, and every command on its way is a stop."""
+        return self._echo == (0.0, 0.0) and all(command == STOP for command in self._pending())
+
+    def _pending(self) -> list[Command]:
+        return list(self._sent)[len(self._sent) - self.in_flight:] if self.in_flight else []
 
     def predict(self, pose: Pose2D) -> Pose2D:
         """The pose after every command in flight has acted for one period."""
         x, y, theta = pose.x, pose.y, pose.theta
-        pending = list(self._sent)[len(self._sent) - self.in_flight:] if self.in_flight else []
-        for command in pending:
+        for command in self._pending():
             theta += command.angular * self.period_s
             x += command.linear * math.cos(theta) * self.period_s
             y += command.linear * math.sin(theta) * self.period_s

@@ -37,6 +37,7 @@ from turtle_traj.sim.physics import (
 # turtlesim's per-turtle topic QoS (qos.hpp in turtlesim 1.8).
 TURTLE_TOPIC_QOS = QoSProfile(
     history=HistoryPolicy.KEEP_LAST, depth=7, reliability=ReliabilityPolicy.RELIABLE)
+_FIRST_TURTLE = 'turtle1'
 
 
 class _TurtleEndpoints:
@@ -200,7 +201,8 @@ class SimNode(Node):
     def _spawn(self, name: str, x: float, y: float, theta: float) -> str:
         turtle = self.world.spawn(x, y, theta, name)
         try:
-            self._endpoints[turtle.name] = _TurtleEndpoints(self, turtle.name)
+            if turtle.name not in self._endpoints:  # kept through a reset: see handle_reset
+                self._endpoints[turtle.name] = _TurtleEndpoints(self, turtle.name)
         except Exception:
             self.world.kill(turtle.name)
             raise SimulationError(f'[{turtle.name}] is not a valid ROS name') from None
@@ -208,13 +210,14 @@ class SimNode(Node):
             f'Spawning turtle [{turtle.name}] at x=[{x:f}], y=[{y:f}], theta=[{theta:f}]')
         return turtle.name
 
-    def _remove(self, name: str) -> None:
+    def _remove(self, name: str, *, keep_endpoints: bool = False) -> None:
         turtle = self.world.kill(name)
         self._command_delay.drop(name)
         if turtle.rotation is not None:
             self._finish_rotation(turtle.rotation.token, GoalStatus.ABORTED,
                                   turtle.rotation.delta_rad)
-        self._endpoints.pop(name).destroy(self)
+        if not keep_endpoints:
+            self._endpoints.pop(name).destroy(self)
 
     def on_cmd_vel(self, name: str, msg: Twist) -> None:
         if self._command_delay.active:
@@ -245,11 +248,13 @@ class SimNode(Node):
 
     def handle_reset(self, request: Empty.Request, response: Empty.Response) -> Empty.Response:
         self.get_logger().info('Resetting turtlesim.')
+        # turtle1 comes straight back: its topics, services and action stay, so subscribers
+        # and publishers stay matched (recreated, they would need discovery all over again).
         for name in list(self.world.turtles):
-            self._remove(name)
+            self._remove(name, keep_endpoints=name == _FIRST_TURTLE)
         self.world.remove_all()
         self.canvas.clear()
-        self._spawn('', SPAWN_XY_M, SPAWN_XY_M, 0.0)
+        self._spawn('', SPAWN_XY_M, SPAWN_XY_M, 0.0)  # turtle1 again
         return response
 
     def handle_spawn(self, request: Spawn.Request, response: Spawn.Response) -> Spawn.Response:
