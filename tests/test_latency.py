@@ -123,6 +123,9 @@ def test_a_steady_latency_has_no_spread_and_a_varying_one_has():
     jittery = LatencyPredictor(STEP_S)
     _drive(jittery, commands, [0, 1, 2, 1, 0, 1, 2, 3, 1, 0])
     assert jittery.spread == 3
+    # The newest command (1.0 m/s) may act three periods longer than predicted.
+    assert steady.overrun() == (0.0, 0.0)
+    assert jittery.overrun() == pytest.approx((1.0 * 3 * STEP_S, 0.0))
 
 
 def test_still_only_when_standing_with_nothing_but_stops_on_their_way():

@@ -90,8 +90,8 @@ class _TurnTracker:
         if abs(error) < config.heading_tolerance:
             return _finished(abs(remaining) < config.heading_tolerance, latency), deviation
         rate = min(config.angular_speed,
-                   _braking_speed(abs(error), config.angular_deceleration, config.period_s,
-                                  latency))
+                   _braking_speed(max(abs(error) - latency.overrun()[1], 0.0),
+                                  config.angular_deceleration, config.period_s, latency))
         return Command(0.0, math.copysign(rate, error)), deviation
 
 
@@ -168,8 +168,8 @@ class _CurveTracker:
         if abs(curvature) > 1e-9:
             speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
         if remaining != math.inf:
-            speed = min(speed, _braking_speed(abs(remaining), config.deceleration,
-                                              config.period_s, latency))
+            speed = min(speed, _braking_speed(max(abs(remaining) - latency.overrun()[0], 0.0),
+                                              config.deceleration, config.period_s, latency))
             speed = math.copysign(speed, remaining)
         if abs(heading_error) > config.turn_first_angle:
             speed = 0.0

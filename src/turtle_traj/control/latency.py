@@ -73,6 +73,14 @@ class LatencyPredictor:
         a fixed delay), so that the prediction is exact; more under jitter."""
         return max(self._recent) - min(self._recent) if self._recent else 0
 
+    def overrun(self) -> tuple[float, float]:
+        """How far (m, rad) the turtle may move beyond the prediction: a command may arrive up
+        to `spread` periods late, and until then the one before it goes on acting."""
+        late_s = self.spread * self.period_s
+        acting = [Command(*self._echo), *self._pending()]
+        return (max(abs(command.linear) for command in acting) * late_s,
+                max(abs(command.angular) for command in acting) * late_s)
+
     @property
     def still(self) -> bool:
         """Nothing moves the turtle: it stands, and every command on its way is a stop."""
