@@ -1,7 +1,7 @@
 """One path follower for every trajectory: in-place turns and continuous curve tracking.
 
-Pure Python: `PathFollower.update(pose, config, echo)` returns the next velocity command. It
-steers from the pose predicted for the moment that command takes effect (see `latency`), so the
+Pure Python: `PathFollower.update(pose, config)` returns the next velocity command. It steers
+from the pose predicted for the moment that command takes effect (see `latency`), so the
 latency between pose and command is accounted for, not guessed. Curves are tracked with
 curvature feed-forward plus a heading set-point that steers back onto the path
 (`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
@@ -188,34 +188,27 @@ class _CurveTracker:
 class PathFollower:
     """Drives a Path leg by leg; `done` once the last leg is finished."""
 
-    def __init__(self, path: Path, *, end_tolerance: float | None = None) -> None:
+    def __init__(self, path: Path, *, end_tolerance: float | None = None,
+                 latency: LatencyPredictor | None = None) -> None:
+        """:param latency: what the caller knows of the commands it sent (it records them and
+            the pose echoes); without it the follower assumes each command acts at once."""
         self.path = path
         self.leg_index = 0
         self.max_deviation = 0.0
         self._end_tolerance = end_tolerance
         self._tracker: _TurnTracker | _CurveTracker | None = None
-        self._latency: LatencyPredictor | None = None
+        self._latency = latency
 
     @property
     def done(self) -> bool:
         return self.leg_index >= len(self.path.legs)
 
-    def update(self, pose: Pose2D, config: ControlConfig,
-               echo: tuple[float, float] | None = None) -> Command:
-        """The command for this control period; STOP once done.
-
-        :param pose: the latest pose.
-        :param config: the tuning to use.
-        :param echo: that pose's (linear_velocity, angular_velocity), which tells which of the
-            commands sent are still on their way; None if unknown (no latency compensation).
-        """
+    def update(self, pose: Pose2D, config: ControlConfig) -> Command:
+        """The command for this control period, steered from where the commands still on their
+        way will take the turtle; STOP once done."""
         if self._latency is None:
             self._latency = LatencyPredictor(config.period_s)
-        if echo is not None:
-            self._latency.observe(*echo)
-        command = self._next_command(pose, self._latency.predict(pose), config, self._latency)
-        self._latency.sent(command)
-        return command
+        return self._next_command(pose, self._latency.predict(pose), config, self._latency)
 
     def _next_command(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
                       latency: LatencyPredictor) -> Command:

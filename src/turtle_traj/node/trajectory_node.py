@@ -28,6 +28,7 @@ from turtlesim.msg import Pose
 
 from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.follower import PathFollower
+from turtle_traj.control.latency import LatencyPredictor
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.geometry.shapes import PlanError
 from turtle_traj.node import parameters
@@ -103,6 +104,9 @@ class TrajectoryNode(Node):
         self._pose_wall_s = -math.inf
         self._pose_time: Time | None = None
         self._run: _Run | None = None
+        # Every command this node sends and every echo it hears, across trajectories: how much
+        # the latency varies is a property of the link, known before the next trajectory starts.
+        self._latency = LatencyPredictor(self.settings.control.period_s)
 
         self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
         self.create_subscription(Pose, f'{turtle}/pose', self._on_pose, TURTLE_TOPIC_QOS)
@@ -129,6 +133,7 @@ class TrajectoryNode(Node):
 
     def _on_parameters_set(self, _parameters) -> None:
         self.settings = parameters.read_settings(self)
+        self._latency.period_s = self.settings.control.period_s
 
     def _on_pose(self, msg: Pose) -> None:
         previous, self._pose = self._pose, Pose2D(msg.x, msg.y, msg.theta)
@@ -139,6 +144,7 @@ class TrajectoryNode(Node):
                                     'between two poses (teleported, reset, respawned, or this '
                                     'node fell behind the simulator)')
         self._pose_msg = msg
+        self._latency.observe(msg.linear_velocity, msg.angular_velocity)
         self._pose_wall_s = time.monotonic()
         self._pose_time = self.get_clock().now()
 
@@ -180,8 +186,7 @@ class TrajectoryNode(Node):
                                 f'of the wall at ({self._pose.x:.2f}, {self._pose.y:.2f})')
             return
         config = replace(self.settings.control, **run.speeds)
-        echo = (self._pose_msg.linear_velocity, self._pose_msg.angular_velocity)
-        self._publish(run.follower.update(self._pose, config, echo))
+        self._publish(run.follower.update(self._pose, config))
 
     def _on_watchdog(self) -> None:
         if self._run is None:
@@ -198,6 +203,7 @@ class TrajectoryNode(Node):
         self._publish(STOP)
 
     def _publish(self, command: Command) -> None:
+        self._latency.sent(command)
         twist = Twist()
         twist.linear.x, twist.angular.z = command.linear, command.angular
         self._cmd_vel.publish(twist)
@@ -257,7 +263,7 @@ class TrajectoryNode(Node):
             return fill_response(response, Outcome(False, refusal, self._pose))
 
         path, kind = plan.path, plan.kind
-        follower = PathFollower(path, end_tolerance=plan.end_tolerance)
+        follower = PathFollower(path, end_tolerance=plan.end_tolerance, latency=self._latency)
         run = _Run(kind, path, follower, self.get_clock().now(), plan.speeds,
                    self._wall_clearance(self._pose))
         self._run = run
