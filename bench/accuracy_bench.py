@@ -23,8 +23,8 @@ from turtle_traj_interfaces.srv import DrawShape, GoTo, Move  # noqa: E402
 
 from turtle_traj import planning  # noqa: E402
 from turtle_traj.geometry.path import Pose2D, distance_to_polyline  # noqa: E402
-from turtle_traj.sim.node import TURTLE_TOPIC_QOS  # noqa: E402
 from turtle_traj.system import InProcessSystem  # noqa: E402
+from turtle_traj.wire import TURTLE_TOPIC_QOS  # noqa: E402
 
 LINEAR, ANGULAR = 1.0, 2.0  # the node's default top speeds
 

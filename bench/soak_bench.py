@@ -33,8 +33,8 @@ from turtlesim.srv import TeleportAbsolute  # noqa: E402
 
 from turtle_traj import runtime  # noqa: E402
 from turtle_traj.node.trajectory_node import TrajectoryNode  # noqa: E402
-from turtle_traj.sim.node import TURTLE_TOPIC_QOS  # noqa: E402
 from turtle_traj.sim.physics import SPAWN_XY_M  # noqa: E402
+from turtle_traj.wire import TURTLE_TOPIC_QOS  # noqa: E402
 
 CHECKPOINTS = (1, 50, 250, 500)
 

@@ -119,6 +119,22 @@ def test_menu_enter_on_speed_keeps_the_nodes_parameter():
     speed = next(f for f in CHOICES['1'].fields if f.name == 'linear_speed')
     prompts = []
     assert ask_field(speed, lambda prompt: prompts.append(prompt) or '', print) == 0.0
-    assert "Enter = the node's default" in prompts[0]
+    assert "Enter = the node's linear_speed" in prompts[0]
     request = CHOICES['1'].build({'size': 1.0, 'clockwise': 0.0, 'linear_speed': 0.0})
     assert request.linear_speed == 0.0  # 0 in the request: the node uses its linear_speed
+
+
+def test_menu_enter_uses_the_nodes_live_default_size(running_system, monkeypatch, capsys):
+    import io
+
+    assert cli.main(['reset']) == 0
+    assert cli.main(['params', 'default_side_length', '1.25']) == 0
+    try:
+        monkeypatch.setattr('sys.stdin', io.StringIO('1\n\nn\n\n'))  # square, all Enter
+        assert cli.main(['menu']) == 0
+        out = capsys.readouterr().out
+        assert "Enter = the node's default_side_length = 1.25" in out
+        assert 'done: square done' in out
+        assert 'path 5.00 m' in out  # four sides of 1.25 m: the node's value, not 2 m
+    finally:
+        assert cli.main(['params', 'default_side_length', '2.0']) == 0

@@ -120,7 +120,7 @@ def test_sigterm_mid_run_sends_a_final_stop_command(ros_context, tmp_path):
 
     from tests.ros_helpers import program, terminate
     from turtle_traj.runtime import spin_until
-    from turtle_traj.sim.node import TURTLE_TOPIC_QOS
+    from turtle_traj.wire import TURTLE_TOPIC_QOS
 
     observer = Node('sigterm_observer', context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)

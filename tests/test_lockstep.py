@@ -8,8 +8,8 @@ from turtlesim.msg import Pose
 from turtlesim.srv import Spawn
 
 from turtle_traj.node.trajectory_node import TrajectoryNode
-from turtle_traj.sim.node import TURTLE_TOPIC_QOS
 from turtle_traj.system import SIM_TIME, InProcessSystem
+from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 
 def _pose_stream(context, tmp_path, **sim_parameters) -> list[tuple[float, ...]]:

@@ -11,7 +11,8 @@ from turtle_traj.control.follower import ControlConfig, PathFollower
 from turtle_traj.geometry import shapes
 from turtle_traj.geometry.angles import shortest_angular_distance, wrap_angle
 from turtle_traj.geometry.path import Pose2D
-from turtle_traj.geometry.shapes import Arena, PlanError
+from turtle_traj.geometry.shapes import Arena
+from turtle_traj.planning import PlanError
 from turtle_traj.sim.physics import WORLD_SIZE_M
 
 ARENA = Arena(0.0, 0.0, WORLD_SIZE_M, WORLD_SIZE_M, 0.3)

@@ -10,7 +10,8 @@ from collections.abc import Sequence
 from turtle_traj_interfaces.srv import DrawShape, GoTo, Move
 
 from turtle_traj import planning
-from turtle_traj.client import TrajClient, TrajClientError
+from turtle_traj.client import TrajClient, TrajClientError, report
+from turtle_traj.menu import run_menu
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -97,18 +98,6 @@ def to_request(options: argparse.Namespace) -> tuple[str, object]:
     return options.command, None
 
 
-def report(response) -> str:
-    """Human-readable result of a trajectory call."""
-    lines = [('done: ' if response.success else 'failed: ') + response.message]
-    if hasattr(response, 'final_x'):
-        lines.append(f'  final pose  x={response.final_x:.3f} m  y={response.final_y:.3f} m  '
-                     f'theta={math.degrees(response.final_theta):.1f} deg')
-        lines.append(f'  elapsed {response.elapsed:.2f} s, path {response.path_length:.2f} m, '
-                     f'max deviation {response.max_deviation:.4f} m, final error '
-                     f'{response.final_error:.4f} m')
-    return '\n'.join(lines)
-
-
 def main(args: Sequence[str] | None = None) -> int:
     options = build_parser().parse_args(args)
     if options.command == 'up':
@@ -153,7 +142,6 @@ def _run_session(options: argparse.Namespace) -> int:
     try:
         with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
             if options.command == 'menu':
-                from turtle_traj.menu import run_menu  # here: menu imports report from us
                 return run_menu(client)
             if options.name is None:
                 for name, value in client.parameters().items():

@@ -5,6 +5,7 @@ Not for use inside another node's callbacks (it spins); that is what async clien
 
 from __future__ import annotations
 
+import math
 import os
 import time
 from collections.abc import Callable
@@ -19,10 +20,10 @@ from rclpy.wait_for_message import wait_for_message
 from turtlesim.msg import Pose
 
 from turtle_traj.geometry.path import Pose2D
-from turtle_traj.geometry.shapes import PlanError
-from turtle_traj.node.parameters import settings_from_values
 from turtle_traj.node.plans import plan_request
+from turtle_traj.planning import PlanError
 from turtle_traj.services import SERVICE_TYPES
+from turtle_traj.settings import settings_from_values
 
 
 class TrajClientError(RuntimeError):
@@ -135,3 +136,15 @@ class TrajClient:
         self._executor.shutdown()
         self._node.destroy_node()
         rclpy.try_shutdown(context=self._context)
+
+
+def report(response) -> str:
+    """Human-readable result of a trajectory call."""
+    lines = [('done: ' if response.success else 'failed: ') + response.message]
+    if hasattr(response, 'final_x'):
+        lines.append(f'  final pose  x={response.final_x:.3f} m  y={response.final_y:.3f} m  '
+                     f'theta={math.degrees(response.final_theta):.1f} deg')
+        lines.append(f'  elapsed {response.elapsed:.2f} s, path {response.path_length:.2f} m, '
+                     f'max deviation {response.max_deviation:.4f} m, final error '
+                     f'{response.final_error:.4f} m')
+    return '\n'.join(lines)

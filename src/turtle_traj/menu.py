@@ -13,11 +13,8 @@ from dataclasses import dataclass
 from std_srvs.srv import Trigger
 from turtle_traj_interfaces.srv import DrawShape, GoTo, Move
 
-from turtle_traj.cli import report
-from turtle_traj.client import TrajClient, TrajClientError
-from turtle_traj.planning import MAX_SIDES, ShapeDefaults
-
-_DEFAULTS = ShapeDefaults()
+from turtle_traj.client import TrajClient, TrajClientError, report
+from turtle_traj.planning import MAX_SIDES
 
 
 class _Leave(Exception):
@@ -28,7 +25,8 @@ class _Leave(Exception):
 class Field:
     """One question: request field, prompt, default and inclusive range.
 
-    A default of 0 stands for the node's own parameter (the request field's 0 means that).
+    A field with a `parameter` defaults to 0, which the request passes on and the node reads as
+    "use my parameter": Enter shows that parameter's live value and keeps it.
     """
 
     name: str
@@ -38,6 +36,11 @@ class Field:
     high: float
     integer: bool = False
     yes_no: bool = False
+    parameter: str = ''
+
+
+def _node_default(name: str, prompt: str, parameter: str, low: float, high: float) -> Field:
+    return Field(name, prompt, 0.0, low, high, parameter=parameter)
 
 
 @dataclass(frozen=True)
@@ -59,35 +62,32 @@ def _shape(**fixed: float) -> Callable[[dict[str, float]], DrawShape.Request]:
 
 
 _CLOCKWISE = Field('clockwise', 'clockwise', 0, 0, 1, yes_no=True)
-_SPEED = Field('linear_speed', 'speed in m/s', 0.0, 0.01, 10.0)
+_SPEED = _node_default('linear_speed', 'speed in m/s', 'linear_speed', 0.01, 10.0)
+_SIDE = _node_default('size', 'side length in m', 'default_side_length', 0.01, 10.0)
 
 CHOICES = {
-    '1': Choice('square', 'draw_square', (
-        Field('size', 'side length in m', _DEFAULTS.side_length, 0.01, 10.0), _CLOCKWISE,
-        _SPEED), _shape()),
-    '2': Choice('triangle', 'draw_triangle', (
-        Field('size', 'side length in m', _DEFAULTS.side_length, 0.01, 10.0), _CLOCKWISE,
-        _SPEED), _shape()),
+    '1': Choice('square', 'draw_square', (_SIDE, _CLOCKWISE, _SPEED), _shape()),
+    '2': Choice('triangle', 'draw_triangle', (_SIDE, _CLOCKWISE, _SPEED), _shape()),
     '3': Choice('circle', 'draw_circle', (
-        Field('size', 'radius in m', _DEFAULTS.radius, 0.01, 5.5), _CLOCKWISE,
+        _node_default('size', 'radius in m', 'default_radius', 0.01, 5.5), _CLOCKWISE,
         Field('turns', 'turns', 1.0, 0.1, 100.0), _SPEED), _shape()),
     '4': Choice('spiral', 'draw_spiral', (
-        Field('size', 'start radius in m', _DEFAULTS.spiral_start_radius, 0.01, 5.0),
-        Field('growth', 'growth per turn in m', _DEFAULTS.spiral_growth, 0.01, 5.0),
+        _node_default('size', 'start radius in m', 'default_spiral_start_radius', 0.01, 5.0),
+        _node_default('growth', 'growth per turn in m', 'default_spiral_growth', 0.01, 5.0),
         Field('turns', 'turns', 3.0, 0.1, 100.0), _CLOCKWISE, _SPEED), _shape()),
     '5': Choice('point to point', 'go_to', (
         Field('x', 'goal x in m', 8.0, 0.3, 10.79), Field('y', 'goal y in m', 8.0, 0.3, 10.79),
         _SPEED), lambda a: GoTo.Request(**a)),
-    '6': Choice('hexagon', 'draw_hexagon', (
-        Field('size', 'side length in m', 1.5, 0.01, 10.0), _CLOCKWISE, _SPEED), _shape()),
+    '6': Choice('hexagon', 'draw_hexagon', (_SIDE, _CLOCKWISE, _SPEED), _shape()),
     '7': Choice('sine wave', 'draw_sine', (
-        Field('size', 'amplitude in m', _DEFAULTS.sine_amplitude, 0.01, 5.0),
-        Field('frequency', 'cycles per metre', _DEFAULTS.sine_frequency, 0.01, 20.0),
-        Field('length', 'length in m', _DEFAULTS.sine_length, 0.01, 10.0), _SPEED), _shape()),
+        _node_default('size', 'amplitude in m', 'default_sine_amplitude', 0.01, 5.0),
+        _node_default('frequency', 'cycles per metre', 'default_sine_frequency', 0.01, 20.0),
+        _node_default('length', 'length in m', 'default_sine_length', 0.01, 10.0), _SPEED),
+        _shape()),
     '8': Choice('reset', 'reset', (), None),
     '9': Choice('polygon', 'draw_polygon', (
         Field('sides', 'number of sides', 5, 3, MAX_SIDES, integer=True),
-        Field('size', 'side length in m', 1.5, 0.01, 10.0), _CLOCKWISE, _SPEED), _shape()),
+        _SIDE, _CLOCKWISE, _SPEED), _shape()),
     '10': Choice('move straight', 'move', (
         Field('distance', 'distance in m (negative: backwards)', 2.0, -10.0, 10.0),),
         lambda a: Move.Request(**a)),
@@ -104,15 +104,23 @@ def _read(ask: Callable[[str], str], text: str) -> str:
         raise _Leave from None
 
 
-def ask_field(field: Field, ask: Callable[[str], str], say: Callable[[str], None]) -> float:
-    """Ask until the answer is valid; Enter takes the default."""
+def ask_field(field: Field, ask: Callable[[str], str], say: Callable[[str], None],
+              live: dict[str, object] | None = None) -> float:
+    """Ask until the answer is valid; Enter takes the default.
+
+    :param live: the node's current parameters, to show what Enter keeps.
+    """
     if field.yes_no:
         while True:
             answer = _read(ask, f'  {field.prompt}? [y/N]: ').lower()
             if answer in ('', 'n', 'no', 'y', 'yes'):
                 return float(answer in ('y', 'yes'))
             say('  please answer y or n')
-    shown = f'{field.default:g}' if field.default else "the node's default"
+    if field.parameter:
+        value = (live or {}).get(field.parameter)
+        shown = f"the node's {field.parameter}" + (f' = {value:g}' if value is not None else '')
+    else:
+        shown = f'{field.default:g}'
     while True:
         answer = _read(ask, f'  {field.prompt} ({field.low:g} to {field.high:g}, '
                             f'Enter = {shown}): ')
@@ -143,7 +151,8 @@ def run_menu(client: TrajClient, ask: Callable[[str], str] = input,
             if choice is None:
                 say(f'  unknown choice {key!r}')
                 continue
-            answers = {field.name: ask_field(field, ask, say) for field in choice.fields}
+            live = client.parameters() if choice.fields else {}
+            answers = {field.name: ask_field(field, ask, say, live) for field in choice.fields}
             request = choice.build(answers) if choice.build else Trigger.Request()
             say(f'  running {choice.label} ...')
             try:

@@ -13,12 +13,16 @@ import numpy as np
 
 from turtle_traj.geometry import shapes
 from turtle_traj.geometry.path import Path, Pose2D
-from turtle_traj.geometry.shapes import Arena, PlanError
+from turtle_traj.geometry.shapes import Arena, ShapeError
 
 POLYGON_SIDES = {'square': 4, 'triangle': 3, 'hexagon': 6}
 SHAPES = ('square', 'triangle', 'hexagon', 'polygon', 'circle', 'spiral', 'sine')
 MAX_SIDES = 360
 MAX_FREQUENCY = 20.0  # cycles per metre: beyond this the wave is finer than the sampling
+
+
+class PlanError(ValueError):
+    """A request that cannot become a safe path; the message says why."""
 
 
 @dataclass(frozen=True)
@@ -99,6 +103,14 @@ def _checked(path: Path, arena: Arena, start: Pose2D, what: str,
 def plan_shape(shape: str, request: ShapeRequest, start: Pose2D, defaults: ShapeDefaults,
                arena: Arena) -> Path:
     """Validate a DrawShape request and return its path, or raise PlanError saying why."""
+    try:
+        return _plan_shape(shape, request, start, defaults, arena)
+    except ShapeError as error:
+        raise PlanError(str(error)) from None
+
+
+def _plan_shape(shape: str, request: ShapeRequest, start: Pose2D, defaults: ShapeDefaults,
+                arena: Arena) -> Path:
     if shape not in SHAPES:
         raise PlanError(f'unknown shape {shape!r}; known shapes: {", ".join(SHAPES)}')
     diagonal = math.hypot(arena.max_x - arena.min_x, arena.max_y - arena.min_y)

@@ -18,7 +18,8 @@ from turtlesim.msg import Pose
 
 from turtle_traj.lockstep import LockstepExecutor
 from turtle_traj.node.trajectory_node import TrajectoryNode
-from turtle_traj.sim.node import TURTLE_TOPIC_QOS, SimNode
+from turtle_traj.sim.node import SimNode
+from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 # Lock-step runs many times faster than real time even on a loaded machine: a wait that has
 # not ended after this much wall time is stuck, not slow (or the simulator was taken away).

@@ -15,8 +15,8 @@ SAMPLE_SPACING_M = 0.02  # chord error of a 1 m circle at this spacing: 0.05 mm
 MAX_TURNS = 100.0
 
 
-class PlanError(ValueError):
-    """A request that cannot become a safe path; the message says why."""
+class ShapeError(ValueError):
+    """A shape that cannot be built as asked; the message says why."""
 
 
 @dataclass(frozen=True)
@@ -118,10 +118,10 @@ def spiral(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool
     limits = [start_radius + growth * turns] if turns > 0 else []
     limits += [max_radius] if max_radius > 0 else []
     if limits and min(limits) <= start_radius:
-        raise PlanError(f'the spiral must end beyond its start radius {start_radius:g} m')
+        raise ShapeError(f'the spiral must end beyond its start radius {start_radius:g} m')
     end_radius = min(limits or [start_radius + growth * MAX_TURNS])
     if (end_radius - start_radius) / growth > MAX_TURNS + 1e-9:
-        raise PlanError(f'the spiral would take more than {MAX_TURNS:g} turns; grow it faster')
+        raise ShapeError(f'the spiral would take more than {MAX_TURNS:g} turns; grow it faster')
     arena_diagonal = math.hypot(arena.max_x - arena.min_x, arena.max_y - arena.min_y)
     points = spiral_points(start, start_radius=start_radius, growth=growth,
                            clockwise=clockwise, end_radius=min(end_radius, arena_diagonal))
@@ -129,7 +129,7 @@ def spiral(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool
         inside = arena.inside(points)
         points = points[:len(points) if inside.all() else int(np.argmin(inside))]
         if len(points) < 2 * math.pi * start_radius / SAMPLE_SPACING_M:
-            raise PlanError('not even one full turn of the spiral fits before the wall from '
+            raise ShapeError('not even one full turn of the spiral fits before the wall from '
                             'here')
     return Path((Curve(points),))
 
@@ -188,7 +188,7 @@ def largest_fitting(build: Callable[[float], Path], fits: Callable[[Path], bool]
         middle = 0.5 * (low + high)
         try:
             fits_here = fits(build(middle))
-        except PlanError:
+        except ShapeError:
             fits_here = False
         low, high = (middle, high) if fits_here else (low, middle)
     return low

@@ -1,125 +1,33 @@
-"""The trajectory node's parameters: one table, declared with descriptors, read into Settings."""
+"""The trajectory node's parameters: the settings table declared with descriptors, read back."""
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from turtle_traj.control.follower import ControlConfig
-from turtle_traj.geometry.shapes import Arena
-from turtle_traj.planning import ShapeDefaults
-from turtle_traj.sim.physics import WORLD_SIZE_M
+from turtle_traj.settings import DEFAULTS, SPECS, Settings, Spec, settings_from_values
 
 
-@dataclass(frozen=True)
-class Spec:
-    """One parameter: default, unit, allowed range and whether it can change at run time."""
-
-    name: str
-    default: float | str
-    description: str
-    unit: str = ''
-    low: float | None = None
-    high: float | None = None
-    read_only: bool = False
-
-    def descriptor(self) -> ParameterDescriptor:
-        descriptor = ParameterDescriptor(
-            description=f'{self.description} [{self.unit}]' if self.unit else self.description,
-            read_only=self.read_only)
-        if self.low is not None:
-            descriptor.floating_point_range = [
-                FloatingPointRange(from_value=self.low, to_value=self.high)]
-        return descriptor
-
-
-SPECS = (
-    Spec('turtle_name', 'turtle1', 'Turtle to drive: topics <turtle_name>/pose and /cmd_vel',
-         read_only=True),
-    Spec('linear_speed', 1.0, 'Top forward speed, used when a request leaves it 0', 'm/s',
-         0.01, 10.0),
-    Spec('angular_speed', 2.0, 'Top turn rate, used when a request leaves it 0', 'rad/s',
-         0.01, 10.0),
-    Spec('heading_gain', 8.0, 'Turn rate per radian of heading error', '1/s', 0.1, 50.0),
-    Spec('cross_track_gain', 2.5, 'How hard curves pull back onto the path', '1/m', 0.0, 50.0),
-    Spec('deceleration', 20.0, 'Braking towards the end of a curve', 'm/s^2', 0.1, 100.0),
-    Spec('angular_deceleration', 50.0, 'Braking towards the end of a turn', 'rad/s^2',
-         0.1, 100.0),
-    Spec('position_tolerance', 0.0005, 'End of a segment reached (corners)', 'm', 0.0005, 0.5),
-    Spec('heading_tolerance', 0.0005, 'End of an in-place turn reached', 'rad', 0.0002, 0.5),
-    Spec('goal_tolerance', 0.01, 'Go-to: arrived, when a request leaves it 0', 'm', 0.001, 1.0),
-    Spec('corner_angle', 0.35, 'Direction changes sharper than this are turned in place',
-         'rad', 0.01, 3.0),
-    Spec('turn_first_angle', 0.6, 'Heading error beyond which the turtle turns before driving',
-         'rad', 0.05, 3.14159),
-    Spec('control_rate', 62.5, 'Control timer rate (node clock)', 'Hz', 1.0, 500.0,
-         read_only=True),
-    Spec('wall_margin', 0.3, 'Planned paths keep this far from the walls; a turtle closer '
-         'than half of it is stopped', 'm', 0.0, 3.0),
-    Spec('arena_min_x', 0.0, 'Arena left edge', 'm', -1000.0, 1000.0),
-    Spec('arena_min_y', 0.0, 'Arena bottom edge', 'm', -1000.0, 1000.0),
-    Spec('arena_max_x', WORLD_SIZE_M, 'Arena right edge', 'm', -1000.0, 1000.0),
-    Spec('arena_max_y', WORLD_SIZE_M, 'Arena top edge', 'm', -1000.0, 1000.0),
-    Spec('pose_timeout', 0.5, 'Time without a pose after which a trajectory aborts (node '
-         'clock; wall clock while a simulated clock stands still)', 's', 0.05, 60.0),
-    Spec('default_side_length', 2.0, 'Polygon side when a request leaves size 0', 'm',
-         0.01, 50.0),
-    Spec('default_radius', 1.5, 'Circle radius when a request leaves size 0', 'm', 0.01, 50.0),
-    Spec('default_spiral_start_radius', 0.3, 'Spiral start radius when size is 0', 'm',
-         0.01, 50.0),
-    Spec('default_spiral_growth', 0.4, 'Spiral growth per turn when growth is 0', 'm',
-         0.01, 50.0),
-    Spec('default_sine_amplitude', 0.5, 'Sine amplitude when size is 0', 'm', 0.01, 50.0),
-    Spec('default_sine_frequency', 0.5, 'Sine frequency when frequency is 0', 'cycles/m',
-         0.01, 20.0),
-    Spec('default_sine_length', 4.0, 'Sine length when length is 0', 'm', 0.01, 100.0),
-)
-
-
-@dataclass(frozen=True)
-class Settings:
-    """Everything the timer and the planners read, rebuilt after every accepted change."""
-
-    control: ControlConfig
-    defaults: ShapeDefaults
-    arena: Arena
-    pose_timeout_s: float
+def descriptor(spec: Spec) -> ParameterDescriptor:
+    """The ROS descriptor of one setting: description with unit, range, read-only."""
+    result = ParameterDescriptor(
+        description=f'{spec.description} [{spec.unit}]' if spec.unit else spec.description,
+        read_only=spec.read_only)
+    if spec.low is not None:
+        result.floating_point_range = [FloatingPointRange(from_value=spec.low, to_value=spec.high)]
+    return result
 
 
 def declare(node: Node) -> None:
     for spec in SPECS:
-        node.declare_parameter(spec.name, spec.default, spec.descriptor())
+        node.declare_parameter(spec.name, spec.default, descriptor(spec))
 
 
 def read_settings(node: Node) -> Settings:
     """Settings from the node's current parameters."""
     return settings_from_values({spec.name: node.get_parameter(spec.name).value
                                  for spec in SPECS})
-
-
-def settings_from_values(value: dict[str, object]) -> Settings:
-    """Settings from parameter values by name (a node's, or ones a client fetched)."""
-    control = ControlConfig(
-        linear_speed=value['linear_speed'], angular_speed=value['angular_speed'],
-        heading_gain=value['heading_gain'], cross_track_gain=value['cross_track_gain'],
-        deceleration=value['deceleration'], angular_deceleration=value['angular_deceleration'],
-        position_tolerance=value['position_tolerance'],
-        heading_tolerance=value['heading_tolerance'],
-        turn_first_angle=value['turn_first_angle'], period_s=1.0 / value['control_rate'])
-    defaults = ShapeDefaults(
-        side_length=value['default_side_length'], radius=value['default_radius'],
-        spiral_start_radius=value['default_spiral_start_radius'],
-        spiral_growth=value['default_spiral_growth'],
-        sine_amplitude=value['default_sine_amplitude'],
-        sine_frequency=value['default_sine_frequency'],
-        sine_length=value['default_sine_length'],
-        goal_tolerance=value['goal_tolerance'], corner_angle=value['corner_angle'])
-    arena = Arena(value['arena_min_x'], value['arena_min_y'], value['arena_max_x'],
-                  value['arena_max_y'], value['wall_margin'])
-    return Settings(control, defaults, arena, value['pose_timeout'])
 
 
 def validate(node: Node, parameters: list[Parameter]) -> SetParametersResult:
@@ -134,7 +42,7 @@ def validate(node: Node, parameters: list[Parameter]) -> SetParametersResult:
             return incoming[name]
         if node.has_parameter(name):
             return node.get_parameter(name).value
-        return next(spec.default for spec in SPECS if spec.name == name)
+        return DEFAULTS[name]
 
     margin = current('wall_margin')
     for axis in 'xy':

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 
 from turtle_traj import planning
 from turtle_traj.geometry.path import Path, Pose2D
-from turtle_traj.geometry.shapes import PlanError
-from turtle_traj.node.parameters import Settings
+from turtle_traj.planning import PlanError
+from turtle_traj.settings import Settings
 
 MIN_SPEED, MAX_SPEED = 0.01, 10.0  # m/s and rad/s a request may ask for (as the parameters)
 

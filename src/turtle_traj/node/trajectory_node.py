@@ -30,11 +30,11 @@ from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.follower import PathFollower
 from turtle_traj.control.latency import LatencyPredictor
 from turtle_traj.geometry.path import Path, Pose2D
-from turtle_traj.geometry.shapes import PlanError
 from turtle_traj.node import parameters
 from turtle_traj.node.plans import plan_request
+from turtle_traj.planning import PlanError
 from turtle_traj.services import TRAJECTORY_SERVICES
-from turtle_traj.sim.node import TURTLE_TOPIC_QOS
+from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 PLAN_FRAME_ID = 'world'
 _SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still

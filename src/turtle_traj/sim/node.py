@@ -13,7 +13,6 @@ from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_srvs.srv import Empty
@@ -33,10 +32,8 @@ from turtle_traj.sim.physics import (
     Turtle,
     World,
 )
+from turtle_traj.wire import TURTLE_TOPIC_QOS
 
-# turtlesim's per-turtle topic QoS (qos.hpp in turtlesim 1.8).
-TURTLE_TOPIC_QOS = QoSProfile(
-    history=HistoryPolicy.KEEP_LAST, depth=7, reliability=ReliabilityPolicy.RELIABLE)
 _FIRST_TURTLE = 'turtle1'
 
 
