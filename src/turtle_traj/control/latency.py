@@ -19,7 +19,7 @@ from turtle_traj.control.commands import STOP, Command
 from turtle_traj.geometry.path import Pose2D
 
 _HISTORY = 32  # commands remembered: far more than any latency we can steer through
-_SPREAD_WINDOW = 64  # observations over which the latency's variation is judged (about 1 s)
+_SPREAD_WINDOW = 128  # telling observations over which the latency's variation is judged
 
 
 def _as_echoed(command: Command) -> tuple[float, float]:
@@ -60,11 +60,11 @@ class LatencyPredictor:
             # Between two poses one command is sent and one takes effect: the count holds.
             self.in_flight = min(matches, key=lambda back: abs(back - self.in_flight))
             self._seen_in_effect = True
+            if len(matches) == 1:  # a run of equal commands tells nothing of the latency
+                self._recent.append(self.in_flight)
         elif not self._seen_in_effect:
             self.in_flight = len(self._sent)
         self._echo = echo
-        if self._seen_in_effect:
-            self._recent.append(self.in_flight)
         return self.in_flight
 
     @property
