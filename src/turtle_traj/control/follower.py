@@ -208,10 +208,9 @@ class PathFollower:
         way will take the turtle; STOP once done."""
         if self._latency is None:
             self._latency = LatencyPredictor(config.period_s)
-        return self._next_command(pose, self._latency.predict(pose), config, self._latency)
+        return self._next_command(pose, self._latency.predict(pose), config)
 
-    def _next_command(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
-                      latency: LatencyPredictor) -> Command:
+    def _next_command(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig) -> Command:
         while not self.done:
             leg = self.path.legs[self.leg_index]
             if self._tracker is None:
@@ -221,7 +220,7 @@ class PathFollower:
                     tolerance = self._end_tolerance
                 self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
                                  else _CurveTracker(leg, tolerance))
-            command, deviation = self._tracker.update(pose, predicted, config, latency)
+            command, deviation = self._tracker.update(pose, predicted, config, self._latency)
             self.max_deviation = max(self.max_deviation, deviation)
             if command is not None:
                 return command

@@ -133,7 +133,6 @@ class TrajectoryNode(Node):
 
     def _on_parameters_set(self, _parameters) -> None:
         self.settings = parameters.read_settings(self)
-        self._latency.period_s = self.settings.control.period_s
 
     def _on_pose(self, msg: Pose) -> None:
         previous, self._pose = self._pose, Pose2D(msg.x, msg.y, msg.theta)
@@ -324,7 +323,10 @@ class TrajectoryNode(Node):
         return response
 
     def _connected(self) -> bool:
-        """A fresh pose is in and the simulator acknowledged a stop command (it hears us)."""
+        """A fresh pose is in and the simulator acknowledged a stop command (it hears us).
+
+        Sends that stop (harmless: no trajectory runs) while no acknowledgement is in.
+        """
         if self._refusal() is not None:
             return False
         if self._cmd_vel.wait_for_all_acked(Duration()):
@@ -338,8 +340,11 @@ class TrajectoryNode(Node):
         deadline = time.monotonic() + timeout_s
 
         def poll() -> None:
-            if not waited.done() and (condition() or time.monotonic() > deadline):
-                waited.set_result(condition())
+            if waited.done():
+                return
+            met = condition()
+            if met or time.monotonic() > deadline:
+                waited.set_result(met)
 
         timer = self.create_timer(_POLL_PERIOD_S, poll,
                                   clock=Clock(clock_type=ClockType.STEADY_TIME))
