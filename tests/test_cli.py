@@ -6,6 +6,7 @@ import pytest
 
 from tests.ros_helpers import program
 from turtle_traj import cli
+from turtle_traj.wire import SPAWN_XY_M, WORLD_SIZE_M
 
 
 @pytest.fixture(scope='module')
@@ -85,14 +86,16 @@ def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monke
         'big', '-4', 'nan', '1',   # side length: letters, out of range, NaN, then 1 m
         'maybe', 'n',   # clockwise?
         '',             # speed: default
-        '8',            # reset
+        'r',            # reset
     ]) + '\n'          # then end of input (Ctrl-D)
     monkeypatch.setattr('sys.stdin', io.StringIO(answers))
     assert cli.main(['menu']) == 0
     out = capsys.readouterr().out
     assert "unknown choice 'x'" in out
     assert "'big' is not a number" in out
-    assert '-4 is outside 0.01 to 10' in out
+    # the range of a size ends at the largest that fits from the turtle's pose
+    room = WORLD_SIZE_M - 0.3 - SPAWN_XY_M
+    assert f'-4 is outside 0.01 to {math.floor(room * 100) / 100:g}' in out
     assert 'nan is outside' in out
     assert 'please answer y or n' in out
     assert 'done: square done' in out
@@ -114,13 +117,18 @@ def test_expected_duration_is_the_kinematic_bound(running_system):
 
 
 def test_menu_enter_on_speed_keeps_the_nodes_parameter():
-    from turtle_traj.menu import CHOICES, ask_field
+    from turtle_traj.menu import CHOICES, Live, ask_field
+    from turtle_traj.services import make_request
+    from turtle_traj.settings import DEFAULT_SETTINGS
 
-    speed = next(f for f in CHOICES['1'].fields if f.name == 'linear_speed')
+    square = CHOICES['1']
+    speed = next(f for f in square.fields if f.name == 'linear_speed')
+    live = Live({'linear_speed': 1.7}, DEFAULT_SETTINGS, None)
     prompts = []
-    assert ask_field(speed, lambda prompt: prompts.append(prompt) or '', print) == 0.0
-    assert "Enter = the node's linear_speed" in prompts[0]
-    request = CHOICES['1'].build({'size': 1.0, 'clockwise': 0.0, 'linear_speed': 0.0})
+    assert ask_field(square, speed, {}, live, lambda prompt: prompts.append(prompt) or '',
+                     print) is None
+    assert "Enter = the node's linear_speed = 1.7" in prompts[0]
+    request = make_request(square, {'size': 1.0, 'linear_speed': None})
     assert request.linear_speed == 0.0  # 0 in the request: the node uses its linear_speed
 
 

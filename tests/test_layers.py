@@ -11,10 +11,11 @@ PACKAGE = Path(__file__).resolve().parents[1] / 'src' / 'turtle_traj'
 
 # Lowest first. A module may import modules of its own layer or of a lower one.
 LAYERS = [
-    # 0: the pure core: geometry, control, planning, the simulator's physics, the settings
+    # 0: the pure core: geometry, control and its run supervisor, planning, the registry of
+    # trajectories, the settings table, the simulator's physics and its options
     ['geometry.angles', 'geometry.path', 'geometry.shapes', 'control.commands',
-     'control.latency', 'control.follower', 'planning', 'settings', 'node.plans',
-     'sim.physics', 'sim.delay', 'sim.canvas', 'sim.gui'],
+     'control.latency', 'control.follower', 'control.supervisor', 'planning', 'trajectories',
+     'settings', 'sim.physics', 'sim.delay', 'sim.canvas', 'sim.gui', 'sim.options'],
     # 1: what simulator and controller agree on over the wire
     ['wire', 'services'],
     # 2: the ROS shell: nodes, their parameters, executors and the program runner

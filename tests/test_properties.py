@@ -1,22 +1,26 @@
 """Property-based tests of the pure core: planning, geometry and the follower (hypothesis)."""
 
 import math
+from dataclasses import replace
+from functools import partial
+from types import SimpleNamespace
 
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from turtle_traj import planning
-from turtle_traj.control.follower import ControlConfig, PathFollower
+from turtle_traj.control.follower import PathFollower
 from turtle_traj.geometry import shapes
 from turtle_traj.geometry.angles import shortest_angular_distance, wrap_angle
 from turtle_traj.geometry.path import Pose2D
 from turtle_traj.geometry.shapes import Arena
 from turtle_traj.planning import PlanError
+from turtle_traj.settings import DEFAULT_SETTINGS
 from turtle_traj.sim.physics import WORLD_SIZE_M
+from turtle_traj.trajectories import BY_NAME
 
 ARENA = Arena(0.0, 0.0, WORLD_SIZE_M, WORLD_SIZE_M, 0.3)
-DEFAULTS = planning.ShapeDefaults()
+SHAPES = [name for name, trajectory in BY_NAME.items() if trajectory.command[0] == 'draw']
 SETTINGS = settings(max_examples=60, deadline=None,
                     suppress_health_check=[HealthCheck.too_slow])
 
@@ -25,10 +29,18 @@ near_pi = st.sampled_from([math.pi, -math.pi, math.pi - 1e-9, -math.pi + 1e-9, 3
 starts = st.builds(Pose2D, st.floats(0.3, WORLD_SIZE_M - 0.3), st.floats(0.3, WORLD_SIZE_M - 0.3),
                    st.one_of(angles, near_pi))
 shape_requests = st.builds(
-    planning.ShapeRequest,
+    SimpleNamespace,
     sides=st.integers(3, 12), size=st.floats(0.0, 8.0), clockwise=st.booleans(),
     turns=st.floats(0.0, 3.0), growth=st.floats(0.0, 1.0), max_radius=st.floats(0.0, 6.0),
-    frequency=st.floats(0.0, 3.0), length=st.floats(0.0, 10.0))
+    frequency=st.floats(0.0, 3.0), length=st.floats(0.0, 10.0), linear_speed=st.just(0.0),
+    angular_speed=st.just(0.0))
+
+
+def shape(**fields) -> SimpleNamespace:
+    """A DrawShape-like request: the given fields, every other one 0 (the default)."""
+    values = dict(sides=0, size=0.0, clockwise=False, turns=0.0, growth=0.0, max_radius=0.0,
+                  frequency=0.0, length=0.0, linear_speed=0.0, angular_speed=0.0)
+    return SimpleNamespace(**{**values, **fields})
 
 
 @given(angles)
@@ -47,10 +59,10 @@ def test_shortest_distance_turns_one_into_the_other(a, b):
 
 
 @SETTINGS
-@given(st.sampled_from(planning.SHAPES), shape_requests, starts)
-def test_every_planned_shape_stays_in_the_arena_or_is_refused(shape, request, start):
+@given(st.sampled_from(SHAPES), shape_requests, starts)
+def test_every_planned_shape_stays_in_the_arena_or_is_refused(name, request, start):
     try:
-        path = planning.plan_shape(shape, request, start, DEFAULTS, ARENA)
+        path = BY_NAME[name].plan(request, start, DEFAULT_SETTINGS).path
     except PlanError as error:
         assert str(error)
         return
@@ -63,7 +75,7 @@ def test_every_planned_shape_stays_in_the_arena_or_is_refused(shape, request, st
 @SETTINGS
 @given(st.integers(3, 60), st.floats(0.05, 2.0), st.booleans(), starts)
 def test_polygon_sides_are_equal_and_it_closes(sides, side, clockwise, start):
-    path = planning.shapes.polygon(start, sides=sides, side_length=side, clockwise=clockwise)
+    path = shapes.polygon(start, sides=sides, side_length=side, clockwise=clockwise)
     lengths = [leg.length for leg in path.legs if hasattr(leg, 'points')]
     assert len(lengths) == sides
     assert np.allclose(lengths, side)
@@ -75,7 +87,7 @@ def test_polygon_sides_are_equal_and_it_closes(sides, side, clockwise, start):
 @SETTINGS
 @given(st.floats(0.05, 2.5), st.booleans(), starts)
 def test_circle_points_keep_the_radius(radius, clockwise, start):
-    path = planning.shapes.circle(start, radius=radius, clockwise=clockwise, turns=1.0)
+    path = shapes.circle(start, radius=radius, clockwise=clockwise, turns=1.0)
     side = -1.0 if clockwise else 1.0
     center = (start.x - side * radius * math.sin(start.theta),
               start.y + side * radius * math.cos(start.theta))
@@ -86,26 +98,23 @@ def test_circle_points_keep_the_radius(radius, clockwise, start):
 poses_anywhere = st.builds(
     Pose2D, st.floats(0.0, WORLD_SIZE_M), st.floats(0.0, WORLD_SIZE_M),
     st.one_of(angles, near_pi))
-configs = st.builds(ControlConfig, linear_speed=st.floats(0.01, 10.0),
-                    angular_speed=st.floats(0.01, 10.0), heading_gain=st.floats(0.1, 50.0),
-                    cross_track_gain=st.floats(0.0, 50.0))
+configs = st.builds(partial(replace, DEFAULT_SETTINGS.control),
+                    linear_speed=st.floats(0.01, 10.0), angular_speed=st.floats(0.01, 10.0),
+                    heading_gain=st.floats(0.1, 50.0), cross_track_gain=st.floats(0.0, 50.0))
 
 
 @SETTINGS
-@given(st.sampled_from(planning.SHAPES + ('go_to', 'rotate')), starts,
+@given(st.sampled_from([*SHAPES, 'go_to', 'rotate']), starts,
        st.lists(poses_anywhere, min_size=1, max_size=20), configs)
 def test_follower_commands_are_finite_and_within_limits(kind, start, poses, config):
-    if kind == 'go_to':
-        path = planning.plan_go_to(start, x=5.0, y=5.0, theta=1.0, tolerance=0.0,
-                                   defaults=DEFAULTS, arena=ARENA)
-    elif kind == 'rotate':
-        path = planning.plan_rotation(start, angle=-7.0)
-    else:
-        try:
-            path = planning.plan_shape(kind, planning.ShapeRequest(size=0.5, turns=1.0),
-                                       start, DEFAULTS, ARENA)
-        except PlanError:
-            return
+    request = {'go_to': SimpleNamespace(x=5.0, y=5.0, use_theta=True, theta=1.0, tolerance=0.0,
+                                        linear_speed=0.0),
+               'rotate': SimpleNamespace(angle=-7.0, speed=0.0)}.get(
+        kind, shape(sides=5, size=0.5, turns=1.0))
+    try:
+        path = BY_NAME[kind].plan(request, start, DEFAULT_SETTINGS).path
+    except PlanError:
+        return
     follower = PathFollower(path)
     for pose in poses:
         command = follower.update(pose, config)
@@ -118,9 +127,9 @@ def test_follower_commands_are_finite_and_within_limits(kind, start, poses, conf
 @given(st.floats(0.001, 7.0), st.floats(0.001, 20.0), st.floats(0.0, 100.0),
        st.floats(0.0, 15.0), starts)
 def test_any_spiral_request_is_planned_with_bounded_work(size, growth, turns, max_radius, start):
-    request = planning.ShapeRequest(size=size, growth=growth, turns=turns, max_radius=max_radius)
+    request = shape(size=size, growth=growth, turns=turns, max_radius=max_radius)
     try:
-        path = planning.plan_shape('spiral', request, start, DEFAULTS, ARENA)
+        path = BY_NAME['spiral'].plan(request, start, DEFAULT_SETTINGS).path
     except PlanError:
         return
     # 100 turns of the largest radius that fits in the arena, at 2 cm spacing.

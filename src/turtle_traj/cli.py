@@ -1,23 +1,80 @@
-"""`turtle-traj`: the command line of the trajectory node."""
+"""`turtle-traj`: the command line of the trajectory node.
+
+One subcommand per entry of the trajectory registry (`draw square`, `go-to`, ...), each with
+an option or argument per request field, plus stop, reset, menu, params and up.
+"""
 
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from collections.abc import Sequence
 
-from turtle_traj_interfaces.srv import DrawShape, GoTo, Move
-
-from turtle_traj import planning
 from turtle_traj.client import TrajClient, TrajClientError, report
 from turtle_traj.menu import run_menu
+from turtle_traj.services import make_request
+from turtle_traj.sim.options import add_sim_options, options_from
+from turtle_traj.trajectories import BOOL, INT, POINTS, TRAJECTORIES, Field, Trajectory
+
+
+def _point(text: str) -> tuple[float, float]:
+    try:
+        x, y = (float(part) for part in text.split(','))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'{text!r} is not a point x,y (e.g. 2.5,8)') from None
+    return x, y
+
+
+def _field_help(item: Field) -> str:
+    unit = {'deg': 'degrees'}.get(item.unit, item.unit)
+    text = f'{item.help} [{unit}]' if unit and item.type != POINTS else item.help
+    if item.parameter:
+        return f"{text}; default: the node's {item.parameter}"
+    if item.default not in (None, 0.0, False) and not item.positional:
+        return f'{text}; default: {item.default:g}'
+    return text
+
+
+def _add_field(parser: argparse.ArgumentParser, item: Field) -> None:
+    if item.type == BOOL:
+        parser.add_argument(item.option, dest=item.name, action='store_true',
+                            help=_field_help(item))
+    elif item.type == POINTS:
+        parser.add_argument(item.name, type=_point, nargs='+', metavar='X,Y',
+                            help=_field_help(item))
+    elif item.positional:
+        parser.add_argument(item.name, type=int if item.type == INT else float,
+                            metavar=item.name.upper(), help=_field_help(item))
+    else:
+        parser.add_argument(item.option, dest=item.name, metavar=item.option[2:].upper(),
+                            type=int if item.type == INT else float, help=_field_help(item))
+    if item.negate:
+        parser.add_argument(f'--{item.negate}', action='store_true',
+                            help=f'the other way (negates {item.name.upper()})')
+
+
+def _add_trajectory(groups: dict[tuple[str, ...], argparse._SubParsersAction],
+                    trajectory: Trajectory) -> None:
+    *path, word = trajectory.command
+    for depth in range(1, len(path) + 1):  # intermediate words: `draw` in `draw square`
+        if tuple(path[:depth]) not in groups:
+            parent = groups[tuple(path[:depth - 1])]
+            group = parent.add_parser(path[depth - 1], help=f'{path[depth - 1]} a shape from '
+                                      'where the turtle stands')
+            groups[tuple(path[:depth])] = group.add_subparsers(
+                dest='shape', required=True, metavar='SHAPE')
+    parser = groups[tuple(path)].add_parser(word, help=trajectory.summary,
+                                            description=trajectory.summary)
+    for item in trajectory.fields:
+        _add_field(parser, item)
+    parser.set_defaults(trajectory=trajectory)
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='turtle-traj', description='Drive a turtle along trajectories through the '
-        'turtle_traj node. Sizes in metres, speeds in m/s, angles in degrees.')
+        'turtle_traj node. Sizes in metres, speeds in m/s, turn rates in rad/s, angles in '
+        'degrees.')
     parser.add_argument('--node', default='/turtle_traj',
                         help='trajectory node to call, with its namespace (default: '
                              '/turtle_traj; e.g. /sim1/turtle_traj)')
@@ -27,85 +84,35 @@ def build_parser() -> argparse.ArgumentParser:
                         help='seconds to wait for the node to be found (default: 10; a busy '
                              'machine can take several to discover it)')
     commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
-
-    draw = commands.add_parser('draw', help='draw a shape from where the turtle stands')
-    draw.add_argument('shape', choices=planning.SHAPES)
-    draw.add_argument('--size', type=float, default=0.0,
-                      help='side (polygons), radius (circle), start radius (spiral), '
-                           'amplitude (sine); default: the node\'s parameter')
-    draw.add_argument('--sides', type=int, default=0, help='polygon: number of sides')
-    draw.add_argument('--clockwise', action='store_true')
-    draw.add_argument('--turns', type=float, default=0.0,
-                      help='circle (0 = until stopped) or spiral turns')
-    draw.add_argument('--growth', type=float, default=0.0, help='spiral: metres per turn')
-    draw.add_argument('--max-radius', type=float, default=0.0, help='spiral: end radius')
-    draw.add_argument('--frequency', type=float, default=0.0, help='sine: cycles per metre')
-    draw.add_argument('--length', type=float, default=0.0, help='sine: length')
-    draw.add_argument('--speed', type=float, default=0.0, help='top linear speed')
-    draw.add_argument('--angular-speed', type=float, default=0.0, help='top turn rate, rad/s')
-
-    go_to = commands.add_parser('go-to', help='drive to a point')
-    go_to.add_argument('x', type=float)
-    go_to.add_argument('y', type=float)
-    go_to.add_argument('--theta', type=float, help='final heading, degrees')
-    go_to.add_argument('--tolerance', type=float, default=0.0, help='arrival tolerance')
-    go_to.add_argument('--speed', type=float, default=0.0)
-
-    move = commands.add_parser('move', help='drive straight')
-    move.add_argument('distance', type=float)
-    move.add_argument('--backward', action='store_true')
-    move.add_argument('--speed', type=float, default=0.0)
-
-    rotate = commands.add_parser('rotate', help='turn in place (counter-clockwise by default)')
-    rotate.add_argument('degrees', type=float)
-    rotate.add_argument('--clockwise', action='store_true')
-    rotate.add_argument('--speed', type=float, default=0.0, help='turn rate, rad/s')
+    groups = {(): commands}
+    for trajectory in TRAJECTORIES:
+        _add_trajectory(groups, trajectory)
 
     commands.add_parser('stop', help='abort the running trajectory and stop the turtle')
     commands.add_parser('reset', help='abort, reset the simulator, ready again')
-
     commands.add_parser('menu', help='interactive menu of every trajectory')
     params = commands.add_parser('params', help='show the node\'s parameters, or set one')
     params.add_argument('name', nargs='?', help='parameter to set')
     params.add_argument('value', nargs='?', help='new value (YAML: 1.5, true, turtle2)')
 
     up = commands.add_parser('up', help='run simulator and node together in this process')
-    up.add_argument('--gui', action='store_true')
-    up.add_argument('--time-scale', type=float)
+    add_sim_options(up)
     return parser
 
 
 def to_request(options: argparse.Namespace) -> tuple[str, object]:
-    """The service name and request for parsed options."""
-    if options.command == 'draw':
-        return f'draw_{options.shape}', DrawShape.Request(
-            sides=options.sides, size=options.size, clockwise=options.clockwise,
-            linear_speed=options.speed, angular_speed=options.angular_speed,
-            turns=options.turns, growth=options.growth, max_radius=options.max_radius,
-            frequency=options.frequency, length=options.length)
-    if options.command == 'go-to':
-        return 'go_to', GoTo.Request(
-            x=options.x, y=options.y, use_theta=options.theta is not None,
-            theta=math.radians(options.theta or 0.0), tolerance=options.tolerance,
-            linear_speed=options.speed)
-    if options.command == 'move':
-        sign = -1.0 if options.backward else 1.0
-        return 'move', Move.Request(distance=sign * options.distance, speed=options.speed)
-    if options.command == 'rotate':
-        sign = -1.0 if options.clockwise else 1.0
-        return 'rotate', Move.Request(angle=sign * math.radians(options.degrees),
-                                      speed=options.speed)
-    return options.command, None
+    """The service name and request for parsed options (None for stop and reset)."""
+    trajectory = getattr(options, 'trajectory', None)
+    if trajectory is None:
+        return options.command, None
+    return trajectory.service, make_request(trajectory, vars(options))
 
 
 def main(args: Sequence[str] | None = None) -> int:
     options = build_parser().parse_args(args)
     if options.command == 'up':
-        from turtle_traj.node.main import main as node_main
-        extra = ['--gui'] if options.gui else []
-        if options.time_scale is not None:
-            extra += ['--time-scale', str(options.time_scale)]
-        return node_main(['--with-sim', *extra])
+        from turtle_traj.node.main import Options, run  # loads the simulator: only here
+        return run(Options(sim=options_from(options)))
     if options.command in ('menu', 'params'):
         return _run_session(options)
     service, request = to_request(options)

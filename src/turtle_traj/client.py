@@ -20,10 +20,10 @@ from rclpy.wait_for_message import wait_for_message
 from turtlesim.msg import Pose
 
 from turtle_traj.geometry.path import Pose2D
-from turtle_traj.node.plans import plan_request
 from turtle_traj.planning import PlanError
 from turtle_traj.services import SERVICE_TYPES
 from turtle_traj.settings import settings_from_values
+from turtle_traj.trajectories import BY_SERVICE
 
 
 class TrajClientError(RuntimeError):
@@ -113,6 +113,18 @@ class TrajClient:
                             'set_parameters').results[0]
         return None if result.successful else result.reason
 
+    def turtle_pose(self, values: dict[str, object] | None = None) -> Pose2D | None:
+        """The driven turtle's pose (None if none arrives within a second).
+
+        :param values: the node's parameters, if already fetched (for its turtle_name).
+        """
+        values = values if values is not None else self.parameters()
+        namespace = self.node_name.rsplit('/', 1)[0]
+        found, pose = wait_for_message(Pose, self._node,
+                                       f'{namespace}/{values["turtle_name"]}/pose',
+                                       time_to_wait=1.0)
+        return Pose2D(pose.x, pose.y, pose.theta) if found else None
+
     def expected_duration(self, service: str, request) -> float | None:
         """Lower bound of a trajectory call's duration (node clock), planned as the node will.
 
@@ -120,14 +132,11 @@ class TrajClient:
         """
         try:
             values = self.parameters()
-            namespace = self.node_name.rsplit('/', 1)[0]
-            found, pose = wait_for_message(Pose, self._node,
-                                           f'{namespace}/{values["turtle_name"]}/pose',
-                                           time_to_wait=1.0)
-            if not found:
+            pose = self.turtle_pose(values)
+            if pose is None:
                 return None
             settings = settings_from_values(values)
-            plan = plan_request(service, request, Pose2D(pose.x, pose.y, pose.theta), settings)
+            plan = BY_SERVICE[service].plan(request, pose, settings)
         except (TrajClientError, PlanError, KeyError):
             return None
         return plan.lower_bound_s(settings)

@@ -16,34 +16,14 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import rclpy
-from geometry_msgs.msg import Point
 from PIL import Image, ImageDraw
 from std_srvs.srv import Trigger
-from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move, SaveImage
+from turtle_traj_interfaces.srv import SaveImage
 from turtlesim.srv import SetPen, TeleportAbsolute
 
+from turtle_traj.services import make_request, service_type
 from turtle_traj.system import InProcessSystem
-
-# name, service type, service, request, where to start (x, y, theta)
-DEMO = [
-    ('square', DrawShape, 'draw_square', DrawShape.Request(size=3.0), (4.0, 4.0, 0.0)),
-    ('triangle', DrawShape, 'draw_triangle', DrawShape.Request(size=4.0), (3.5, 3.5, 0.0)),
-    ('hexagon', DrawShape, 'draw_hexagon', DrawShape.Request(size=2.0), (4.5, 2.5, 0.0)),
-    ('heptagon', DrawShape, 'draw_polygon', DrawShape.Request(sides=7, size=2.0, clockwise=True),
-     (4.5, 8.5, 0.0)),
-    ('circle', DrawShape, 'draw_circle', DrawShape.Request(size=2.5, turns=1.0),
-     (5.5, 3.0, 0.0)),
-    ('spiral', DrawShape, 'draw_spiral', DrawShape.Request(size=0.3, growth=0.6, turns=6.0,
-                                                           linear_speed=2.0), (5.5, 5.2, 0.0)),
-    ('sine', DrawShape, 'draw_sine', DrawShape.Request(size=1.5, frequency=0.4, length=9.0),
-     (1.0, 5.5, 0.0)),
-    ('go_to', GoTo, 'go_to', GoTo.Request(x=9.5, y=9.0, use_theta=True, theta=math.pi),
-     (1.5, 1.5, 0.0)),
-    ('move_and_rotate', Move, 'move', Move.Request(distance=6.0), (2.5, 5.5, 0.0)),
-    ('follow_path', FollowPath, 'follow_path', FollowPath.Request(
-        points=[Point(x=x, y=y) for x, y in [(8.5, 2.5), (8.5, 8.5), (5.5, 5.5), (2.5, 8.5)]],
-        closed=True), (2.5, 2.5, 0.0)),
-]
+from turtle_traj.trajectories import TRAJECTORIES, Trajectory
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -63,6 +43,14 @@ def prepare(system: InProcessSystem, x: float, y: float, theta: float) -> None:
     system.call(SetPen, '/turtle1/set_pen', SetPen.Request(r=255, g=255, b=255, width=3))
     if not system.spin_until(lambda: system.node.ready):
         raise RuntimeError('the trajectory node did not get ready after the reset')
+
+
+def run_example(system: InProcessSystem, trajectory: Trajectory):
+    """Draw the trajectory's example from its start pose on a clean canvas; its response."""
+    example = trajectory.example
+    prepare(system, *example.start)
+    return system.run(service_type(trajectory), trajectory.service,
+                      make_request(trajectory, example.given))
 
 
 def gallery(pictures: list[tuple[str, Path]], target: Path) -> None:
@@ -89,17 +77,13 @@ def main(args: Sequence[str] | None = None) -> int:
     try:
         system = InProcessSystem(output_dir=folder)
         sim_start = system.sim_time_s
-        for name, service_type, service, request, start in DEMO:
-            prepare(system, *start)
-            response = system.run(service_type, service, request)
-            rows.append((service if name == 'move_and_rotate' else name, response))
-            if name == 'move_and_rotate' and response.success:
-                rows.append(('rotate', system.run(Move, 'rotate', Move.Request(angle=-math.pi))))
+        for trajectory in TRAJECTORIES:
+            rows.append((trajectory.name, run_example(system, trajectory)))
             saved = system.call(SaveImage, '/turtlesim/save_image',
-                                SaveImage.Request(filename=f'{name}.png'))
+                                SaveImage.Request(filename=f'{trajectory.name}.png'))
             if not saved.success:
                 raise RuntimeError(saved.message)
-            pictures.append((name, Path(saved.path)))
+            pictures.append((trajectory.name, Path(saved.path)))
         gallery(pictures, folder / 'gallery.png')
         simulated_s = system.sim_time_s - sim_start
     except (RuntimeError, KeyboardInterrupt) as error:

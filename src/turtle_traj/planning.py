@@ -1,24 +1,32 @@
-"""Requests to checked paths: validate the numbers, build the path, check it against the arena.
+"""Requests to checked plans: validate the numbers, build the path, check it against the arena.
 
-Pure Python (no ROS): the node converts its service requests into calls of `plan`.
+Pure Python (no ROS). A request is read by attribute only, so a service request, an action goal
+or a plain namespace plan alike, in the node and in a client estimating a call's duration.
+Each trajectory kind has a sketch function (`trajectories.py` names them): it validates the
+request and returns the path as a function of its one scalable size; `plan` checks that path
+against the arena, and `largest_size` finds the largest size that fits from a pose.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
+from turtle_traj.control.follower import ControlConfig
 from turtle_traj.geometry import shapes
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.geometry.shapes import Arena, ShapeError
+from turtle_traj.settings import SPEC, Settings
 
 POLYGON_SIDES = {'square': 4, 'triangle': 3, 'hexagon': 6}
-SHAPES = ('square', 'triangle', 'hexagon', 'polygon', 'circle', 'spiral', 'sine')
 MAX_SIDES = 360
 MAX_FREQUENCY = 20.0  # cycles per metre: beyond this the wave is finer than the sampling
+MAX_POINTS = 10_000
+MIN_SIZE = 0.001  # m (or turns, cycles/m): anything smaller is noise, not a request
 
 
 class PlanError(ValueError):
@@ -26,32 +34,68 @@ class PlanError(ValueError):
 
 
 @dataclass(frozen=True)
-class ShapeDefaults:
-    """What a zero field of a request stands for (the node fills this from its parameters)."""
+class Sketch:
+    """A validated request before its arena check: its path as a function of one size."""
 
-    side_length: float = 2.0
-    radius: float = 1.5
-    spiral_start_radius: float = 0.3
-    spiral_growth: float = 0.4
-    sine_amplitude: float = 0.5
-    sine_frequency: float = 0.5
-    sine_length: float = 4.0
-    goal_tolerance: float = 0.01
-    corner_angle: float = 0.35
+    what: str  # the trajectory in words, for refusals ('square of side 2 m')
+    build: Callable[[float], Path]  # the path to check for a size
+    size: float = 0.0  # the size asked for
+    size_unit: str = ''  # 'm (side length)'; empty: nothing here scales (size is ignored)
+    drive: Callable[[float], Path] | None = None  # the path driven, when not the one checked
+    linear_speed: float | None = None  # per-run overrides of the node's top speeds
+    angular_speed: float | None = None
+    end_tolerance: float | None = None
 
 
 @dataclass(frozen=True)
-class ShapeRequest:
-    """The fields of a DrawShape request, in SI units; zero means 'default'."""
+class Plan:
+    """A checked path plus its per-run speed overrides and end tolerance."""
 
-    sides: int = 0
-    size: float = 0.0
-    clockwise: bool = False
-    turns: float = 0.0
-    growth: float = 0.0
-    max_radius: float = 0.0
-    frequency: float = 0.0
-    length: float = 0.0
+    trajectory: str
+    path: Path
+    linear_speed: float | None = None  # None: the node's parameter, read live
+    angular_speed: float | None = None
+    end_tolerance: float | None = None
+
+    def control(self, config: ControlConfig) -> ControlConfig:
+        """The node's control config with this run's speeds."""
+        return replace(config, linear_speed=self.linear_speed or config.linear_speed,
+                       angular_speed=self.angular_speed or config.angular_speed)
+
+    def lower_bound_s(self, settings: Settings) -> float:
+        """Kinematic lower bound of the run's duration at its top speeds."""
+        config = self.control(settings.control)
+        return self.path.lower_bound_s(config.linear_speed, config.angular_speed)
+
+
+SketchFunction = Callable[[Any, Pose2D, Settings], Sketch]
+
+
+def plan(trajectory: str, sketch: SketchFunction, request: Any, start: Pose2D,
+         settings: Settings) -> Plan:
+    """Validate `request`, build its path and check it against the arena; PlanError if not."""
+    try:
+        drawn = sketch(request, start, settings)
+        checked = _checked(drawn, settings.arena, start)
+        path = drawn.drive(drawn.size) if drawn.drive is not None else checked
+    except ShapeError as error:
+        raise PlanError(str(error)) from None
+    if not path.legs:  # the follower and the report need at least one leg
+        raise PlanError('nothing to drive: the turtle is already there')
+    return Plan(trajectory, path, drawn.linear_speed, drawn.angular_speed, drawn.end_tolerance)
+
+
+def largest_size(sketch: SketchFunction, request: Any, start: Pose2D,
+                 settings: Settings) -> float | None:
+    """Largest size of this request that fits from `start`, or None when nothing scales."""
+    try:
+        drawn = sketch(request, start, settings)
+    except (PlanError, ShapeError):
+        return None
+    if not drawn.size_unit:
+        return None
+    return shapes.largest_fitting(drawn.build, lambda p: _fits(p, settings.arena, start),
+                                  _diagonal(settings.arena))
 
 
 def require_finite(**values: float) -> None:
@@ -59,9 +103,6 @@ def require_finite(**values: float) -> None:
     for name, value in values.items():
         if not math.isfinite(value):
             raise PlanError(f'{name} must be a finite number, got {value}')
-
-
-MIN_SIZE = 0.001  # m (or turns, cycles/m): anything smaller is noise, not a request
 
 
 def _non_negative(name: str, value: float, default: float, unit: str, upper: float) -> float:
@@ -74,6 +115,16 @@ def _non_negative(name: str, value: float, default: float, unit: str, upper: flo
     return value or default
 
 
+def _speed(name: str, value: float) -> float | None:
+    """A speed a request asks for (0 = the node's parameter `name`), validated."""
+    require_finite(**{name: value})
+    spec = SPEC[name]
+    if value != 0.0 and not spec.low <= value <= spec.high:
+        raise PlanError(f'{name} must be 0 (the default) or within {spec.low:g} and '
+                        f'{spec.high:g}; got {value:g}')
+    return value or None
+
+
 def _fits(path: Path, arena: Arena, start: Pose2D) -> bool:
     """Every planned point is inside the arena, except the start itself.
 
@@ -84,77 +135,77 @@ def _fits(path: Path, arena: Arena, start: Pose2D) -> bool:
     return arena.contains(points[away]) if away.any() else True
 
 
-def _checked(path: Path, arena: Arena, start: Pose2D, what: str,
-             rebuild: Callable[[float], Path] | None, size: float, unit: str) -> Path:
-    if not path.legs:
-        raise PlanError(f'the {what} is too small to drive')
+def _checked(sketch: Sketch, arena: Arena, start: Pose2D) -> Path:
+    path = sketch.build(sketch.size)
+    if not path.legs and sketch.size_unit:
+        raise PlanError(f'the {sketch.what} is too small to drive')
     if _fits(path, arena, start):
         return path
-    message = (f'the {what} would leave the arena ({arena.describe()}, after the wall margin) '
-               f'from ({start.x:.2f}, {start.y:.2f})')
-    if rebuild is not None:
-        largest = shapes.largest_fitting(rebuild, lambda p: _fits(p, arena, start), size)
-        message += (f'; the largest that fits from here is {largest:.2f} {unit}' if largest > 1e-3
-                    else '; nothing of this kind fits from here: move the turtle away from '
-                         'the wall first')
+    message = (f'the {sketch.what} would leave the arena ({arena.describe()}, after the wall '
+               f'margin) from ({start.x:.2f}, {start.y:.2f})')
+    if sketch.size_unit:
+        largest = shapes.largest_fitting(sketch.build, lambda p: _fits(p, arena, start),
+                                         sketch.size)
+        message += (f'; the largest that fits from here is {largest:.2f} {sketch.size_unit}'
+                    if largest > 1e-3 else '; nothing of this kind fits from here: move the '
+                                           'turtle away from the wall first')
     raise PlanError(message)
 
 
-def plan_shape(shape: str, request: ShapeRequest, start: Pose2D, defaults: ShapeDefaults,
-               arena: Arena) -> Path:
-    """Validate a DrawShape request and return its path, or raise PlanError saying why."""
-    try:
-        return _plan_shape(shape, request, start, defaults, arena)
-    except ShapeError as error:
-        raise PlanError(str(error)) from None
+def _diagonal(arena: Arena) -> float:
+    return math.hypot(arena.max_x - arena.min_x, arena.max_y - arena.min_y)
 
 
-def _plan_shape(shape: str, request: ShapeRequest, start: Pose2D, defaults: ShapeDefaults,
-                arena: Arena) -> Path:
-    if shape not in SHAPES:
-        raise PlanError(f'unknown shape {shape!r}; known shapes: {", ".join(SHAPES)}')
-    diagonal = math.hypot(arena.max_x - arena.min_x, arena.max_y - arena.min_y)
-    corner = defaults.corner_angle
+# -- one sketch per kind of trajectory ---------------------------------------------------------
 
-    if shape in POLYGON_SIDES or shape == 'polygon':
-        sides = POLYGON_SIDES.get(shape, request.sides)
-        if not 3 <= sides <= MAX_SIDES:
-            raise PlanError(f'a polygon needs 3 to {MAX_SIDES} sides, got {sides}')
-        side = _non_negative('size', request.size, defaults.side_length, 'm', diagonal)
+def sketch_polygon(request: Any, start: Pose2D, settings: Settings, *,
+                   sides: int | None = None, name: str = '') -> Sketch:
+    """A regular polygon: `sides` fixed (square...) or from the request (polygon)."""
+    sides = request.sides if sides is None else sides
+    if not 3 <= sides <= MAX_SIDES:
+        raise PlanError(f'a polygon needs 3 to {MAX_SIDES} sides, got {sides}')
+    side = _non_negative('size', request.size, settings.defaults.side_length, 'm',
+                         _diagonal(settings.arena))
 
-        def build(size: float) -> Path:
-            return shapes.polygon(start, sides=sides, side_length=size,
-                                  clockwise=request.clockwise)
-        name = shape if shape != 'polygon' else f'{sides}-sided polygon'
-        return _checked(build(side), arena, start, f'{name} of side {side:g} m', build, side,
-                        'm (side length)')
+    def build(size: float) -> Path:
+        return shapes.polygon(start, sides=sides, side_length=size, clockwise=request.clockwise)
+    return Sketch(f'{name or f"{sides}-sided polygon"} of side {side:g} m', build, side,
+                  'm (side length)', **_shape_speeds(request))
 
+
+def sketch_circle(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     turns = _non_negative('turns', request.turns, 0.0, 'turns', shapes.MAX_TURNS)
-    if shape == 'circle':
-        radius = _non_negative('size', request.size, defaults.radius, 'm', diagonal / 2)
+    radius = _non_negative('size', request.size, settings.defaults.radius, 'm',
+                           _diagonal(settings.arena) / 2)
 
-        def one_lap(size: float) -> Path:
-            return shapes.circle(start, radius=size, clockwise=request.clockwise, turns=1.0)
-        # Checking one lap is enough: every lap covers the same points.
-        _checked(one_lap(radius), arena, start, f'circle of radius {radius:g} m', one_lap,
-                 radius, 'm (radius)')
-        return shapes.circle(start, radius=radius, clockwise=request.clockwise, turns=turns)
+    def one_lap(size: float) -> Path:  # every lap covers the same points: check one
+        return shapes.circle(start, radius=size, clockwise=request.clockwise, turns=1.0)
 
-    if shape == 'spiral':
-        start_radius = _non_negative('size', request.size, defaults.spiral_start_radius, 'm',
-                                     diagonal / 2)
-        growth = _non_negative('growth', request.growth, defaults.spiral_growth, 'm per turn',
-                               diagonal)
-        max_radius = _non_negative('max_radius', request.max_radius, 0.0, 'm', diagonal)
+    def drive(size: float) -> Path:
+        return shapes.circle(start, radius=size, clockwise=request.clockwise, turns=turns)
+    return Sketch(f'circle of radius {radius:g} m', one_lap, radius, 'm (radius)', drive,
+                  **_shape_speeds(request))
 
-        def build(size: float) -> Path:
-            return shapes.spiral(start, start_radius=size, growth=growth,
-                                 clockwise=request.clockwise, turns=turns,
-                                 max_radius=max_radius, arena=arena)
-        return _checked(build(start_radius), arena, start,
-                        f'spiral from radius {start_radius:g} m', build, start_radius,
-                        'm (start radius)')
 
+def sketch_spiral(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    diagonal, defaults = _diagonal(settings.arena), settings.defaults
+    turns = _non_negative('turns', request.turns, 0.0, 'turns', shapes.MAX_TURNS)
+    start_radius = _non_negative('size', request.size, defaults.spiral_start_radius, 'm',
+                                 diagonal / 2)
+    growth = _non_negative('growth', request.growth, defaults.spiral_growth, 'm per turn',
+                           diagonal)
+    max_radius = _non_negative('max_radius', request.max_radius, 0.0, 'm', diagonal)
+
+    def build(size: float) -> Path:
+        return shapes.spiral(start, start_radius=size, growth=growth,
+                             clockwise=request.clockwise, turns=turns, max_radius=max_radius,
+                             arena=settings.arena)
+    return Sketch(f'spiral from radius {start_radius:g} m', build, start_radius,
+                  'm (start radius)', **_shape_speeds(request))
+
+
+def sketch_sine(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    diagonal, defaults = _diagonal(settings.arena), settings.defaults
     amplitude = _non_negative('size', request.size, defaults.sine_amplitude, 'm', diagonal)
     frequency = _non_negative('frequency', request.frequency, defaults.sine_frequency,
                               'cycles/m', MAX_FREQUENCY)
@@ -162,65 +213,76 @@ def _plan_shape(shape: str, request: ShapeRequest, start: Pose2D, defaults: Shap
 
     def build(size: float) -> Path:
         return shapes.sine(start, amplitude=amplitude, frequency=frequency, length=size,
-                           corner_angle_rad=corner)
-    return _checked(build(length), arena, start,
-                    f'sine wave of length {length:g} m and amplitude {amplitude:g} m', build,
-                    length, 'm (length)')
+                           corner_angle_rad=defaults.corner_angle)
+    return Sketch(f'sine wave of length {length:g} m and amplitude {amplitude:g} m', build,
+                  length, 'm (length)', **_shape_speeds(request))
 
 
-def plan_go_to(start: Pose2D, *, x: float, y: float, theta: float | None, tolerance: float,
-               defaults: ShapeDefaults, arena: Arena) -> Path:
-    """Validate a GoTo request and return its path."""
-    require_finite(x=x, y=y, tolerance=tolerance, **({'theta': theta} if theta is not None
-                                                     else {}))
-    tolerance = _non_negative('tolerance', tolerance, defaults.goal_tolerance, 'm', 1.0)
+def _shape_speeds(request: Any) -> dict[str, float | None]:
+    return {'linear_speed': _speed('linear_speed', request.linear_speed),
+            'angular_speed': _speed('angular_speed', request.angular_speed)}
+
+
+def sketch_go_to(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    arena, defaults = settings.arena, settings.defaults
+    x, y = request.x, request.y
+    theta = request.theta if request.use_theta else None
+    require_finite(x=x, y=y, tolerance=request.tolerance,
+                   **({'theta': theta} if theta is not None else {}))
+    tolerance = _non_negative('tolerance', request.tolerance, defaults.goal_tolerance, 'm', 1.0)
     if not arena.contains((x, y)):
         raise PlanError(f'goal ({x:g}, {y:g}) is outside the arena ({arena.describe()}, after '
                         'the wall margin)')
-    return shapes.go_to(start, x=x, y=y, final_heading=theta, tolerance=tolerance,
+    path = shapes.go_to(start, x=x, y=y, final_heading=theta, tolerance=tolerance,
                         corner_angle_rad=defaults.corner_angle)
+    return Sketch(f'way to ({x:g}, {y:g})', lambda _: path,
+                  linear_speed=_speed('linear_speed', request.linear_speed),
+                  end_tolerance=tolerance)
 
 
-def plan_move(start: Pose2D, *, distance: float, arena: Arena) -> Path:
-    """Validate a straight move and return its path."""
+def sketch_move(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    distance = request.distance
     require_finite(distance=distance)
     if abs(distance) < MIN_SIZE:
         raise PlanError(f'distance must be at least {MIN_SIZE:g} m either way (negative '
                         f'drives backwards); got {distance:g}')
-    limit = math.hypot(arena.max_x - arena.min_x, arena.max_y - arena.min_y)
-    if abs(distance) > limit:
+    if abs(distance) > _diagonal(settings.arena):
         raise PlanError(f'distance {distance:g} m is longer than the arena diagonal')
     sign = math.copysign(1.0, distance)
 
     def build(size: float) -> Path:
         return shapes.straight(start, distance=sign * size)
     direction = 'backwards' if distance < 0 else 'forwards'
-    return _checked(build(abs(distance)), arena, start,
-                    f'move of {abs(distance):g} m {direction}', build, abs(distance), 'm')
+    return Sketch(f'move of {abs(distance):g} m {direction}', build, abs(distance), 'm',
+                  linear_speed=_speed('linear_speed', request.speed))
 
 
-def plan_rotation(start: Pose2D, *, angle: float) -> Path:
-    """Validate an in-place rotation and return its path."""
+def sketch_rotation(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    angle = request.angle
     require_finite(angle=angle)
     if abs(angle) < MIN_SIZE:
         raise PlanError(f'angle must be at least {MIN_SIZE:g} rad either way (negative turns '
                         f'clockwise); got {angle:g}')
     if abs(angle) > 2 * math.pi * shapes.MAX_TURNS:
         raise PlanError(f'angle {angle:g} rad is more than {shapes.MAX_TURNS:g} turns')
-    return shapes.rotation(start, angle_rad=angle)
+    path = shapes.rotation(start, angle_rad=angle)
+    return Sketch(f'rotation by {angle:g} rad', lambda _: path,
+                  angular_speed=_speed('angular_speed', request.speed))
 
 
-def plan_follow(start: Pose2D, *, points: Sequence[tuple[float, float]], closed: bool,
-                defaults: ShapeDefaults, arena: Arena, max_points: int = 10_000) -> Path:
-    """Validate a FollowPath request and return its path."""
+def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    arena = settings.arena
+    points = [(p.x, p.y) for p in request.points]
     if not points:
         raise PlanError('points is empty: give at least one point')
-    if len(points) > max_points:
-        raise PlanError(f'{len(points)} points is too many (at most {max_points})')
+    if len(points) > MAX_POINTS:
+        raise PlanError(f'{len(points)} points is too many (at most {MAX_POINTS})')
     for index, (x, y) in enumerate(points):
         require_finite(**{f'points[{index}].x': x, f'points[{index}].y': y})
         if not arena.contains((x, y)):
             raise PlanError(f'points[{index}] = ({x:g}, {y:g}) is outside the arena '
                             f'({arena.describe()}, after the wall margin)')
-    return shapes.follow(start, points=points, closed=closed,
-                         corner_angle_rad=defaults.corner_angle)
+    path = shapes.follow(start, points=points, closed=request.closed,
+                         corner_angle_rad=settings.defaults.corner_angle)
+    return Sketch(f'path through {len(points)} points', lambda _: path,
+                  linear_speed=_speed('linear_speed', request.linear_speed))

@@ -18,24 +18,24 @@ _SIGNAL_LATENCY_S = 0.1
 _STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
-
-
 def run_nodes(
-    create_nodes: Callable[[], Sequence[Node]],
+    create_nodes: Callable[[Callable[[], None]], Sequence[Node]],
     *,
     args: Sequence[str] | None = None,
-    on_exit: Callable[[Sequence[Node]], None] | None = None,
+    on_exit: Callable[[], None] | None = None,
 ) -> int:
-    """Create nodes, spin them in one executor until Ctrl-C or SIGTERM, then tidy up.
+    """Create nodes, spin them in one executor until asked to stop, then tidy up.
 
-    SIGTERM is handled like Ctrl-C, by us rather than by rclpy, so that `on_exit` still has a
+    Ctrl-C, SIGTERM and the nodes themselves (a window being closed) all stop the program the
+    same way: they call the `stop` function given to `create_nodes`, which sets a flag the spin
+    loop checks. Signals are handled by us rather than by rclpy, so that `on_exit` still has a
     live context (a controller uses it to leave the turtle standing still).
 
-    :param create_nodes: builds the nodes once rclpy is initialised.
+    :param create_nodes: builds the nodes once rclpy is initialised; gets `stop`.
     :param args: command-line arguments for rclpy (``--ros-args`` remappings and parameters).
     :param on_exit: runs after spinning stopped and before the nodes are destroyed.
-    :return: the process exit code: 0 after Ctrl-C or SIGTERM, 1 when something else shut
-        the ROS context down.
+    :return: the process exit code: 0 after a stop, 1 when something else shut the ROS
+        context down.
     """
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     # The handlers only set a flag the loop checks: an exception raised from a handler could
@@ -47,21 +47,19 @@ def run_nodes(
     executor = SingleThreadedExecutor()
     exit_code = 0
     try:
-        nodes.extend(create_nodes())
+        nodes.extend(create_nodes(stop.set))
         for node in nodes:
             executor.add_node(node)
         while rclpy.ok() and not stop.is_set():
             executor.spin_once(timeout_sec=_SIGNAL_LATENCY_S)
         if not stop.is_set():
             raise ExternalShutdownException
-    except KeyboardInterrupt:  # raised by a callback, e.g. the GUI window being closed
-        pass
     except ExternalShutdownException:
         exit_code = 1
     finally:
         try:
             if nodes and on_exit is not None and rclpy.ok():
-                on_exit(nodes)
+                on_exit()
         finally:
             executor.shutdown()
             for node in nodes:

@@ -1,12 +1,40 @@
-"""The trajectory node's service names (private, `<node>/<name>`) and their types."""
+"""The registry's trajectories as ROS services: their types and requests.
 
-from std_srvs.srv import Trigger
-from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
+The node's services are private (`<node>/<service>`); besides one per trajectory it has `stop`
+and `reset` (std_srvs/srv/Trigger).
+"""
 
-from turtle_traj.planning import SHAPES
+from __future__ import annotations
 
-TRAJECTORY_SERVICES = {
-    **{f'draw_{shape}': DrawShape for shape in SHAPES},
-    'go_to': GoTo, 'move': Move, 'rotate': Move, 'follow_path': FollowPath,
-}
-SERVICE_TYPES = {**TRAJECTORY_SERVICES, 'stop': Trigger, 'reset': Trigger}
+import importlib
+from collections.abc import Mapping
+from typing import Any
+
+from geometry_msgs.msg import Point
+
+from turtle_traj.trajectories import POINTS, TRAJECTORIES, Trajectory
+
+
+def interface(type_name: str) -> type:
+    """The Python class of a ROS interface named like 'turtle_traj_interfaces/srv/GoTo'."""
+    package, kind, name = type_name.split('/')
+    return getattr(importlib.import_module(f'{package}.{kind}'), name)
+
+
+def service_type(trajectory: Trajectory) -> type:
+    return interface(trajectory.service_type)
+
+
+def make_request(trajectory: Trajectory, given: Mapping[str, Any]):
+    """The service request for values as entered (see `Trajectory.request_values`)."""
+    values = trajectory.request_values(given)
+    for item in trajectory.fields:
+        if item.type == POINTS and item.name in values:
+            values[item.name] = [Point(x=float(x), y=float(y)) for x, y in values[item.name]]
+    return service_type(trajectory).Request(**values)
+
+
+COMMAND_SERVICES = {'stop': 'std_srvs/srv/Trigger', 'reset': 'std_srvs/srv/Trigger'}
+SERVICE_TYPES: dict[str, type] = {
+    **{trajectory.service: service_type(trajectory) for trajectory in TRAJECTORIES},
+    **{name: interface(type_name) for name, type_name in COMMAND_SERVICES.items()}}

@@ -9,7 +9,6 @@ from dataclasses import dataclass
 
 from turtle_traj.control.follower import ControlConfig
 from turtle_traj.geometry.shapes import Arena
-from turtle_traj.planning import ShapeDefaults
 from turtle_traj.sim.physics import WORLD_SIZE_M
 
 
@@ -69,6 +68,25 @@ SPECS = (
 )
 
 
+SPEC = {spec.name: spec for spec in SPECS}
+DEFAULTS = {spec.name: spec.default for spec in SPECS}
+
+
+@dataclass(frozen=True)
+class ShapeDefaults:
+    """What a zero field of a request stands for: the `default_*` parameters and tolerances."""
+
+    side_length: float
+    radius: float
+    spiral_start_radius: float
+    spiral_growth: float
+    sine_amplitude: float
+    sine_frequency: float
+    sine_length: float
+    goal_tolerance: float
+    corner_angle: float
+
+
 @dataclass(frozen=True)
 class Settings:
     """Everything the timer and the planners read, rebuilt after every accepted change."""
@@ -101,4 +119,4 @@ def settings_from_values(value: dict[str, object]) -> Settings:
     return Settings(control, defaults, arena, value['pose_timeout'])
 
 
-DEFAULTS = {spec.name: spec.default for spec in SPECS}
+DEFAULT_SETTINGS = settings_from_values(DEFAULTS)

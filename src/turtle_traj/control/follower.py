@@ -28,18 +28,19 @@ _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip 
 
 @dataclass(frozen=True)
 class ControlConfig:
-    """Controller tuning; the node builds it from its parameters."""
+    """Controller tuning, built from the node's parameters (`settings.SPECS` has units and
+    defaults)."""
 
-    linear_speed: float = 1.0  # m/s, top speed
-    angular_speed: float = 2.0  # rad/s, top turn rate
-    heading_gain: float = 8.0  # 1/s, turn rate per radian of heading error
-    cross_track_gain: float = 2.5  # 1/m, how hard curves pull the turtle back onto the path
-    deceleration: float = 20.0  # m/s^2, braking towards the end of a curve
-    angular_deceleration: float = 50.0  # rad/s^2, braking towards the end of a turn
-    position_tolerance: float = 0.0005  # m, end of a curve reached (corners, line ends)
-    heading_tolerance: float = 0.0005  # rad, end of a turn reached
-    turn_first_angle: float = 0.6  # rad, heading error beyond which the turtle turns in place
-    period_s: float = 0.016  # s, control period
+    linear_speed: float  # top speed
+    angular_speed: float  # top turn rate
+    heading_gain: float  # turn rate per radian of heading error
+    cross_track_gain: float  # how hard curves pull the turtle back onto the path
+    deceleration: float  # braking towards the end of a curve
+    angular_deceleration: float  # braking towards the end of a turn
+    position_tolerance: float  # end of a curve reached (corners, line ends)
+    heading_tolerance: float  # end of a turn reached
+    turn_first_angle: float  # heading error beyond which the turtle turns in place
+    period_s: float  # control period
 
 
 def _braking_speed(remaining: float, deceleration: float, period_s: float,

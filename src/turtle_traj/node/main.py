@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
 
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -13,7 +14,20 @@ from rclpy.utilities import remove_ros_args
 from turtle_traj.node.trajectory_node import TrajectoryNode
 from turtle_traj.runtime import fail, run_nodes
 from turtle_traj.sim import main as sim_main
+from turtle_traj.sim.gui import GuiUnavailable
 from turtle_traj.sim.node import SimNode
+from turtle_traj.sim.options import SimOptions, add_sim_options, options_from
+
+
+@dataclass(frozen=True)
+class Options:
+    """What to run: the node, and our simulator beside it when `sim` is given."""
+
+    sim: SimOptions | None = None
+    ros_args: Sequence[str] = field(default_factory=list)  # argv with ROS arguments, for rclpy
+
+    def problem(self) -> str | None:
+        return self.sim.problem() if self.sim is not None else None
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -23,37 +37,41 @@ def build_parser() -> argparse.ArgumentParser:
                     'linear_speed:=1.5 -r __ns:=/sim1 ...) are passed through.')
     parser.add_argument('--with-sim', action='store_true',
                         help='also run our simulator in this process (no launch file needed)')
-    parser.add_argument('--time-scale', type=float, default=None, metavar='FACTOR',
-                        help='with --with-sim: run FACTOR times faster than real time (both '
-                             'nodes then follow the simulated clock)')
-    parser.add_argument('--gui', action='store_true', help='with --with-sim: live window')
+    add_sim_options(parser, 'with --with-sim: ')
     return parser
 
 
 def main(args: Sequence[str] | None = None) -> int:
     argv = list(sys.argv if args is None else ['turtle_traj', *args])
-    options = build_parser().parse_args(remove_ros_args(argv)[1:])
-    if (options.time_scale is not None or options.gui) and not options.with_sim:
-        return fail('--time-scale and --gui need --with-sim')
-    if options.time_scale is not None and not 0.1 <= options.time_scale <= 1000.0:
-        return fail(f'--time-scale must be within 0.1 and 1000, got {options.time_scale}')
-    sim_time = options.time_scale is not None
+    parsed = build_parser().parse_args(remove_ros_args(argv)[1:])
+    with_sim = options_from(parsed)
+    if with_sim != SimOptions() and not parsed.with_sim:
+        return fail('--time-scale, --gui and --snapshot need --with-sim')
+    return run(Options(sim=with_sim if parsed.with_sim else None, ros_args=argv))
 
-    def create_nodes() -> list[Node]:
-        nodes: list[Node] = []
-        if options.with_sim:
-            sim_options = sim_main.build_parser().parse_args(
-                ['--time-scale', str(options.time_scale)] if sim_time else [])
-            sim = SimNode(parameter_overrides=sim_main.parameter_overrides(sim_options))
-            if options.gui:
-                sim_main.attach_window(sim)
-            nodes.append(sim)
-        nodes.append(TrajectoryNode(
+
+def run(options: Options) -> int:
+    """Spin the node (and the simulator) until Ctrl-C, SIGTERM or the window closes."""
+    if (problem := options.problem()) is not None:
+        return fail(problem)
+    sim_time = options.sim is not None and options.sim.time_scale is not None
+    sims: list[SimNode] = []
+    controllers: list[TrajectoryNode] = []
+
+    def create_nodes(stop: Callable[[], None]) -> list[Node]:
+        if options.sim is not None:
+            sims.append(sim_main.create_sim(options.sim, stop))
+        controllers.append(TrajectoryNode(
             parameter_overrides=[Parameter('use_sim_time', value=True)] if sim_time else []))
-        return nodes
+        return [*sims, *controllers]
+
+    def on_exit() -> None:
+        for controller in controllers:
+            controller.shutdown_turtle()
+        for sim in sims:
+            sim_main.save_snapshot(sim, options.sim.snapshot)
 
     try:
-        return run_nodes(create_nodes, args=argv,
-                         on_exit=lambda nodes: nodes[-1].shutdown_turtle())
-    except sim_main.GuiUnavailable as error:
+        return run_nodes(create_nodes, args=options.ros_args or None, on_exit=on_exit)
+    except GuiUnavailable as error:
         return fail(f'--gui: {error}')

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field, replace
 from functools import partial
 
 from geometry_msgs.msg import PoseStamped, Twist
@@ -27,50 +26,19 @@ from std_srvs.srv import Empty, Trigger
 from turtlesim.msg import Pose
 
 from turtle_traj.control.commands import STOP, Command
-from turtle_traj.control.follower import PathFollower
 from turtle_traj.control.latency import LatencyPredictor
+from turtle_traj.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.node import parameters
-from turtle_traj.node.plans import plan_request
 from turtle_traj.planning import PlanError
-from turtle_traj.services import TRAJECTORY_SERVICES
+from turtle_traj.services import service_type
+from turtle_traj.trajectories import TRAJECTORIES, Trajectory
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 PLAN_FRAME_ID = 'world'
-_SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
 _WATCHDOG_PERIOD_S = 0.05
 _RESET_TIMEOUT_S = 5.0
 _POLL_PERIOD_S = 0.005
-# Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.
-_MAX_POSE_JUMP_M = 0.5
-
-
-@dataclass
-class Outcome:
-    """How a trajectory ended, as the service response reports it."""
-
-    success: bool
-    message: str
-    pose: Pose2D | None = None
-    elapsed_s: float = 0.0
-    path_length: float = 0.0
-    max_deviation: float = 0.0
-    final_error: float = 0.0
-    stopped_by_request: bool = False
-
-
-@dataclass
-class _Run:
-    """The trajectory being driven."""
-
-    kind: str
-    path: Path
-    follower: PathFollower
-    started: Time
-    speeds: dict[str, float]
-    start_wall_clearance: float
-    done: Future = field(default_factory=Future)
-    settle_periods: int = 0
 
 
 def fill_response(response, outcome: Outcome):
@@ -103,7 +71,11 @@ class TrajectoryNode(Node):
         self._pose_msg: Pose | None = None
         self._pose_wall_s = -math.inf
         self._pose_time: Time | None = None
-        self._run: _Run | None = None
+        # The run and the future its service handler awaits. One executor thread calls
+        # everything here, and a handler checks `_run` and claims it without an `await` in
+        # between, so two requests can never both start a run.
+        self._run: RunSupervisor | None = None
+        self._run_done: Future | None = None
         # Every command this node sends and every echo it hears, across trajectories: how much
         # the latency varies is a property of the link, known before the next trajectory starts.
         self._latency = LatencyPredictor(self.settings.control.period_s)
@@ -116,9 +88,9 @@ class TrajectoryNode(Node):
 
         # Handlers await the end of a trajectory, so they must not block the timer's group.
         group = ReentrantCallbackGroup()
-        for service, service_type in TRAJECTORY_SERVICES.items():
-            self.create_service(service_type, f'~/{service}', partial(self._execute, service),
-                                callback_group=group)
+        for trajectory in TRAJECTORIES:
+            self.create_service(service_type(trajectory), f'~/{trajectory.service}',
+                                partial(self._execute, trajectory), callback_group=group)
         self.create_service(Trigger, '~/stop', self._handle_stop, callback_group=group)
         self.create_service(Trigger, '~/reset', self._handle_reset, callback_group=group)
         self.stop_service = self.resolve_service_name('~/stop')
@@ -135,13 +107,10 @@ class TrajectoryNode(Node):
         self.settings = parameters.read_settings(self)
 
     def _on_pose(self, msg: Pose) -> None:
-        previous, self._pose = self._pose, Pose2D(msg.x, msg.y, msg.theta)
-        if self._run is not None and previous is not None:
-            jump = math.dist((previous.x, previous.y), (msg.x, msg.y))
-            if jump > _MAX_POSE_JUMP_M:
-                self._finish(False, f'{self._run.kind} aborted: the turtle jumped {jump:.2f} m '
-                                    'between two poses (teleported, reset, respawned, or this '
-                                    'node fell behind the simulator)')
+        self._pose = Pose2D(msg.x, msg.y, msg.theta)
+        if self._run is not None:
+            self._run.observe(self._pose)
+            self._finish_if_ended()
         self._pose_msg = msg
         self._latency.observe(msg.linear_velocity, msg.angular_velocity)
         self._pose_wall_s = time.monotonic()
@@ -168,37 +137,29 @@ class TrajectoryNode(Node):
     # -- control -----------------------------------------------------------------------------
 
     def _on_control_timer(self) -> None:
-        run = self._run
-        if run is None or self._pose is None:
+        run, msg = self._run, self._pose_msg
+        if run is None or msg is None:
             return
-        if run.follower.done:
-            self._publish(STOP)
-            msg = self._pose_msg
-            standing = msg.linear_velocity == 0.0 and msg.angular_velocity == 0.0
-            run.settle_periods += 1
-            if standing or run.settle_periods > _SETTLE_PERIODS:
-                self._finish(True, f'{run.kind} done')
-            return
-        clearance = self._wall_clearance(self._pose)
-        if clearance < self.settings.arena.margin / 2 and clearance < run.start_wall_clearance:
-            self._finish(False, f'{run.kind} stopped: the turtle came within {clearance:.3f} m '
-                                f'of the wall at ({self._pose.x:.2f}, {self._pose.y:.2f})')
-            return
-        config = replace(self.settings.control, **run.speeds)
-        self._publish(run.follower.update(self._pose, config))
+        standing = msg.linear_velocity == 0.0 and msg.angular_velocity == 0.0
+        command = run.command(self._pose, standing, self.settings.control, self.settings.arena)
+        if run.ending is None:
+            self._publish(command)
+        else:
+            self._finish_if_ended()  # which sends the stop
 
     def _on_watchdog(self) -> None:
         if self._run is None:
             return
         silence = self._pose_silence_s()
         if silence > self.settings.pose_timeout_s:
-            self._finish(False, f'{self._run.kind} aborted: no pose on {self.pose_topic} for '
+            self._finish(False, f'{self._run.name} aborted: no pose on {self.pose_topic} for '
                                 f'{silence:.2f} s (pose_timeout {self.settings.pose_timeout_s:g} '
                                 's); is the simulator still running?')
 
     def shutdown_turtle(self) -> None:
         """End any trajectory and leave the turtle standing (called on program exit)."""
-        self._finish(False, 'aborted: the node is shutting down')
+        if self._run is not None:
+            self._finish(False, f'{self._run.name} aborted: the node is shutting down')
         self._publish(STOP)
 
     def _publish(self, command: Command) -> None:
@@ -207,37 +168,36 @@ class TrajectoryNode(Node):
         twist.linear.x, twist.angular.z = command.linear, command.angular
         self._cmd_vel.publish(twist)
 
-    def _wall_clearance(self, pose: Pose2D) -> float:
-        arena = self.settings.arena
-        return min(pose.x - arena.min_x, arena.max_x - pose.x,
-                   pose.y - arena.min_y, arena.max_y - pose.y)
+    def _finish(self, success: bool, message: str) -> None:
+        """End the run now with this verdict (unless it already had one)."""
+        if self._run is not None:
+            self._run.end(success, message)
+            self._finish_if_ended()
 
-    def _finish(self, success: bool, message: str, *, stopped_by_request: bool = False) -> None:
-        run, self._run = self._run, None
-        if run is None:
+    def _finish_if_ended(self) -> None:
+        run, done = self._run, self._run_done
+        if run is None or run.ending is None:
             return
+        self._run = self._run_done = None
         self._publish(STOP)
-        pose = self._pose
-        outcome = Outcome(
-            success, message, pose,
-            elapsed_s=(self.get_clock().now() - run.started).nanoseconds * 1e-9,
-            path_length=run.path.length, max_deviation=run.follower.max_deviation,
-            final_error=math.dist((pose.x, pose.y), run.path.end) if pose else math.nan,
-            stopped_by_request=stopped_by_request)
-        summary = (f'{message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
+        outcome = run.outcome(self._pose, self._now_s())
+        summary = (f'{outcome.message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
                    f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m)')
         # Two call sites: rclpy refuses one call site logging at two severities.
-        if success:
+        if outcome.success:
             self.get_logger().info(summary)
         else:
             self.get_logger().warning(summary)
-        run.done.set_result(outcome)
+        done.set_result(outcome)
+
+    def _now_s(self) -> float:
+        return self.get_clock().now().nanoseconds * 1e-9
 
     # -- running a trajectory ----------------------------------------------------------------
 
     def _refusal(self) -> str | None:
         if self._run is not None:
-            return (f'busy: {self._run.kind} is running; wait for it or call '
+            return (f'busy: {self._run.name} is running; wait for it or call '
                     f'{self.stop_service} (std_srvs/srv/Trigger) to stop it')
         silence = self._pose_silence_s()
         if self._pose is None or silence > self.settings.pose_timeout_s:
@@ -249,31 +209,27 @@ class TrajectoryNode(Node):
                     f'running and turtle_name right?')
         return None
 
-    async def _execute(self, service: str, request, response):
+    async def _execute(self, trajectory: Trajectory, request, response):
         """Refuse, or plan and drive to the end; the response is filled either way."""
         refusal = self._refusal()
         if refusal is None:
             try:
-                plan = plan_request(service, request, self._pose, self.settings)
+                plan = trajectory.plan(request, self._pose, self.settings)
             except PlanError as error:
-                refusal = f'{service.removeprefix("draw_")} refused: {error}'
+                refusal = f'{trajectory.name} refused: {error}'
         if refusal is not None:
             self.get_logger().warning(refusal)
             return fill_response(response, Outcome(False, refusal, self._pose))
 
-        path, kind = plan.path, plan.kind
-        follower = PathFollower(path, end_tolerance=plan.end_tolerance, latency=self._latency)
-        run = _Run(kind, path, follower, self.get_clock().now(), plan.speeds,
-                   self._wall_clearance(self._pose))
-        self._run = run
+        self._run = RunSupervisor(plan, start=self._pose, arena=self.settings.arena,
+                                  started_s=self._now_s(), latency=self._latency)
+        self._run_done = done = Future()
+        path = plan.path
         self._publish_plan(path)
         self.get_logger().info(
-            f'{kind}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} deg of '
-            f'turns in place, at least {plan.lower_bound_s(self.settings):.1f} s')
-        outcome = await run.done
-        if path.endless and outcome.stopped_by_request:
-            outcome.success = True  # an endless trajectory ends only this way
-        return fill_response(response, outcome)
+            f'{trajectory.name}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} '
+            f'deg of turns in place, at least {plan.lower_bound_s(self.settings):.1f} s')
+        return fill_response(response, await done)
 
     def _publish_plan(self, path: Path) -> None:
         msg = PathMsg()
@@ -296,13 +252,14 @@ class TrajectoryNode(Node):
         if run is None:
             response.success, response.message = True, 'nothing was running; turtle stopped'
         else:
-            self._finish(False, f'{run.kind} stopped by request', stopped_by_request=True)
-            response.success, response.message = True, f'stopped {run.kind}'
+            run.request_stop()
+            self._finish_if_ended()
+            response.success, response.message = True, f'stopped {run.name}'
         return response
 
     async def _handle_reset(self, request: Trigger.Request, response: Trigger.Response):
         if self._run is not None:
-            self._finish(False, f'{self._run.kind} aborted: reset requested')
+            self._finish(False, f'{self._run.name} aborted: reset requested')
         if not self._sim_reset.service_is_ready():
             response.message = (f'the simulator service {self._sim_reset.srv_name} is not '
                                  'available')

@@ -1,0 +1,113 @@
+"""The rules that end a trajectory run, and how it is reported. Pure Python.
+
+A `RunSupervisor` wraps the follower of one plan. It aborts when the pose jumps (a teleport,
+a reset, a second simulator), stops a turtle heading into a wall it did not start next to,
+lets the turtle settle once the path is done, and assembles the `Outcome` the services report.
+The node feeds it poses, the control tick and requests; times are the node clock's seconds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from turtle_traj.control.commands import STOP, Command
+from turtle_traj.control.follower import ControlConfig, PathFollower
+from turtle_traj.control.latency import LatencyPredictor
+from turtle_traj.geometry.path import Pose2D
+from turtle_traj.geometry.shapes import Arena
+from turtle_traj.planning import Plan
+
+SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
+# Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.
+MAX_POSE_JUMP_M = 0.5
+
+
+@dataclass
+class Outcome:
+    """How a trajectory ended, as the service response reports it."""
+
+    success: bool
+    message: str
+    pose: Pose2D | None = None
+    elapsed_s: float = 0.0
+    path_length: float = 0.0
+    max_deviation: float = 0.0
+    final_error: float = 0.0
+
+
+def wall_clearance(arena: Arena, pose: Pose2D) -> float:
+    """Distance from the pose to the nearest edge of the arena (before its margin)."""
+    return min(pose.x - arena.min_x, arena.max_x - pose.x,
+               pose.y - arena.min_y, arena.max_y - pose.y)
+
+
+class RunSupervisor:
+    """One plan being driven: its follower, and the verdict once the run is over.
+
+    `ending` is None while the run goes on, then (success, message); after that `command`
+    returns STOP only. Single-threaded by design: the node calls it from one executor thread.
+    """
+
+    def __init__(self, plan: Plan, *, start: Pose2D, arena: Arena, started_s: float,
+                 latency: LatencyPredictor | None = None) -> None:
+        self.plan = plan
+        self.follower = PathFollower(plan.path, end_tolerance=plan.end_tolerance,
+                                     latency=latency)
+        self.started_s = started_s
+        self.ending: tuple[bool, str] | None = None
+        self._start_clearance = wall_clearance(arena, start)
+        self._settled_periods = 0
+        self._pose = start
+
+    @property
+    def name(self) -> str:
+        return self.plan.trajectory
+
+    def end(self, success: bool, message: str) -> None:
+        """Decide the verdict (the first decision stands)."""
+        if self.ending is None:
+            self.ending = (success, message)
+
+    def request_stop(self) -> None:
+        """A stop request: success for an endless trajectory (it ends only this way)."""
+        self.end(self.plan.path.endless, f'{self.name} stopped by request')
+
+    def observe(self, pose: Pose2D) -> None:
+        """A new pose: a jump from the last one aborts the run."""
+        jump = math.dist((self._pose.x, self._pose.y), (pose.x, pose.y))
+        self._pose = pose
+        if jump > MAX_POSE_JUMP_M:
+            self.end(False, f'{self.name} aborted: the turtle jumped {jump:.2f} m between two '
+                            'poses (teleported, reset, respawned, a second simulator in this '
+                            'ROS domain, or this node fell behind the simulator)')
+
+    def command(self, pose: Pose2D, standing: bool, config: ControlConfig,
+                arena: Arena) -> Command:
+        """The command for this control period; may decide the verdict.
+
+        :param standing: the turtle reports zero velocity.
+        :param config: the node's control settings (the plan's speeds override them).
+        """
+        if self.ending is not None:
+            return STOP
+        if self.follower.done:
+            self._settled_periods += 1
+            if standing or self._settled_periods > SETTLE_PERIODS:
+                self.end(True, f'{self.name} done')
+            return STOP
+        clearance = wall_clearance(arena, pose)
+        if clearance < arena.margin / 2 and clearance < self._start_clearance:
+            self.end(False, f'{self.name} stopped: the turtle came within {clearance:.3f} m of '
+                            f'the wall at ({pose.x:.2f}, {pose.y:.2f})')
+            return STOP
+        return self.follower.update(pose, self.plan.control(config))
+
+    def outcome(self, pose: Pose2D | None, now_s: float) -> Outcome:
+        """The report of the run once `ending` is decided."""
+        success, message = self.ending or (False, f'{self.name} still running')
+        path = self.plan.path
+        return Outcome(
+            success, message, pose, elapsed_s=now_s - self.started_s,
+            path_length=path.length, max_deviation=self.follower.max_deviation,
+            final_error=math.dist((pose.x, pose.y), path.end) if pose else math.nan)

@@ -1,0 +1,216 @@
+"""The registry of trajectory kinds: one entry per kind, from which everything else is made.
+
+The node's services, the command line, the menu, the demo and the benchmarks all iterate over
+`TRAJECTORIES`. Adding a trajectory is one entry here plus its geometry and sketch function.
+Pure: service types are named by their ROS type string and resolved by the ROS layers.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import partial
+from typing import Any
+
+from turtle_traj import planning
+from turtle_traj.geometry.path import Pose2D
+from turtle_traj.planning import MAX_POINTS, MAX_SIDES, Plan, SketchFunction
+from turtle_traj.settings import SPEC, Settings
+
+FLOAT, INT, BOOL, POINTS = 'float', 'int', 'bool', 'points'
+
+
+@dataclass(frozen=True)
+class Field:
+    """One request field as people enter it, on the command line and in the menu.
+
+    A field backed by a node `parameter` sends 0 unless given, which the node reads as "use
+    my parameter"; its range and unit are the parameter's (`settings.SPECS`).
+    """
+
+    name: str  # the request's field
+    help: str
+    unit: str = ''  # as entered; 'deg' is sent in radians
+    type: str = FLOAT  # FLOAT, INT, BOOL or POINTS
+    default: float | None = 0.0  # sent when not given; None: optional (see `given`)
+    parameter: str = ''
+    low: float | None = None
+    high: float | None = None
+    positional: bool = False
+    fits: bool = False  # the size that scales: its upper bound is what fits from the pose
+    negate: str = ''  # command-line flag that sends the value negated ('backward')
+    given: str = ''  # request flag set true when this optional field is given ('use_theta')
+    flag: str = ''  # command-line option, when not --<name>
+    menu: bool = True  # asked in the menu (False: command line only)
+    axis: str = ''  # 'x' or 'y': a coordinate, within the arena's bounds on that axis
+
+    def __post_init__(self) -> None:
+        if self.parameter:
+            spec = SPEC[self.parameter]
+            object.__setattr__(self, 'unit', self.unit or spec.unit)
+            object.__setattr__(self, 'low', spec.low if self.low is None else self.low)
+            object.__setattr__(self, 'high', spec.high if self.high is None else self.high)
+
+    def bounds(self, settings: Settings) -> tuple[float, float]:
+        """The range a person may enter (a coordinate: inside the arena, after its margin)."""
+        if self.axis:
+            arena = settings.arena
+            low, high = getattr(arena, f'min_{self.axis}'), getattr(arena, f'max_{self.axis}')
+            return low + arena.margin, high - arena.margin
+        return self.low, self.high
+
+    @property
+    def option(self) -> str:
+        return '--' + (self.flag or self.name).replace('_', '-')
+
+    def to_request(self, value: Any) -> Any:
+        """A value as entered, in the request's units (degrees to radians)."""
+        return math.radians(value) if self.unit == 'deg' else value
+
+
+@dataclass(frozen=True)
+class Example:
+    """A request worth showing: the demo draws it, the benchmarks measure it."""
+
+    start: tuple[float, float, float]  # where the turtle starts: x, y [m], heading [rad]
+    given: Mapping[str, Any]  # values as entered (see `Trajectory.request_values`)
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """One kind of trajectory: its names, its service type, its sketch and its fields."""
+
+    name: str  # as an action goal names it ('square')
+    service: str  # the node's service ('draw_square')
+    service_type: str  # ROS type of the service ('turtle_traj_interfaces/srv/DrawShape')
+    sketch: SketchFunction
+    summary: str
+    fields: tuple[Field, ...]
+    command: tuple[str, ...]  # command-line words ('draw', 'square')
+    example: Example
+
+    def plan(self, request: Any, start: Pose2D, settings: Settings) -> Plan:
+        """The checked plan of a request, or PlanError saying why not."""
+        return planning.plan(self.name, self.sketch, request, start, settings)
+
+    def largest_size(self, request: Any, start: Pose2D, settings: Settings) -> float | None:
+        """The largest size field value that fits from `start` (None: nothing scales)."""
+        return planning.largest_size(self.sketch, request, start, settings)
+
+    def request_values(self, given: Mapping[str, Any]) -> dict[str, Any]:
+        """Request field values from values as entered (missing ones take their defaults)."""
+        values = {}
+        for item in self.fields:
+            value = given.get(item.name)
+            if value is None:
+                if item.default is not None:
+                    values[item.name] = item.default
+                continue
+            if item.negate and given.get(item.negate):
+                value = -value
+            values[item.name] = item.to_request(value)
+            if item.given:
+                values[item.given] = True
+        return values
+
+
+# -- the fields people enter, shared by several kinds -----------------------------------------
+
+def _size(help_text: str, parameter: str) -> Field:
+    return Field('size', help_text, parameter=parameter, fits=True)
+
+
+CLOCKWISE = Field('clockwise', 'turn clockwise', type=BOOL, default=False)
+LINEAR_SPEED = Field('linear_speed', 'top speed', parameter='linear_speed', flag='speed')
+ANGULAR_SPEED = Field('angular_speed', 'top turn rate (corners)', parameter='angular_speed',
+                      menu=False)
+_SHAPE_SPEEDS = (LINEAR_SPEED, ANGULAR_SPEED)
+_DRAW_SHAPE = 'turtle_traj_interfaces/srv/DrawShape'
+
+
+def _polygon(name: str, sides: int, example: Example) -> Trajectory:
+    return Trajectory(
+        name, f'draw_{name}', _DRAW_SHAPE,
+        partial(planning.sketch_polygon, sides=sides, name=name),
+        f'draw a {name} from where the turtle stands',
+        (_size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
+        ('draw', name), example)
+
+
+TRAJECTORIES: tuple[Trajectory, ...] = (
+    _polygon('square', 4, Example((4.0, 4.0, 0.0), {'size': 3.0})),
+    _polygon('triangle', 3, Example((3.5, 3.5, 0.0), {'size': 4.0})),
+    _polygon('hexagon', 6, Example((4.5, 2.5, 0.0), {'size': 2.0})),
+    Trajectory(
+        'polygon', 'draw_polygon', _DRAW_SHAPE, planning.sketch_polygon,
+        'draw a regular polygon with any number of sides',
+        (Field('sides', 'number of sides', type=INT, default=5, low=3, high=MAX_SIDES),
+         _size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
+        ('draw', 'polygon'),
+        Example((4.5, 8.5, 0.0), {'sides': 7, 'size': 2.0, 'clockwise': True})),
+    Trajectory(
+        'circle', 'draw_circle', _DRAW_SHAPE, planning.sketch_circle,
+        'drive a circle to the left (or right) of the turtle',
+        (_size('radius', 'default_radius'), CLOCKWISE,
+         Field('turns', 'number of turns (0: until stopped)', 'turns', default=1.0, low=0.0,
+               high=100.0), *_SHAPE_SPEEDS),
+        ('draw', 'circle'), Example((5.5, 3.0, 0.0), {'size': 2.5})),
+    Trajectory(
+        'spiral', 'draw_spiral', _DRAW_SHAPE, planning.sketch_spiral,
+        'drive an outward spiral; it ends at max_radius, after its turns, or before the wall',
+        (_size('start radius', 'default_spiral_start_radius'),
+         Field('growth', 'radius gained per turn', parameter='default_spiral_growth'),
+         Field('turns', 'number of turns (0: until max_radius or the wall)', 'turns',
+               low=0.0, high=100.0),
+         Field('max_radius', 'radius at which it ends (0: the wall)', 'm', low=0.0, high=50.0,
+               menu=False),
+         CLOCKWISE, *_SHAPE_SPEEDS),
+        ('draw', 'spiral'), Example((5.5, 5.2, 0.0), {'size': 0.3, 'growth': 0.6, 'turns': 6.0,
+                                             'linear_speed': 2.0})),
+    Trajectory(
+        'sine', 'draw_sine', _DRAW_SHAPE, planning.sketch_sine,
+        'drive a sine wave along the heading',
+        (Field('size', 'amplitude', parameter='default_sine_amplitude'),
+         Field('frequency', 'cycles per metre', parameter='default_sine_frequency'),
+         Field('length', 'length along the heading', parameter='default_sine_length',
+               fits=True),
+         *_SHAPE_SPEEDS),
+        ('draw', 'sine'),
+        Example((1.0, 5.5, 0.0), {'size': 1.5, 'frequency': 0.4, 'length': 9.0})),
+    Trajectory(
+        'go_to', 'go_to', 'turtle_traj_interfaces/srv/GoTo', planning.sketch_go_to,
+        'drive to a point (turn, drive straight, optionally turn to a heading)',
+        (Field('x', 'goal x', 'm', default=8.0, positional=True, axis='x'),
+         Field('y', 'goal y', 'm', default=8.0, positional=True, axis='y'),
+         Field('theta', 'final heading (default: none)', 'deg', default=None,
+               given='use_theta', low=-180.0, high=180.0, menu=False),
+         Field('tolerance', 'arrival tolerance', parameter='goal_tolerance', menu=False),
+         LINEAR_SPEED),
+        ('go-to',), Example((1.5, 1.5, 0.0), {'x': 9.5, 'y': 9.0, 'theta': 180.0})),
+    Trajectory(
+        'move', 'move', 'turtle_traj_interfaces/srv/Move', planning.sketch_move,
+        'drive straight along the heading',
+        (Field('distance', 'distance (negative: backwards)', 'm', default=2.0, low=-50.0,
+               high=50.0, positional=True, negate='backward'),
+         Field('speed', 'top speed', parameter='linear_speed', menu=False)),
+        ('move',), Example((2.5, 5.5, 0.0), {'distance': 6.0})),
+    Trajectory(
+        'rotate', 'rotate', 'turtle_traj_interfaces/srv/Move', planning.sketch_rotation,
+        'turn in place (counter-clockwise; negative or --clockwise: clockwise)',
+        (Field('angle', 'angle (negative: clockwise)', 'deg', default=90.0, low=-36000.0,
+               high=36000.0, positional=True, negate='clockwise'),
+         Field('speed', 'top turn rate', parameter='angular_speed', menu=False)),
+        ('rotate',), Example((5.5, 5.5, 0.0), {'angle': -180.0})),
+    Trajectory(
+        'follow_path', 'follow_path', 'turtle_traj_interfaces/srv/FollowPath',
+        planning.sketch_follow, 'drive through points in order (x,y x,y ...)',
+        (Field('points', f'points as x,y pairs (at most {MAX_POINTS})', 'm', type=POINTS,
+               default=None, positional=True),
+         Field('closed', 'return to the first point', type=BOOL, default=False),
+         LINEAR_SPEED),
+        ('follow-path',), Example((2.5, 2.5, 0.0), {
+            'points': [(8.5, 2.5), (8.5, 8.5), (5.5, 5.5), (2.5, 8.5)], 'closed': True})),
+)
+BY_NAME = {trajectory.name: trajectory for trajectory in TRAJECTORIES}
+BY_SERVICE = {trajectory.service: trajectory for trajectory in TRAJECTORIES}
