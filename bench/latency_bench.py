@@ -10,23 +10,19 @@ Run: .venv/bin/python bench/latency_bench.py ['jitter 0-32 ms' ...]   (all delay
 from __future__ import annotations
 
 import math
-import os
 import sys
 import tempfile
 
-os.environ.setdefault('ROS_DOMAIN_ID', '79')
-os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='turtle_traj_bench_logs_'))
+import numpy as np
+import rclpy
+from nav_msgs.msg import Path as PathMsg
+from rclpy.qos import DurabilityPolicy, QoSProfile
 
-import numpy as np  # noqa: E402
-import rclpy  # noqa: E402
-from nav_msgs.msg import Path as PathMsg  # noqa: E402
-from rclpy.qos import DurabilityPolicy, QoSProfile  # noqa: E402
-from turtle_traj_interfaces.srv import Move  # noqa: E402
-
-from turtle_traj.demo import DEMO, prepare  # noqa: E402
-from turtle_traj.geometry.path import distance_to_polyline  # noqa: E402
-from turtle_traj.system import InProcessSystem  # noqa: E402
+from isolation import isolate
+from turtle_traj.demo import run_example
+from turtle_traj.geometry.path import distance_to_polyline
+from turtle_traj.system import InProcessSystem
+from turtle_traj.trajectories import TRAJECTORIES
 
 # (label, fixed delay s, jitter s)
 DELAYS = [('0 ms', 0.0, 0.0), ('16 ms', 0.016, 0.0), ('32 ms', 0.032, 0.0),
@@ -44,13 +40,9 @@ def run_all(delay_s: float, jitter_s: float) -> list[tuple]:
         QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
     rows = []
     try:
-        cases = [(name, service_type, service, request, start)
-                 for name, service_type, service, request, start in DEMO]
-        cases.append(('rotate', Move, 'rotate', Move.Request(angle=-math.pi), (5.5, 5.5, 0.0)))
-        for name, service_type, service, request, start in cases:
-            prepare(system, *start)
+        for trajectory in TRAJECTORIES:
             plans.clear()
-            response = system.run(service_type, service, request)
+            response = run_example(system, trajectory)
             planned = np.array([(p.pose.position.x, p.pose.position.y)
                                 for p in plans[-1].poses]) if plans else np.zeros((0, 2))
             driven = np.array([(p.x, p.y) for p in system.poses])
@@ -63,8 +55,7 @@ def run_all(delay_s: float, jitter_s: float) -> list[tuple]:
                 deviation = 0.0
             end_error = (math.dist(driven[-1], planned[-1])
                          if len(planned) and len(driven) else math.nan)
-            rows.append((name.replace('move_and_rotate', 'move'), response, deviation,
-                         end_error, worst_at))
+            rows.append((trajectory.name, response, deviation, end_error, worst_at))
     finally:
         system.close()
     return rows
@@ -72,6 +63,7 @@ def run_all(delay_s: float, jitter_s: float) -> list[tuple]:
 
 def main() -> None:
     wanted = sys.argv[1:]  # labels to run, e.g. 'jitter 0-32 ms'; all by default
+    isolate('latency')
     rclpy.init()
     try:
         print('turtle_traj latency benchmark: cmd_vel delayed in the simulator, lock-step time, '

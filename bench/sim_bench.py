@@ -5,25 +5,21 @@ Run: .venv/bin/python bench/sim_bench.py   (or `make bench`)
 
 from __future__ import annotations
 
-import os
 import resource
 import statistics
 import tempfile
 import time
 from pathlib import Path
 
-os.environ.setdefault('ROS_DOMAIN_ID', '77')
-os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='turtle_traj_bench_logs_'))
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.parameter import Parameter
+from turtle_traj_interfaces.srv import DrawShape
 
-import rclpy  # noqa: E402
-from rclpy.executors import SingleThreadedExecutor  # noqa: E402
-from rclpy.parameter import Parameter  # noqa: E402
-from turtle_traj_interfaces.srv import DrawShape  # noqa: E402
-
-from turtle_traj.sim.node import SimNode  # noqa: E402
-from turtle_traj.sim.physics import STEP_S  # noqa: E402
-from turtle_traj.system import InProcessSystem  # noqa: E402
+from isolation import isolate
+from turtle_traj.sim.node import SimNode
+from turtle_traj.sim.physics import STEP_S
+from turtle_traj.system import InProcessSystem
 
 
 def _cpu_s() -> float:
@@ -56,7 +52,7 @@ def lockstep_real_time_factor() -> float:
     system = InProcessSystem(output_dir=Path(tempfile.mkdtemp()))
     try:
         start_wall, start_sim = time.monotonic(), system.sim_time_s
-        response = system.run(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+        response = system.call(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
         if not response.success:
             raise RuntimeError(response.message)
         return (system.sim_time_s - start_sim) / (time.monotonic() - start_wall)
@@ -83,9 +79,7 @@ def update_cost_ms(turtles: int, updates: int = 300) -> tuple[float, float]:
     node = SimNode(lockstep=True)  # no timer: we call the update ourselves
     try:
         for index in range(turtles - 1):
-            node.world.spawn(1.0 + (index % 10) * 0.9, 1.0 + (index // 10) * 0.9, 0.0)
-            name = list(node.world.turtles)[-1]
-            node._endpoints[name] = type(node._endpoints['turtle1'])(node, name)
+            node.spawn_turtle('', 1.0 + (index % 10) * 0.9, 1.0 + (index // 10) * 0.9, 0.0)
         for turtle in node.world:
             node.world.command(turtle.name, 0.5, 0.0, 0.3)
         costs = []
@@ -102,6 +96,7 @@ def update_cost_ms(turtles: int, updates: int = 300) -> tuple[float, float]:
 
 
 def main() -> None:
+    isolate('sim')
     rclpy.init()
     try:
         print('turtle_traj simulator benchmark (SingleThreadedExecutor, one process)')

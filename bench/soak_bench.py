@@ -19,22 +19,20 @@ import time
 from collections import Counter
 from pathlib import Path
 
-os.environ.setdefault('ROS_DOMAIN_ID', '79')
-os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='turtle_traj_bench_logs_'))
+import rclpy
+from geometry_msgs.msg import Twist
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from turtlesim.srv import TeleportAbsolute
 
-import rclpy  # noqa: E402
-from geometry_msgs.msg import Point, Twist  # noqa: E402
-from rclpy.executors import SingleThreadedExecutor  # noqa: E402
-from rclpy.node import Node  # noqa: E402
-from rclpy.parameter import Parameter  # noqa: E402
-from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move  # noqa: E402
-from turtlesim.srv import TeleportAbsolute  # noqa: E402
-
-from turtle_traj import runtime  # noqa: E402
-from turtle_traj.node.trajectory_node import TrajectoryNode  # noqa: E402
-from turtle_traj.sim.physics import SPAWN_XY_M  # noqa: E402
-from turtle_traj.wire import TURTLE_TOPIC_QOS  # noqa: E402
+from isolation import isolate
+from turtle_traj import runtime
+from turtle_traj.node.trajectory_node import TrajectoryNode
+from turtle_traj.services import make_request, service_type
+from turtle_traj.sim.physics import SPAWN_XY_M
+from turtle_traj.trajectories import TRAJECTORIES
+from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 CHECKPOINTS = (1, 50, 250, 500)
 
@@ -46,40 +44,38 @@ def rss_mb(pid: int) -> float:
     return math.nan
 
 
+def _polygon(rng: random.Random) -> dict:
+    return {'sides': rng.randint(3, 9), 'size': rng.uniform(0.3, 1.5),
+            'clockwise': rng.random() < 0.5}
+
+
+# Per trajectory of the registry: random values, as entered, that fit from the arena's centre.
+RANDOM_GIVEN = {
+    'square': _polygon, 'triangle': _polygon, 'hexagon': _polygon, 'polygon': _polygon,
+    'circle': lambda rng: {'size': rng.uniform(0.3, 1.5), 'turns': rng.uniform(0.3, 1.5),
+                           'clockwise': rng.random() < 0.5},
+    'spiral': lambda rng: {'size': rng.uniform(0.2, 0.5), 'growth': rng.uniform(0.2, 0.6),
+                           'turns': rng.uniform(0.5, 2.0)},
+    'sine': lambda rng: {'size': rng.uniform(0.1, 1.0), 'frequency': rng.uniform(0.2, 1.0),
+                         'length': rng.uniform(0.5, 4.0)},
+    'go_to': lambda rng: {'x': rng.uniform(2.0, 9.0), 'y': rng.uniform(2.0, 9.0),
+                          'theta': rng.choice([None, rng.uniform(-180.0, 180.0)])},
+    'move': lambda rng: {'distance': rng.choice([-1, 1]) * rng.uniform(0.2, 3.0)},
+    'rotate': lambda rng: {'angle': rng.uniform(-400.0, 400.0)},
+    'follow_path': lambda rng: {
+        'points': [(rng.uniform(3.0, 8.0), rng.uniform(3.0, 8.0))
+                   for _ in range(rng.randint(1, 5))], 'closed': rng.random() < 0.5},
+}
+
+
 def random_request(rng: random.Random):
-    """A random, valid request of a random kind, sized to fit from the arena's centre."""
-    kind = rng.choice(['square', 'triangle', 'hexagon', 'polygon', 'circle', 'spiral', 'sine',
-                       'go_to', 'move', 'rotate', 'follow_path'])
+    """A random trajectory of the registry with a random, valid request."""
+    trajectory = rng.choice(TRAJECTORIES)
+    given = RANDOM_GIVEN[trajectory.name](rng)
     speed = rng.choice([0.0, rng.uniform(0.5, 3.0)])
-    if kind in ('square', 'triangle', 'hexagon', 'polygon'):
-        return kind, DrawShape, f'draw_{kind}', DrawShape.Request(
-            sides=rng.randint(3, 9), size=rng.uniform(0.3, 1.5),
-            clockwise=rng.random() < 0.5, linear_speed=speed)
-    if kind == 'circle':
-        return kind, DrawShape, 'draw_circle', DrawShape.Request(
-            size=rng.uniform(0.3, 1.5), turns=rng.uniform(0.3, 1.5),
-            clockwise=rng.random() < 0.5, linear_speed=speed)
-    if kind == 'spiral':
-        return kind, DrawShape, 'draw_spiral', DrawShape.Request(
-            size=rng.uniform(0.2, 0.5), growth=rng.uniform(0.2, 0.6),
-            turns=rng.uniform(0.5, 2.0), linear_speed=speed)
-    if kind == 'sine':
-        return kind, DrawShape, 'draw_sine', DrawShape.Request(
-            size=rng.uniform(0.1, 1.0), frequency=rng.uniform(0.2, 1.0),
-            length=rng.uniform(0.5, 4.0), linear_speed=speed)
-    if kind == 'go_to':
-        return kind, GoTo, 'go_to', GoTo.Request(
-            x=rng.uniform(2.0, 9.0), y=rng.uniform(2.0, 9.0), use_theta=rng.random() < 0.5,
-            theta=rng.uniform(-math.pi, math.pi), linear_speed=speed)
-    if kind == 'move':
-        return kind, Move, 'move', Move.Request(distance=rng.choice([-1, 1]) *
-                                                rng.uniform(0.2, 3.0))
-    if kind == 'rotate':
-        return kind, Move, 'rotate', Move.Request(angle=rng.uniform(-7.0, 7.0))
-    points = [Point(x=rng.uniform(3.0, 8.0), y=rng.uniform(3.0, 8.0))
-              for _ in range(rng.randint(1, 5))]
-    return kind, FollowPath, 'follow_path', FollowPath.Request(
-        points=points, closed=rng.random() < 0.5, linear_speed=speed)
+    if any(item.name == 'linear_speed' for item in trajectory.fields):
+        given['linear_speed'] = speed
+    return trajectory, make_request(trajectory, given)
 
 
 class SoakClient(Node):
@@ -108,6 +104,7 @@ def main() -> int:
     parser.add_argument('--seed', type=int, default=7)
     options = parser.parse_args()
     rng = random.Random(options.seed)
+    isolate('soak')
 
     sim = subprocess.Popen([sys.executable, '-m', 'turtle_traj.sim', '--time-scale',
                             str(options.time_scale), '--output-dir', tempfile.mkdtemp()],
@@ -152,11 +149,12 @@ def soak(options: argparse.Namespace, rng: random.Random, sim: subprocess.Popen)
             call(TeleportAbsolute, '/turtle1/teleport_absolute', TeleportAbsolute.Request(
                 x=SPAWN_XY_M, y=SPAWN_XY_M, theta=rng.uniform(-math.pi, math.pi)))
             spin_until(lambda: node.ready and math.dist(
-                (node._pose.x, node._pose.y), (SPAWN_XY_M, SPAWN_XY_M)) < 1e-3, 5.0)
-            kind, service_type, service, request = random_request(rng)
+                (node.pose.x, node.pose.y), (SPAWN_XY_M, SPAWN_XY_M)) < 1e-3, 5.0)
+            trajectory, request = random_request(rng)
             client.first_command_s = None
             sent = time.monotonic()
-            response = call(service_type, f'/turtle_traj/{service}', request)
+            response = call(service_type(trajectory), f'/turtle_traj/{trajectory.service}',
+                            request)
             if response.success:
                 outcomes['succeeded'] += 1
                 if client.first_command_s is not None:
@@ -165,7 +163,7 @@ def soak(options: argparse.Namespace, rng: random.Random, sim: subprocess.Popen)
                 outcomes['refused: would leave the arena (intended)'] += 1
             else:
                 outcomes['failed'] += 1
-                failures.append(f'run {run} {kind}: {response.message}')
+                failures.append(f'run {run} {trajectory.name}: {response.message}')
             if run in CHECKPOINTS or run == options.runs:
                 memory.append((run, rss_mb(os.getpid()), rss_mb(sim.pid)))
     finally:

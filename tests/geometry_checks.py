@@ -4,8 +4,6 @@ import math
 
 import numpy as np
 
-from turtle_traj.geometry.path import distance_to_polyline  # noqa: F401  (re-exported)
-
 
 def regular_polygon(x: float, y: float, theta: float, sides: int, side: float,
                     clockwise: bool) -> np.ndarray:
@@ -21,3 +19,16 @@ def regular_polygon(x: float, y: float, theta: float, sides: int, side: float,
 
 def xy(poses) -> np.ndarray:
     return np.array([(p.x, p.y) for p in poses])
+
+
+def distance_to_polyline(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
+    """Per point, the distance to the nearest segment of the polyline through `vertices`."""
+    starts, along = vertices[:-1], np.diff(vertices, axis=0)
+    squared = np.maximum((along ** 2).sum(axis=1), 1e-300)
+    distances = []
+    for chunk in np.array_split(points, max(1, len(points) // 256)):  # chunk x segments x 2
+        offset = chunk[:, None, :] - starts[None]
+        t = np.clip((offset * along[None]).sum(axis=2) / squared, 0.0, 1.0)
+        gap = offset - t[..., None] * along[None]
+        distances.append(np.sqrt((gap ** 2).sum(axis=2)).min(axis=1))
+    return np.concatenate(distances)

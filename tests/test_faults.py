@@ -31,7 +31,7 @@ def test_turtle_killed_mid_run_aborts_then_a_new_turtle1_is_driven(traj):
     spawned = traj.call(Spawn, '/spawn', Spawn.Request(x=3.0, y=3.0, name='turtle1'))
     assert spawned.name == 'turtle1'
     assert traj.spin_until(lambda: traj.node.ready)
-    assert traj.run(Move, 'move', Move.Request(distance=1.0)).success
+    assert traj.call(Move, 'move', Move.Request(distance=1.0)).success
 
 
 def test_simulator_reset_mid_run_aborts_as_a_jump(traj):
@@ -41,7 +41,7 @@ def test_simulator_reset_mid_run_aborts_as_a_jump(traj):
     assert traj.spin_until(drawing.done, timeout_s=5.0)
     assert not drawing.result().success
     assert 'jumped' in drawing.result().message
-    assert traj.run(Move, 'move', Move.Request(distance=1.0)).success
+    assert traj.call(Move, 'move', Move.Request(distance=1.0)).success
 
 
 def test_two_clients_racing_get_one_run_and_one_busy_refusal(traj):
@@ -74,7 +74,7 @@ hostile_floats = st.sampled_from([math.nan, math.inf, -math.inf, 1e308, -1e308, 
                                 'draw_sine']),
        size=hostile_floats, speed=hostile_floats, sides=st.integers(0, 2**32 - 1))
 def test_hostile_shape_requests_are_answered_and_refused(traj, service, size, speed, sides):
-    response = traj.run(DrawShape, service, DrawShape.Request(
+    response = traj.call(DrawShape, service, DrawShape.Request(
         size=size, linear_speed=speed, sides=sides, turns=size, growth=size))
     assert not response.success, response.message
     assert 'refused' in response.message
@@ -92,7 +92,7 @@ def test_hostile_simulator_requests_leave_it_working(traj):
     assert 'nanny' not in traj.sim.world.turtles
     pose = traj.sim.world.turtles['turtle1']
     assert all(math.isfinite(v) for v in (pose.x, pose.y, pose.theta))
-    assert traj.run(Move, 'move', Move.Request(distance=1.0)).success
+    assert traj.call(Move, 'move', Move.Request(distance=1.0)).success
 
 
 @pytest.mark.parametrize(('service_type', 'name', 'request_fields'), [

@@ -15,7 +15,7 @@ from turtle_traj.wire import TURTLE_TOPIC_QOS
 def _pose_stream(context, tmp_path, **sim_parameters) -> list[tuple[float, ...]]:
     system = InProcessSystem(context=context, output_dir=tmp_path, sim_parameters=sim_parameters)
     try:
-        response = system.run(DrawShape, 'draw_hexagon', DrawShape.Request(size=1.0))
+        response = system.call(DrawShape, 'draw_hexagon', DrawShape.Request(size=1.0))
         assert response.success, response.message
         return [(p.x, p.y, p.theta, p.linear_velocity, p.angular_velocity)
                 for p in system.poses]

@@ -74,7 +74,7 @@ def test_graph_has_turtlesims_names_and_types(sim):
         ('/turtlesim/set_parameters', 'rcl_interfaces/srv/SetParameters'),
     ]:
         assert services[name] == [type_name]
-    parameters = set(sim.sim._parameters)
+    parameters = set(sim.sim.list_parameters([], 0).names)
     assert {'background_r', 'background_g', 'background_b', 'holonomic'} <= parameters
 
 

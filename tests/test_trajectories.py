@@ -21,7 +21,7 @@ START = (SPAWN_XY_M, SPAWN_XY_M, 0.0)
     ('draw_polygon', 18, 0.5, False),  # exterior angle below corner_angle: still sharp
 ])
 def test_polygon_visits_every_vertex_and_closes(traj, service, sides, side, clockwise):
-    response = traj.run(DrawShape, service, DrawShape.Request(
+    response = traj.call(DrawShape, service, DrawShape.Request(
         sides=sides, size=side, clockwise=clockwise))
     assert response.success, response.message
     ideal = regular_polygon(*START, sides, side, clockwise)
@@ -40,7 +40,7 @@ def test_polygon_visits_every_vertex_and_closes(traj, service, sides, side, cloc
 
 
 def test_circle_keeps_its_radius(traj):
-    response = traj.run(DrawShape, 'draw_circle', DrawShape.Request(size=1.0, turns=1.0))
+    response = traj.call(DrawShape, 'draw_circle', DrawShape.Request(size=1.0, turns=1.0))
     assert response.success, response.message
     center = np.array([START[0], START[1] + 1.0])  # counter-clockwise: centre on the left
     radii = np.linalg.norm(xy(traj.poses) - center, axis=1)
@@ -51,7 +51,7 @@ def test_circle_keeps_its_radius(traj):
 
 
 def test_clockwise_spiral_grows_by_its_growth_per_turn(traj):
-    response = traj.run(DrawShape, 'draw_spiral', DrawShape.Request(
+    response = traj.call(DrawShape, 'draw_spiral', DrawShape.Request(
         size=0.5, growth=0.4, turns=2.0, clockwise=True, linear_speed=2.0))
     assert response.success, response.message
     # Clockwise: the centre is on the right, 0.5 m away, turned back by the angle at which an
@@ -68,7 +68,7 @@ def test_clockwise_spiral_grows_by_its_growth_per_turn(traj):
 
 
 def test_sine_wave_follows_the_heading(traj):
-    response = traj.run(DrawShape, 'draw_sine', DrawShape.Request(
+    response = traj.call(DrawShape, 'draw_sine', DrawShape.Request(
         size=0.6, frequency=0.5, length=4.0))
     assert response.success, response.message
     moved = xy(traj.poses) - START[:2]
@@ -79,7 +79,7 @@ def test_sine_wave_follows_the_heading(traj):
 
 
 def test_go_to_reaches_the_goal_and_heading(traj):
-    response = traj.run(GoTo, 'go_to', GoTo.Request(
+    response = traj.call(GoTo, 'go_to', GoTo.Request(
         x=2.0, y=8.0, use_theta=True, theta=-math.pi / 2, tolerance=0.02))
     assert response.success, response.message
     assert math.dist((response.final_x, response.final_y), (2.0, 8.0)) <= 0.02
@@ -89,12 +89,12 @@ def test_go_to_reaches_the_goal_and_heading(traj):
 
 
 def test_move_backwards_and_rotate_clockwise(traj):
-    response = traj.run(Move, 'move', Move.Request(distance=-1.5))
+    response = traj.call(Move, 'move', Move.Request(distance=-1.5))
     assert response.success, response.message
     assert (response.final_x, response.final_y) == pytest.approx(
         (START[0] - 1.5, START[1]), abs=0.001)
     assert abs(response.final_theta) < 0.001  # it drove backwards, it did not turn round
-    response = traj.run(Move, 'rotate', Move.Request(angle=-3 * math.pi / 2, speed=1.0))
+    response = traj.call(Move, 'rotate', Move.Request(angle=-3 * math.pi / 2, speed=1.0))
     assert response.success, response.message
     assert response.final_theta == pytest.approx(math.pi / 2, abs=0.001)
     thetas = np.unwrap([p.theta for p in traj.poses])
@@ -103,7 +103,7 @@ def test_move_backwards_and_rotate_clockwise(traj):
 
 def test_follow_path_through_points(traj):
     points = [(7.0, 5.5), (7.0, 8.0), (4.0, 8.5), (3.0, 6.0)]
-    response = traj.run(FollowPath, 'follow_path', FollowPath.Request(
+    response = traj.call(FollowPath, 'follow_path', FollowPath.Request(
         points=[Point(x=x, y=y) for x, y in points], closed=True))
     assert response.success, response.message
     route = np.array([START[:2], *points, points[0]])

@@ -49,7 +49,7 @@ def run_example(system: InProcessSystem, trajectory: Trajectory):
     """Draw the trajectory's example from its start pose on a clean canvas; its response."""
     example = trajectory.example
     prepare(system, *example.start)
-    return system.run(service_type(trajectory), trajectory.service,
+    return system.call(service_type(trajectory), trajectory.service,
                       make_request(trajectory, example.given))
 
 

@@ -120,3 +120,16 @@ def settings_from_values(value: dict[str, object]) -> Settings:
 
 
 DEFAULT_SETTINGS = settings_from_values(DEFAULTS)
+ARENA_PARAMETERS = frozenset({'arena_min_x', 'arena_min_y', 'arena_max_x', 'arena_max_y',
+                              'wall_margin'})
+
+
+def arena_problem(value: dict[str, object]) -> str | None:
+    """Why these arena parameters leave no room to drive, or None (cross-field rule)."""
+    margin = value['wall_margin']
+    for axis in 'xy':
+        room = value[f'arena_max_{axis}'] - value[f'arena_min_{axis}'] - 2 * margin
+        if room <= 0.1:
+            return (f'arena_max_{axis} - arena_min_{axis} must exceed 2 * wall_margin + 0.1 m '
+                    f'(it leaves {room:.3f} m)')
+    return None

@@ -103,7 +103,10 @@ class LockstepSim:
 
 
 class InProcessSystem(LockstepSim):
-    """LockstepSim plus a TrajectoryNode; the client records turtle1's poses in `poses`."""
+    """LockstepSim plus a TrajectoryNode; the client records turtle1's poses in `poses`.
+
+    Relative service names are the trajectory node's: `call(DrawShape, 'draw_square', ...)`.
+    """
 
     def __init__(self, *, context: Context | None = None, output_dir: Path = Path('output'),
                  sim_parameters: dict[str, object] | None = None,
@@ -122,7 +125,9 @@ class InProcessSystem(LockstepSim):
         """A relative service name is one of the trajectory node's."""
         return name if name.startswith('/') else f'{self.node.get_fully_qualified_name()}/{name}'
 
-    def run(self, service_type, name: str, request=None, *, timeout_s: float = 600.0):
-        """Call a trajectory service; `poses` then holds exactly the poses of that run."""
-        self.poses.clear()
-        return self.call(service_type, name, request, timeout_s=timeout_s)
+    def start(self, service_type, name: str, request=None):
+        """Send a request; one to the trajectory node (a relative name) empties `poses` first,
+        so that they then hold exactly the poses of that call."""
+        if not name.startswith('/'):
+            self.poses.clear()
+        return super().start(service_type, name, request)

@@ -106,6 +106,8 @@ class Trajectory:
             if value is None:
                 if item.default is not None:
                     values[item.name] = item.default
+                if item.given:
+                    values[item.given] = False
                 continue
             if item.negate and given.get(item.negate):
                 value = -value

@@ -86,10 +86,6 @@ class Turn:
     sweep_rad: float
 
     @property
-    def end_heading(self) -> float:
-        return wrap_angle(self.start_heading + self.sweep_rad)
-
-    @property
     def end(self) -> tuple[float, float]:
         return self.x, self.y
 

@@ -6,7 +6,15 @@ from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParam
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from turtle_traj.settings import DEFAULTS, SPECS, Settings, Spec, settings_from_values
+from turtle_traj.settings import (
+    ARENA_PARAMETERS,
+    DEFAULTS,
+    SPECS,
+    Settings,
+    Spec,
+    arena_problem,
+    settings_from_values,
+)
 
 
 def descriptor(spec: Spec) -> ParameterDescriptor:
@@ -31,25 +39,12 @@ def read_settings(node: Node) -> Settings:
 
 
 def validate(node: Node, parameters: list[Parameter]) -> SetParametersResult:
-    """Cross-field rule: the arena, shrunk by the margin, must keep some room."""
+    """Cross-field rules of the settings table, on the values the change would leave."""
     incoming = {p.name: p.value for p in parameters}
-    names = {'arena_min_x', 'arena_min_y', 'arena_max_x', 'arena_max_y', 'wall_margin'}
-    if not incoming.keys() & names:
+    if not incoming.keys() & ARENA_PARAMETERS:
         return SetParametersResult(successful=True)
-
-    def current(name: str) -> float:
-        if name in incoming:
-            return incoming[name]
-        if node.has_parameter(name):
-            return node.get_parameter(name).value
-        return DEFAULTS[name]
-
-    margin = current('wall_margin')
-    for axis in 'xy':
-        room = current(f'arena_max_{axis}') - current(f'arena_min_{axis}') - 2 * margin
-        if room <= 0.1:
-            return SetParametersResult(
-                successful=False,
-                reason=f'arena_max_{axis} - arena_min_{axis} must exceed 2 * wall_margin + 0.1 m '
-                       f'(it leaves {room:.3f} m)')
-    return SetParametersResult(successful=True)
+    values = {name: incoming[name] if name in incoming
+              else node.get_parameter(name).value if node.has_parameter(name)
+              else DEFAULTS[name] for name in ARENA_PARAMETERS}
+    problem = arena_problem(values)
+    return SetParametersResult(successful=problem is None, reason=problem or '')

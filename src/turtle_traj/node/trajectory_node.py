@@ -126,6 +126,11 @@ class TrajectoryNode(Node):
         return time.monotonic() - self._pose_wall_s
 
     @property
+    def pose(self) -> Pose2D | None:
+        """The driven turtle's latest pose (None before the first, or after a reset)."""
+        return self._pose
+
+    @property
     def busy(self) -> bool:
         return self._run is not None
 

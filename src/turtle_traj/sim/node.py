@@ -11,6 +11,7 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rclpy.action import ActionServer, CancelResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
+from rclpy.exceptions import NameValidationException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.task import Future
@@ -144,7 +145,7 @@ class SimNode(Node):
                               clock=Clock(clock_type=ClockType.STEADY_TIME))
         self.get_logger().info(
             f'Starting turtlesim with node name {self.get_fully_qualified_name()}')
-        self._spawn('', SPAWN_XY_M, SPAWN_XY_M, 0.0)
+        self.spawn_turtle('', SPAWN_XY_M, SPAWN_XY_M, 0.0)
 
     # -- parameters ------------------------------------------------------------------------
 
@@ -195,12 +196,16 @@ class SimNode(Node):
 
     # -- turtles ---------------------------------------------------------------------------
 
-    def _spawn(self, name: str, x: float, y: float, theta: float) -> str:
+    def spawn_turtle(self, name: str, x: float, y: float, theta: float) -> str:
+        """Add a turtle with its topics and services, as the spawn service does; its name.
+
+        :raises SimulationError: a taken or invalid name, or a non-finite pose.
+        """
         turtle = self.world.spawn(x, y, theta, name)
         try:
             if turtle.name not in self._endpoints:  # kept through a reset: see handle_reset
                 self._endpoints[turtle.name] = _TurtleEndpoints(self, turtle.name)
-        except Exception:
+        except (NameValidationException, ValueError):  # ValueError: a {substitution}
             self.world.kill(turtle.name)
             raise SimulationError(f'[{turtle.name}] is not a valid ROS name') from None
         self.get_logger().info(
@@ -251,12 +256,12 @@ class SimNode(Node):
             self._remove(name, keep_endpoints=name == _FIRST_TURTLE)
         self.world.remove_all()
         self.canvas.clear()
-        self._spawn('', SPAWN_XY_M, SPAWN_XY_M, 0.0)  # turtle1 again
+        self.spawn_turtle('', SPAWN_XY_M, SPAWN_XY_M, 0.0)  # turtle1 again
         return response
 
     def handle_spawn(self, request: Spawn.Request, response: Spawn.Response) -> Spawn.Response:
         try:
-            response.name = self._spawn(request.name, request.x, request.y, request.theta)
+            response.name = self.spawn_turtle(request.name, request.x, request.y, request.theta)
         except SimulationError as error:
             self.get_logger().error(f'Could not spawn turtle: {error}')
             response.name = ''

@@ -1,0 +1,142 @@
+"""The follower and the run supervisor in a pure closed loop on the simulator's physics.
+
+No ROS: the loop below is the node's (a pose in, one command out per 16 ms step), with the
+turtle moved by `sim.physics.World` exactly as the simulator moves it.
+"""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from tests.geometry_checks import distance_to_polyline, regular_polygon
+from turtle_traj.control.latency import LatencyPredictor
+from turtle_traj.control.supervisor import SETTLE_PERIODS, RunSupervisor
+from turtle_traj.geometry.path import Pose2D
+from turtle_traj.planning import Plan
+from turtle_traj.settings import DEFAULT_SETTINGS
+from turtle_traj.sim.physics import STEP_S, World
+from turtle_traj.trajectories import BY_NAME
+
+SETTINGS = DEFAULT_SETTINGS
+ARENA = SETTINGS.arena
+
+
+def shape(**fields) -> SimpleNamespace:
+    values = dict(sides=0, size=0.0, clockwise=False, turns=0.0, growth=0.0, max_radius=0.0,
+                  frequency=0.0, length=0.0, linear_speed=0.0, angular_speed=0.0)
+    return SimpleNamespace(**{**values, **fields})
+
+
+class Loop:
+    """One trajectory run: the physics, the latency predictor and the supervisor."""
+
+    def __init__(self, name: str, request, x: float = 5.5, y: float = 5.5,
+                 theta: float = 0.0) -> None:
+        self.world = World()
+        self.turtle = self.world.spawn(x, y, theta, 'turtle1')
+        self.latency = LatencyPredictor(STEP_S)
+        start = Pose2D(x, y, theta)
+        plan = BY_NAME[name].plan(request, start, SETTINGS)
+        self.run = RunSupervisor(plan, start=start, arena=ARENA, started_s=0.0,
+                                 latency=self.latency)
+
+    def drive(self, disturb=None, max_steps: int = 20_000) -> list[Pose2D]:
+        """Step until the supervisor decides; the poses the turtle reported."""
+        turtle, run = self.turtle, self.run
+        poses = []
+        for step in range(max_steps):
+            if disturb is not None:
+                disturb(step, turtle)
+            pose = Pose2D(turtle.x, turtle.y, turtle.theta)
+            poses.append(pose)
+            run.observe(pose)
+            # the velocity echo as turtlesim's Pose carries it: float32
+            self.latency.observe(float(np.float32(turtle.linear_speed)),
+                                 float(np.float32(turtle.omega)))
+            standing = turtle.linear_speed == 0.0 and turtle.omega == 0.0
+            command = run.command(pose, standing, SETTINGS.control, ARENA)
+            if run.ending is not None:
+                return poses
+            self.latency.sent(command)
+            self.world.command('turtle1', command.linear, 0.0, command.angular)
+            self.world.step()
+        raise AssertionError('the run never ended')
+
+
+@pytest.mark.parametrize(('sides', 'side', 'clockwise'), [(4, 2.0, False), (3, 2.5, True),
+                                                          (6, 1.0, False)])
+def test_a_polygon_driven_on_the_physics_closes_on_its_corners(sides, side, clockwise):
+    loop = Loop('polygon', shape(sides=sides, size=side, clockwise=clockwise), 4.0, 4.0)
+    run, poses = loop.run, loop.drive()
+    assert run.ending == (True, 'polygon done')
+    xy = np.array([(p.x, p.y) for p in poses])
+    corners = regular_polygon(4.0, 4.0, 0.0, sides, side, clockwise)
+    assert distance_to_polyline(xy, corners).max() < 1e-3
+    outcome = run.outcome(poses[-1], now_s=len(poses) * STEP_S)
+    assert outcome.success and outcome.final_error < 1e-3
+    assert outcome.path_length == pytest.approx(sides * side)
+
+
+def test_a_circle_keeps_its_radius_on_the_physics():
+    loop = Loop('circle', shape(size=1.5, turns=1.0))
+    run, poses = loop.run, loop.drive()
+    radii = [math.dist((p.x, p.y), (5.5, 7.0)) for p in poses]
+    assert max(abs(r - 1.5) for r in radii) < 1e-3
+    assert run.ending[0]
+    assert run.follower.max_deviation < 1e-3
+
+
+def test_a_jump_aborts_the_run():
+    loop = Loop('move', SimpleNamespace(distance=3.0, speed=0.0))
+
+    def teleport(step, turtle):
+        if step == 40:
+            turtle.x += 1.0
+    loop.drive(disturb=teleport)
+    success, message = loop.run.ending
+    assert not success and 'jumped 1.0' in message
+
+
+def test_a_turtle_pushed_into_the_wall_is_stopped_but_may_leave_it():
+    loop = Loop('go_to', SimpleNamespace(x=10.0, y=5.5, use_theta=False, theta=0.0,
+                                         tolerance=0.0, linear_speed=0.0))
+
+    def push(step, turtle):  # something drags the turtle off course towards the top wall
+        turtle.y += 0.02
+    loop.drive(disturb=push)
+    success, message = loop.run.ending
+    assert not success and 'came within' in message
+    # A run starting at the wall, closer than half the margin, may still drive away from it.
+    loop = Loop('move', SimpleNamespace(distance=-2.0, speed=0.0), x=10.95, y=5.5)
+    loop.drive()
+    assert loop.run.ending == (True, 'move done')
+
+
+def test_settling_waits_for_standing_still_at_most_a_few_periods():
+    run = Loop('rotate', SimpleNamespace(angle=0.5, speed=0.0)).run
+    run.follower.leg_index = len(run.plan.path.legs)  # the path is done
+    pose = Pose2D(5.5, 5.5, 0.5)
+    for _ in range(SETTLE_PERIODS):
+        run.command(pose, False, SETTINGS.control, ARENA)
+    assert run.ending is None  # still moving: keep waiting
+    run.command(pose, False, SETTINGS.control, ARENA)
+    assert run.ending == (True, 'rotate done')
+
+
+@pytest.mark.parametrize(('turns', 'success'), [(0.0, True), (1.0, False)])
+def test_a_stop_request_ends_only_an_endless_trajectory_successfully(turns, success):
+    run = Loop('circle', shape(size=1.0, turns=turns)).run
+    run.request_stop()
+    run.end(True, 'later verdicts are ignored')
+    assert run.ending == (success, 'circle stopped by request')
+
+
+def test_the_plans_speeds_override_the_nodes_live_ones():
+    plan = BY_NAME['move'].plan(SimpleNamespace(distance=1.0, speed=2.5), Pose2D(5, 5, 0),
+                                SETTINGS)
+    assert plan.control(SETTINGS.control).linear_speed == 2.5
+    assert plan.control(SETTINGS.control).angular_speed == SETTINGS.control.angular_speed
+    default = Plan('move', plan.path)
+    assert default.lower_bound_s(SETTINGS) == pytest.approx(1.0 / SETTINGS.control.linear_speed)
