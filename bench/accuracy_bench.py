@@ -105,17 +105,16 @@ def main() -> None:
                 extra = f'radius error {100 * np.abs(radii / radius - 1).max():.2f}%'
             rows.append((trajectory.name, response, bound, extra))
 
-            sides = POLYGON_SIDES.get(trajectory.name, request.sides)
-            if trajectory.command == ('draw', trajectory.name) and sides >= 3:
+            sides = POLYGON_SIDES.get(trajectory.name, getattr(request, 'sides', 0))
+            if trajectory.service_type.endswith('/DrawShape') and sides >= 3:
                 prepare(system, *example.start)
                 poses, elapsed = drive_open_loop(
                     system, open_loop_schedule(sides, request.size, request.clockwise))
                 open_dev = distance_to_polyline(poses, plan.path.points()).max()
                 open_closure = math.dist(poses[-1], (start.x, start.y))
                 rows.append((f'  {trajectory.name} open-loop', (open_dev, open_closure, elapsed),
-                             bound, f'closed loop is '
-                             f'{open_closure / max(response.final_error, 1e-6):.0f}x more '
-                             'exact at closure'))
+                             bound, f'closed loop closes within '
+                             f'{1000 * response.final_error:.3f} mm'))
     finally:
         system.close()
         rclpy.try_shutdown()

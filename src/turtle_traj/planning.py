@@ -240,14 +240,21 @@ def sketch_go_to(request: Any, start: Pose2D, settings: Settings) -> Sketch:
                   end_tolerance=tolerance)
 
 
+def _signed(name: str, value: float, unit: str, negative: str, upper: float,
+            too_large: str) -> float:
+    """A signed amount whose sign is its direction: finite, not vanishing, within `upper`."""
+    require_finite(**{name: value})
+    if abs(value) < MIN_SIZE:
+        raise PlanError(f'{name} must be at least {MIN_SIZE:g} {unit} either way (negative '
+                        f'{negative}); got {value:g}')
+    if abs(value) > upper:
+        raise PlanError(f'{name} {value:g} {unit} is {too_large}')
+    return value
+
+
 def sketch_move(request: Any, start: Pose2D, settings: Settings) -> Sketch:
-    distance = request.distance
-    require_finite(distance=distance)
-    if abs(distance) < MIN_SIZE:
-        raise PlanError(f'distance must be at least {MIN_SIZE:g} m either way (negative '
-                        f'drives backwards); got {distance:g}')
-    if abs(distance) > _diagonal(settings.arena):
-        raise PlanError(f'distance {distance:g} m is longer than the arena diagonal')
+    distance = _signed('distance', request.distance, 'm', 'drives backwards',
+                       _diagonal(settings.arena), 'longer than the arena diagonal')
     sign = math.copysign(1.0, distance)
 
     def build(size: float) -> Path:
@@ -258,13 +265,8 @@ def sketch_move(request: Any, start: Pose2D, settings: Settings) -> Sketch:
 
 
 def sketch_rotation(request: Any, start: Pose2D, settings: Settings) -> Sketch:
-    angle = request.angle
-    require_finite(angle=angle)
-    if abs(angle) < MIN_SIZE:
-        raise PlanError(f'angle must be at least {MIN_SIZE:g} rad either way (negative turns '
-                        f'clockwise); got {angle:g}')
-    if abs(angle) > 2 * math.pi * shapes.MAX_TURNS:
-        raise PlanError(f'angle {angle:g} rad is more than {shapes.MAX_TURNS:g} turns')
+    angle = _signed('angle', request.angle, 'rad', 'turns clockwise',
+                    2 * math.pi * shapes.MAX_TURNS, f'more than {shapes.MAX_TURNS:g} turns')
     path = shapes.rotation(start, angle_rad=angle)
     return Sketch(f'rotation by {angle:g} rad', lambda _: path,
                   angular_speed=_speed('angular_speed', request.speed))
