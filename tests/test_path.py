@@ -1,0 +1,47 @@
+"""Paths from polylines: where the turtle turns in place, and what a path adds up to."""
+
+import math
+
+import numpy as np
+import pytest
+
+from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn, legs_from_polyline
+
+CORNER = 0.35  # rad
+
+
+@pytest.mark.parametrize(('theta', 'points', 'kinds', 'sweeps'), [
+    # already facing along the line: one curve, no turn
+    (0.0, [(0, 0), (1, 0), (2, 0)], 'C', []),
+    # facing away: turn first (shortest way, here +90 deg), then drive
+    (0.0, [(0, 0), (0, 1)], 'TC', [math.pi / 2]),
+    # a square corner in the middle splits the line
+    (0.0, [(0, 0), (1, 0), (1, -1)], 'CTC', [-math.pi / 2]),
+    # a gentle bend below the corner angle stays one curve
+    (0.0, [(0, 0), (1, 0), (2, 0.2)], 'C', []),
+    # repeated points are dropped, not turned at
+    (0.0, [(0, 0), (1, 0), (1, 0), (2, 0)], 'C', []),
+])
+def test_turns_in_place_only_at_sharp_corners(theta, points, kinds, sweeps):
+    legs = legs_from_polyline(Pose2D(0.0, 0.0, theta), np.array(points, dtype=float),
+                              corner_angle_rad=CORNER)
+    assert ''.join('T' if isinstance(leg, Turn) else 'C' for leg in legs) == kinds
+    assert [leg.sweep_rad for leg in legs if isinstance(leg, Turn)] == pytest.approx(sweeps)
+
+
+def test_a_paths_length_turning_and_bound_add_up():
+    legs = legs_from_polyline(Pose2D(0.0, 0.0, 0.0), np.array([(0, 0), (3, 0), (3, 4)], float),
+                              corner_angle_rad=CORNER)
+    path = Path(tuple(legs))
+    assert path.length == pytest.approx(7.0)
+    assert path.turning == pytest.approx(math.pi / 2)
+    assert path.end == (3.0, 4.0)
+    assert path.lower_bound_s(2.0, 0.5) == pytest.approx(3.5 + math.pi)
+    assert len(path.points()) == 2 + 1 + 2  # two curves of two points, one turn point
+
+
+def test_a_curve_knows_its_length_and_curvature():
+    angles = np.linspace(0.0, math.pi, 200)
+    arc = Curve(np.column_stack((np.cos(angles), np.sin(angles))))
+    assert arc.length == pytest.approx(math.pi, rel=1e-4)
+    assert np.median(arc.curvatures) == pytest.approx(1.0, rel=1e-3)
