@@ -81,6 +81,11 @@ class _TurnTracker:
         self.turned = wrap_angle(pose.theta - turn.start_heading)
         self.previous = pose.theta
 
+    @property
+    def fraction(self) -> float:
+        """How much of the turn is made, 0 to 1."""
+        return min(max(self.turned / self.turn.sweep_rad, 0.0), 1.0)
+
     def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
                latency: LatencyPredictor) -> tuple[Command | None, float]:
         self.turned += wrap_angle(pose.theta - self.previous)
@@ -103,6 +108,7 @@ class _CurveTracker:
         self.curve = curve
         self.end_tolerance = end_tolerance
         self.segment = 0
+        self.fraction = 0.0  # of the curve's length, up to where the turtle is (one lap)
 
     def _project(self, pose: Pose2D) -> tuple[int, float, float]:
         """Nearest segment near the last one: index, fraction along it, signed offset."""
@@ -152,6 +158,8 @@ class _CurveTracker:
         curve = self.curve
         actual_segment, actual_fraction, actual_offset = self._project(pose)
         deviation = abs(actual_offset)
+        self.fraction = (curve.cumulative_length[actual_segment] + actual_fraction
+                         * curve.segment_lengths[actual_segment]) / max(curve.length, 1e-12)
         self.segment, fraction, offset = self._project(predicted)
         remaining = self._remaining(predicted, self.segment, fraction)
         if self._arrived(predicted, self.segment, remaining):
@@ -196,6 +204,7 @@ class PathFollower:
         self.path = path
         self.leg_index = 0
         self.max_deviation = 0.0
+        self.deviation = 0.0  # the turtle's distance from the leg it is on, at the last update
         self._end_tolerance = end_tolerance
         self._tracker: _TurnTracker | _CurveTracker | None = None
         self._latency = latency
@@ -203,6 +212,16 @@ class PathFollower:
     @property
     def done(self) -> bool:
         return self.leg_index >= len(self.path.legs)
+
+    def progress(self, config: ControlConfig) -> float:
+        """How much of the path is driven, 0 to 1, each leg weighted by its time at top speed
+        (so turns in place count); an endless path shows the progress of its current lap."""
+        costs = [leg.length / config.linear_speed if isinstance(leg, Curve)
+                 else abs(leg.sweep_rad) / config.angular_speed for leg in self.path.legs]
+        done = sum(costs[:self.leg_index])
+        if self._tracker is not None and not self.done:
+            done += self._tracker.fraction * costs[self.leg_index]
+        return min(done / max(sum(costs), 1e-12), 1.0)
 
     def update(self, pose: Pose2D, config: ControlConfig) -> Command:
         """The command for this control period, steered from where the commands still on their
@@ -221,8 +240,9 @@ class PathFollower:
                     tolerance = self._end_tolerance
                 self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
                                  else _CurveTracker(leg, tolerance))
-            command, deviation = self._tracker.update(pose, predicted, config, self._latency)
-            self.max_deviation = max(self.max_deviation, deviation)
+            command, self.deviation = self._tracker.update(pose, predicted, config,
+                                                           self._latency)
+            self.max_deviation = max(self.max_deviation, self.deviation)
             if command is not None:
                 return command
             self.leg_index += 1

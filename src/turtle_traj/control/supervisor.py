@@ -59,6 +59,7 @@ class RunSupervisor:
         self._start_clearance = wall_clearance(arena, start)
         self._settled_periods = 0
         self._pose = start
+        self.distance = 0.0  # driven so far, pose to pose
 
     @property
     def name(self) -> str:
@@ -77,7 +78,9 @@ class RunSupervisor:
         """A new pose: a jump from the last one aborts the run."""
         jump = math.dist((self._pose.x, self._pose.y), (pose.x, pose.y))
         self._pose = pose
-        if jump > MAX_POSE_JUMP_M:
+        if jump <= MAX_POSE_JUMP_M:
+            self.distance += jump
+        else:
             self.end(False, f'{self.name} aborted: the turtle jumped {jump:.2f} m between two '
                             'poses (teleported, reset, respawned, a second simulator in this '
                             'ROS domain, or this node fell behind the simulator)')

@@ -1,4 +1,4 @@
-"""TrajectoryNode: one service per trajectory, a control timer, live parameters.
+"""TrajectoryNode: one service per trajectory, the draw action, a control timer, live parameters.
 
 Service handlers validate and plan, hand the path to the control timer and await its end; the
 timer steps the pure PathFollower on the latest pose. A watchdog aborts a trajectory when poses
@@ -15,6 +15,8 @@ from functools import partial
 
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Path as PathMsg
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
@@ -23,6 +25,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.task import Future
 from rclpy.time import Time
 from std_srvs.srv import Empty, Trigger
+from turtle_traj_interfaces.action import Draw
 from turtlesim.msg import Pose
 
 from turtle_traj.control.commands import STOP, Command
@@ -32,11 +35,12 @@ from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.node import parameters
 from turtle_traj.planning import PlanError
 from turtle_traj.services import service_type
-from turtle_traj.trajectories import TRAJECTORIES, Trajectory
+from turtle_traj.trajectories import BY_NAME, TRAJECTORIES, Trajectory
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 PLAN_FRAME_ID = 'world'
 _WATCHDOG_PERIOD_S = 0.05
+_FEEDBACK_PERIOD_S = 0.1  # node clock: 10 Hz
 _RESET_TIMEOUT_S = 5.0
 _POLL_PERIOD_S = 0.005
 
@@ -91,6 +95,8 @@ class TrajectoryNode(Node):
         for trajectory in TRAJECTORIES:
             self.create_service(service_type(trajectory), f'~/{trajectory.service}',
                                 partial(self._execute, trajectory), callback_group=group)
+        ActionServer(self, Draw, '~/draw', self._execute_goal, goal_callback=self._on_goal,
+                     cancel_callback=self._on_cancel, callback_group=group)
         self.create_service(Trigger, '~/stop', self._handle_stop, callback_group=group)
         self.create_service(Trigger, '~/reset', self._handle_reset, callback_group=group)
         self.stop_service = self.resolve_service_name('~/stop')
@@ -214,8 +220,8 @@ class TrajectoryNode(Node):
                     f'running and turtle_name right?')
         return None
 
-    async def _execute(self, trajectory: Trajectory, request, response):
-        """Refuse, or plan and drive to the end; the response is filled either way."""
+    def _begin(self, trajectory: Trajectory, request) -> Future | str:
+        """Start a run: the future of its Outcome, or why it is refused (logged)."""
         refusal = self._refusal()
         if refusal is None:
             try:
@@ -224,8 +230,7 @@ class TrajectoryNode(Node):
                 refusal = f'{trajectory.name} refused: {error}'
         if refusal is not None:
             self.get_logger().warning(refusal)
-            return fill_response(response, Outcome(False, refusal, self._pose))
-
+            return refusal
         self._run = RunSupervisor(plan, start=self._pose, arena=self.settings.arena,
                                   started_s=self._now_s(), latency=self._latency)
         self._run_done = done = Future()
@@ -234,7 +239,68 @@ class TrajectoryNode(Node):
         self.get_logger().info(
             f'{trajectory.name}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} '
             f'deg of turns in place, at least {plan.lower_bound_s(self.settings):.1f} s')
-        return fill_response(response, await done)
+        return done
+
+    async def _execute(self, trajectory: Trajectory, request, response):
+        """A trajectory service: refuse, or drive to the end; the response is filled either way."""
+        started = self._begin(trajectory, request)
+        if isinstance(started, str):
+            return fill_response(response, Outcome(False, started, self._pose))
+        return fill_response(response, await started)
+
+    # -- the draw action ---------------------------------------------------------------------
+
+    def _on_goal(self, goal: Draw.Goal) -> GoalResponse:
+        """Reject at once what would be refused (busy, unknown trajectory, bad numbers)."""
+        trajectory = BY_NAME.get(goal.trajectory)
+        reason = self._refusal()
+        if trajectory is None:
+            reason = (f'unknown trajectory {goal.trajectory!r}; known: '
+                      f'{", ".join(BY_NAME)}')
+        elif reason is None:
+            try:
+                trajectory.plan(goal, self._pose, self.settings)
+            except PlanError as error:
+                reason = f'{trajectory.name} refused: {error}'
+        if reason is None:
+            return GoalResponse.ACCEPT
+        self.get_logger().warning(f'draw goal rejected: {reason}')
+        return GoalResponse.REJECT
+
+    def _on_cancel(self, _goal_handle: ServerGoalHandle) -> CancelResponse:
+        """Stop the turtle at once; the goal then ends CANCELED."""
+        if self._run is not None:
+            self._run.request_stop()
+            self._finish_if_ended()
+        return CancelResponse.ACCEPT
+
+    async def _execute_goal(self, goal_handle: ServerGoalHandle) -> Draw.Result:
+        goal = goal_handle.request
+        started = self._begin(BY_NAME[goal.trajectory], goal)
+        if isinstance(started, str):  # something started in between
+            goal_handle.abort()
+            return fill_response(Draw.Result(), Outcome(False, started, self._pose))
+        run = self._run
+        feedback = self.create_timer(_FEEDBACK_PERIOD_S,
+                                     lambda: goal_handle.publish_feedback(self._feedback(run)))
+        try:
+            outcome = await started
+        finally:
+            self.destroy_timer(feedback)
+        if goal_handle.is_cancel_requested:
+            goal_handle.canceled()
+        elif outcome.success:
+            goal_handle.succeed()
+        else:
+            goal_handle.abort()
+        return fill_response(Draw.Result(), outcome)
+
+    def _feedback(self, run: RunSupervisor) -> Draw.Feedback:
+        pose = self._pose or Pose2D(math.nan, math.nan, math.nan)
+        return Draw.Feedback(
+            progress=run.follower.progress(run.plan.control(self.settings.control)),
+            distance=run.distance, elapsed=self._now_s() - run.started_s,
+            deviation=run.follower.deviation, x=pose.x, y=pose.y, theta=pose.theta)
 
     def _publish_plan(self, path: Path) -> None:
         msg = PathMsg()

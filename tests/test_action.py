@@ -1,0 +1,104 @@
+"""The draw action (`/turtle_traj/draw`): feedback, cancel, rejection, one run at a time."""
+
+import math
+
+import pytest
+from action_msgs.msg import GoalStatus
+from rclpy.action import ActionClient
+from turtle_traj_interfaces.action import Draw
+from turtle_traj_interfaces.srv import DrawShape, GoTo
+
+from tests.geometry_checks import regular_polygon, xy
+from turtle_traj.wire import SPAWN_XY_M
+
+
+@pytest.fixture
+def draw(traj):
+    """An action client of the node's draw action, on the harness's client node."""
+    client = ActionClient(traj.client, Draw, '/turtle_traj/draw')
+    assert traj.spin_until(client.server_is_ready, timeout_s=10.0)
+    yield client
+    client.destroy()
+
+
+def send(traj, draw, feedback=None, **fields):
+    """Send a goal and return its handle once the server answered (accepted or not)."""
+    future = draw.send_goal_async(Draw.Goal(**fields), feedback_callback=feedback)
+    assert traj.spin_until(future.done, timeout_s=10.0)
+    return future.result()
+
+
+def result_of(traj, handle, timeout_s: float = 120.0):
+    future = handle.get_result_async()
+    assert traj.spin_until(future.done, timeout_s=timeout_s)
+    return future.result()
+
+
+def test_a_square_reports_progress_to_one_and_its_result(traj, draw):
+    feedback = []
+    traj.poses.clear()
+    handle = send(traj, draw, lambda message: feedback.append(message.feedback),
+                  trajectory='square', size=1.0)
+    assert handle.accepted
+    outcome = result_of(traj, handle)
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED
+    result = outcome.result
+    assert result.success and result.message == 'square done'
+    progress = [message.progress for message in feedback]
+    assert progress == sorted(progress) and 0.0 <= progress[0] < 0.1 and progress[-1] > 0.95
+    assert len(feedback) >= 5 * result.elapsed - 1  # at least 5 Hz (node clock)
+    distances = [message.distance for message in feedback]
+    assert distances == sorted(distances) and distances[-1] == pytest.approx(4.0, abs=0.05)
+    assert max(message.deviation for message in feedback) <= result.max_deviation + 1e-9
+    corners = regular_polygon(SPAWN_XY_M, SPAWN_XY_M, 0.0, 4, 1.0, False)
+    assert math.dist(xy(traj.poses)[-1], corners[-1]) < 1e-3
+    last = feedback[-1]
+    assert math.dist((last.x, last.y), (result.final_x, result.final_y)) < 0.05
+
+
+def test_cancel_stops_an_endless_circle_at_once(traj, draw):
+    handle = send(traj, draw, trajectory='circle', size=1.0)  # turns 0: until cancelled
+    assert handle.accepted
+    traj.spin_sim_seconds(2.0)
+    cancel = handle.cancel_goal_async()
+    cancelled_at = traj.sim_time_s
+    assert traj.spin_until(cancel.done)
+    assert len(cancel.result().goals_canceling) == 1
+    outcome = result_of(traj, handle, timeout_s=5.0)
+    assert outcome.status == GoalStatus.STATUS_CANCELED
+    assert outcome.result.success and 'stopped by request' in outcome.result.message
+    assert traj.spin_until(lambda: traj.poses[-1].linear_velocity == 0.0, timeout_s=1.0)
+    assert traj.sim_time_s - cancelled_at < 0.1  # standing within a few 16 ms steps
+    traj.poses.clear()
+    traj.spin_sim_seconds(0.5)
+    assert all(p.linear_velocity == 0.0 and p.angular_velocity == 0.0 for p in traj.poses)
+    assert traj.node.ready
+
+
+def test_one_run_at_a_time_across_the_action_and_the_services(traj, draw):
+    handle = send(traj, draw, trajectory='circle', size=1.0)
+    assert handle.accepted
+    traj.spin_sim_seconds(0.5)
+    busy = traj.call(GoTo, 'go_to', GoTo.Request(x=2.0, y=2.0))
+    assert not busy.success and 'busy: circle is running' in busy.message
+    handle.cancel_goal_async()
+    assert result_of(traj, handle).status == GoalStatus.STATUS_CANCELED
+
+    running = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=1.0))
+    assert traj.spin_until(lambda: traj.node.busy)
+    assert not send(traj, draw, trajectory='rotate', angle=1.0).accepted
+    assert traj.spin_until(running.done) and running.result().success
+
+
+@pytest.mark.parametrize('fields', [
+    dict(trajectory='blob'),
+    dict(trajectory='draw_square'),
+    dict(trajectory='square', size=math.nan),
+    dict(trajectory='go_to', x=50.0, y=5.0),
+    dict(trajectory='follow_path'),
+])
+def test_invalid_goals_are_rejected_and_the_node_still_works(traj, draw, fields):
+    assert not send(traj, draw, **fields).accepted
+    again = send(traj, draw, trajectory='rotate', angle=0.5)
+    assert again.accepted
+    assert result_of(traj, again).status == GoalStatus.STATUS_SUCCEEDED
