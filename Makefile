@@ -33,7 +33,7 @@ bench: setup
 	for script in bench/*_bench.py; do $(PY) $$script || exit 1; done
 
 lint: setup
-	$(VENV)/bin/ruff check src tests bench
+	$(VENV)/bin/ruff check src tests bench ros/turtle_traj/setup.py ros/turtle_traj/launch
 
 clean:
 	rm -rf $(VENV) output

@@ -1,0 +1,106 @@
+"""The ROS user's path: `colcon build` at the repository root, then the installed tree.
+
+Built against the venv's ROS prefix into a temporary directory, as a user with a sourced ROS
+install builds it (the launch packages are not on PyPI: the launch file is checked by reading).
+"""
+
+import ast
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from turtle_traj.client import TrajClient
+
+ROOT = Path(__file__).resolve().parents[1]
+PREFIX = Path(sys.prefix)
+EXECUTABLES = {'trajectory_node', 'sim', 'turtle_traj'}
+
+
+@pytest.fixture(scope='module')
+def install(tmp_path_factory) -> Path:
+    colcon = shutil.which('colcon', path=str(PREFIX / 'bin'))
+    if colcon is None:
+        pytest.fail('colcon is not installed: `make setup` installs the dev extra')
+    work = tmp_path_factory.mktemp('colcon')
+    env = {**os.environ, 'CMAKE_PREFIX_PATH': str(PREFIX), 'AMENT_PREFIX_PATH': str(PREFIX)}
+    built = subprocess.run(
+        [colcon, '--log-base', str(work / 'log'), 'build', '--base-paths', str(ROOT),
+         '--build-base', str(work / 'build'), '--install-base', str(work / 'install'),
+         '--cmake-args', '-DBUILD_TESTING=OFF', f'-DPython3_EXECUTABLE={sys.executable}'],
+        cwd=work, env=env, capture_output=True, text=True, timeout=600)
+    assert built.returncode == 0, built.stdout[-3000:] + built.stderr[-3000:]
+    return work / 'install'
+
+
+def test_both_packages_are_built_and_turtlesim_is_not(install):
+    built = {path.name for path in install.iterdir() if path.is_dir()}
+    assert built == {'turtle_traj', 'turtle_traj_interfaces'}
+    index = 'share/ament_index/resource_index/packages'
+    assert (install / 'turtle_traj' / index / 'turtle_traj').is_file()
+    assert (install / 'turtle_traj_interfaces' / index / 'turtle_traj_interfaces').is_file()
+
+
+def test_the_executables_package_xml_and_launch_file_are_installed(install):
+    lib = install / 'turtle_traj' / 'lib' / 'turtle_traj'
+    assert {path.name for path in lib.iterdir() if os.access(path, os.X_OK)} >= EXECUTABLES
+    share = install / 'turtle_traj' / 'share' / 'turtle_traj'
+    assert (share / 'package.xml').is_file()
+    assert (share / 'launch' / 'turtle_traj.launch.py').is_file()
+
+
+def test_one_version_number_for_pip_and_colcon():
+    pyproject = re.search(r'^version = "(.+)"', (ROOT / 'pyproject.toml').read_text(), re.M)
+    package = re.search(r'<version>(.+)</version>',
+                        (ROOT / 'ros/turtle_traj/package.xml').read_text())
+    assert pyproject.group(1) == package.group(1)
+
+
+def test_the_launch_file_parses_and_names_installed_executables(install):
+    launch = install / 'turtle_traj' / 'share' / 'turtle_traj' / 'launch' / 'turtle_traj.launch.py'
+    tree = ast.parse(launch.read_text())
+    started = set()
+    for call in ast.walk(tree):
+        if isinstance(call, ast.Call) and getattr(call.func, 'id', '') == 'Node':
+            keywords = {k.arg: k.value.value for k in call.keywords
+                        if isinstance(k.value, ast.Constant)}
+            started.add((keywords['package'], keywords['executable']))
+    ours = {executable for package, executable in started if package == 'turtle_traj'}
+    assert ours == {'sim', 'trajectory_node'} and ours <= EXECUTABLES
+    assert ('turtlesim', 'turtlesim_node') in started  # use_real_turtlesim:=true
+    arguments = {node.args[0].value for node in ast.walk(tree) if isinstance(node, ast.Call)
+                 and getattr(node.func, 'id', '') == 'DeclareLaunchArgument'}
+    assert arguments == {'time_scale', 'gui', 'turtle_name', 'namespace', 'use_real_turtlesim'}
+
+
+def test_the_installed_executables_draw_a_square(install, tmp_path):
+    """`ros2 run turtle_traj sim` and `ros2 run turtle_traj trajectory_node`, sourced."""
+    def start(executable: str, *args: str) -> subprocess.Popen:
+        command = (f'. "{install}/setup.sh" && exec '
+                   f'"{install}/turtle_traj/lib/turtle_traj/{executable}" ' + ' '.join(args))
+        return subprocess.Popen(['sh', '-c', command], cwd=tmp_path, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True)
+
+    sim = start('sim', '--time-scale', '2')
+    node = start('trajectory_node', '--ros-args', '-p', 'use_sim_time:=true')
+    try:
+        with TrajClient(connect_timeout_s=30.0) as client:
+            from turtle_traj_interfaces.srv import DrawShape
+            response = client.call('draw_square', DrawShape.Request(size=1.0), timeout_s=60.0)
+        assert response.success, response.message
+        assert response.path_length == pytest.approx(4.0)
+    finally:
+        for process in (node, sim):
+            process.terminate()
+        for process in (node, sim):
+            output = process.communicate(timeout=15)[0]
+            assert process.returncode == 0, output[-2000:]
+    # and what ran is the installed tree's code, not the venv's editable install
+    where = subprocess.run(['sh', '-c', f'. "{install}/setup.sh" && "{sys.executable}" -c '
+                            '"import turtle_traj.sim.main as m; print(m.__file__)"'],
+                           capture_output=True, text=True, check=True).stdout
+    assert where.startswith(str(install / 'turtle_traj')), where
