@@ -140,6 +140,16 @@ def _polygon(name: str, sides: int, example: Example) -> Trajectory:
         ('draw', name), example)
 
 
+def _move(name: str, sketch: SketchFunction, summary: str, amount: Field, speed: str,
+          example: Example) -> Trajectory:
+    """A Move request: a signed amount and its top speed (the node's `speed` parameter)."""
+    return Trajectory(
+        name, name, 'turtle_traj_interfaces/srv/Move', sketch, summary,
+        (amount, Field('speed', SPEC[speed].description.split(',')[0].lower(), parameter=speed,
+                       menu=False)),
+        (name,), example)
+
+
 TRAJECTORIES: tuple[Trajectory, ...] = (
     _polygon('square', 4, Example((4.0, 4.0, 0.0), {'size': 3.0})),
     _polygon('triangle', 3, Example((3.5, 3.5, 0.0), {'size': 4.0})),
@@ -190,20 +200,15 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          Field('tolerance', 'arrival tolerance', parameter='goal_tolerance', menu=False),
          LINEAR_SPEED),
         ('go-to',), Example((1.5, 1.5, 0.0), {'x': 9.5, 'y': 9.0, 'theta': 180.0})),
-    Trajectory(
-        'move', 'move', 'turtle_traj_interfaces/srv/Move', planning.sketch_move,
-        'drive straight along the heading',
-        (Field('distance', 'distance (negative: backwards)', 'm', default=2.0, low=-50.0,
-               high=50.0, positional=True, negate='backward'),
-         Field('speed', 'top speed', parameter='linear_speed', menu=False)),
-        ('move',), Example((2.5, 5.5, 0.0), {'distance': 6.0})),
-    Trajectory(
-        'rotate', 'rotate', 'turtle_traj_interfaces/srv/Move', planning.sketch_rotation,
-        'turn in place (counter-clockwise; negative or --clockwise: clockwise)',
-        (Field('angle', 'angle (negative: clockwise)', 'deg', default=90.0, low=-36000.0,
-               high=36000.0, positional=True, negate='clockwise'),
-         Field('speed', 'top turn rate', parameter='angular_speed', menu=False)),
-        ('rotate',), Example((5.5, 5.5, 0.0), {'angle': -180.0})),
+    _move('move', planning.sketch_move, 'drive straight along the heading',
+          Field('distance', 'distance (negative: backwards)', 'm', default=2.0, low=-50.0,
+                high=50.0, positional=True, negate='backward'),
+          'linear_speed', Example((2.5, 5.5, 0.0), {'distance': 6.0})),
+    _move('rotate', planning.sketch_rotation,
+          'turn in place (counter-clockwise; negative or --clockwise: clockwise)',
+          Field('angle', 'angle (negative: clockwise)', 'deg', default=90.0, low=-36000.0,
+                high=36000.0, positional=True, negate='clockwise'),
+          'angular_speed', Example((5.5, 5.5, 0.0), {'angle': -180.0})),
     Trajectory(
         'follow_path', 'follow_path', 'turtle_traj_interfaces/srv/FollowPath',
         planning.sketch_follow, 'drive through points in order (x,y x,y ...)',
