@@ -80,6 +80,7 @@ class TrajectoryNode(Node):
         # between, so two requests can never both start a run.
         self._run: RunSupervisor | None = None
         self._run_done: Future | None = None
+        self._goal_runs: dict[bytes, RunSupervisor] = {}  # draw goals running, by goal id
         # Every command this node sends and every echo it hears, across trajectories: how much
         # the latency varies is a property of the link, known before the next trajectory starts.
         self._latency = LatencyPredictor(self.settings.control.period_s)
@@ -267,26 +268,33 @@ class TrajectoryNode(Node):
         self.get_logger().warning(f'draw goal rejected: {reason}')
         return GoalResponse.REJECT
 
-    def _on_cancel(self, _goal_handle: ServerGoalHandle) -> CancelResponse:
-        """Stop the turtle at once; the goal then ends CANCELED."""
-        if self._run is not None:
-            self._run.request_stop()
+    def _on_cancel(self, goal_handle: ServerGoalHandle) -> CancelResponse:
+        """Stop this goal's run at once (not another's); the goal then ends CANCELED."""
+        run = self._goal_runs.get(bytes(goal_handle.goal_id.uuid))
+        if run is not None and run is self._run:
+            run.request_stop()
             self._finish_if_ended()
         return CancelResponse.ACCEPT
 
     async def _execute_goal(self, goal_handle: ServerGoalHandle) -> Draw.Result:
         goal = goal_handle.request
+        if goal_handle.is_cancel_requested:  # cancelled before it started
+            goal_handle.canceled()
+            return fill_response(Draw.Result(), Outcome(False, 'cancelled before it started',
+                                                         self._pose))
         started = self._begin(BY_NAME[goal.trajectory], goal)
         if isinstance(started, str):  # something started in between
             goal_handle.abort()
             return fill_response(Draw.Result(), Outcome(False, started, self._pose))
-        run = self._run
+        run, goal_id = self._run, bytes(goal_handle.goal_id.uuid)
+        self._goal_runs[goal_id] = run
         feedback = self.create_timer(_FEEDBACK_PERIOD_S,
                                      lambda: goal_handle.publish_feedback(self._feedback(run)))
         try:
             outcome = await started
         finally:
             self.destroy_timer(feedback)
+            del self._goal_runs[goal_id]
         if goal_handle.is_cancel_requested:
             goal_handle.canceled()
         elif outcome.success:
