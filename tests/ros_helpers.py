@@ -2,8 +2,13 @@
 
 from __future__ import annotations
 
+import os
+import pty
+import select
+import signal
 import subprocess
 import sys
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -28,3 +33,51 @@ def terminate(process: subprocess.Popen) -> str:
     """Send SIGTERM, wait for the exit and return what the program wrote to stderr."""
     process.terminate()
     return process.communicate(timeout=15)[1]
+
+
+class Terminal:
+    """`python -m ARGS` on a pseudo-terminal, as a person at a keyboard runs it."""
+
+    def __init__(self, *args: str) -> None:
+        self.pid, self._fd = pty.fork()
+        if self.pid == 0:  # the child: become the program
+            os.execv(sys.executable, [sys.executable, '-m', *args])
+        self.output = ''
+        self._seen = 0  # where the next `expect` starts looking
+
+    def expect(self, text: str, timeout_s: float = 30.0) -> str:
+        """Read until `text` is written after the previous expected text (AssertionError after
+        `timeout_s`); return what came before it."""
+        deadline = time.monotonic() + timeout_s
+        while (found := self.output.find(text, self._seen)) < 0:
+            assert time.monotonic() < deadline, f'{text!r} not seen; got:\n{self.output}'
+            self._read(deadline - time.monotonic())
+        before, self._seen = self.output[self._seen:found], found + len(text)
+        return before
+
+    def send(self, keys: str) -> None:
+        """Type `keys` ('\\x03' is Ctrl-C: the terminal interrupts the program)."""
+        os.write(self._fd, keys.encode())
+
+    def finish(self, timeout_s: float = 30.0) -> int:
+        """Read to the end and return the exit code (the program is killed after `timeout_s`)."""
+        deadline = time.monotonic() + timeout_s
+        while self._read(deadline - time.monotonic()):
+            pass
+        if time.monotonic() >= deadline:
+            os.kill(self.pid, signal.SIGKILL)
+        status = os.waitpid(self.pid, 0)[1]
+        os.close(self._fd)
+        return os.waitstatus_to_exitcode(status)
+
+    def _read(self, timeout_s: float) -> bool:
+        """Read what is there (False at the end of the output or of the time)."""
+        ready, _, _ = select.select([self._fd], [], [], max(timeout_s, 0.0))
+        if not ready:
+            return False
+        try:
+            chunk = os.read(self._fd, 4096)
+        except OSError:  # the program has exited
+            return False
+        self.output += chunk.decode(errors='replace')
+        return bool(chunk)

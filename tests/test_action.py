@@ -57,7 +57,7 @@ def test_a_square_reports_progress_to_one_and_its_result(traj, draw):
 
 
 def test_cancel_stops_an_endless_circle_at_once(traj, draw):
-    handle = send(traj, draw, trajectory='circle', size=1.0)  # turns 0: until cancelled
+    handle = send(traj, draw, trajectory='circle', size=1.0, forever=True)
     assert handle.accepted
     traj.spin_sim_seconds(2.0)
     cancel = handle.cancel_goal_async()
@@ -76,7 +76,7 @@ def test_cancel_stops_an_endless_circle_at_once(traj, draw):
 
 
 def test_one_run_at_a_time_across_the_action_and_the_services(traj, draw):
-    handle = send(traj, draw, trajectory='circle', size=1.0)
+    handle = send(traj, draw, trajectory='circle', size=1.0, forever=True)
     assert handle.accepted
     traj.spin_sim_seconds(0.5)
     busy = traj.call(GoTo, 'go_to', GoTo.Request(x=2.0, y=2.0))
@@ -96,6 +96,7 @@ def test_one_run_at_a_time_across_the_action_and_the_services(traj, draw):
     dict(trajectory='square', size=math.nan),
     dict(trajectory='go_to', x=50.0, y=5.0),
     dict(trajectory='follow_path'),
+    dict(trajectory='circle', turns=2.0, forever=True),
 ])
 def test_invalid_goals_are_rejected_and_the_node_still_works(traj, draw, fields):
     assert not send(traj, draw, **fields).accepted

@@ -1,11 +1,13 @@
 """`turtle-traj` against a running simulator and node (one subprocess), and without one."""
 
 import math
+import time
 
 import pytest
 
-from tests.ros_helpers import program
+from tests.ros_helpers import Terminal, program
 from turtle_traj import cli
+from turtle_traj.client import TrajClient
 from turtle_traj.wire import SPAWN_XY_M, WORLD_SIZE_M
 
 
@@ -24,7 +26,8 @@ def running_system(tmp_path_factory):
 @pytest.mark.parametrize(('argv', 'service', 'fields'), [
     (['draw', 'polygon', '--sides', '5', '--size', '1.5', '--clockwise'], 'draw_polygon',
      dict(sides=5, size=1.5, clockwise=True)),
-    (['draw', 'circle', '--size', '2', '--turns', '0'], 'draw_circle', dict(size=2.0)),
+    (['draw', 'circle', '--size', '2'], 'draw_circle', dict(size=2.0, turns=1.0, forever=False)),
+    (['draw', 'circle', '--forever'], 'draw_circle', dict(turns=0.0, forever=True)),
     (['go-to', '8', '2', '--theta', '90'], 'go_to',
      dict(x=8.0, y=2.0, use_theta=True, theta=math.pi / 2)),
     (['move', '2', '--backward'], 'move', dict(distance=-2.0)),
@@ -50,7 +53,7 @@ def test_bad_arguments_exit_with_usage(capsys):
 
 def test_no_node_answers_within_seconds(capsys):
     assert cli.main(['--node', '/nobody_here', '--wait', '1', 'draw', 'square']) == 2
-    assert 'no trajectory node answers on /nobody_here/draw_square' in capsys.readouterr().err
+    assert 'no trajectory node answers on /nobody_here/draw ' in capsys.readouterr().err
 
 
 def test_draw_and_refusal_against_a_running_system(running_system, capsys):
@@ -103,17 +106,42 @@ def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monke
     assert out.rstrip().endswith('bye')
 
 
-def test_expected_duration_is_the_kinematic_bound(running_system):
-    from turtle_traj_interfaces.srv import DrawShape
-
-    from turtle_traj.client import TrajClient
-
+def test_ctrl_c_cancels_the_goal_and_the_turtle_stands(running_system):
+    assert cli.main(['reset']) == 0
+    terminal = Terminal('turtle_traj.cli', 'draw', 'circle', '--size', '1', '--forever')
+    terminal.expect('circle lap [')  # the progress line, from the action's feedback
+    terminal.send('\x03')
+    assert terminal.finish() == 0  # a circle forever ends well when stopped
+    assert 'cancelled (interrupted): circle stopped by request' in terminal.output
+    assert 'Traceback' not in terminal.output
     with TrajClient() as client:
-        assert client.call('reset').success
-        bound = client.expected_duration('draw_square', DrawShape.Request(size=1.0))
-        # 4 m at 1 m/s plus three quarter turns at 2 rad/s (the default speeds)
-        assert bound == pytest.approx(4.0 + 3 * (math.pi / 2) / 2.0)
-        assert client.expected_duration('draw_square', DrawShape.Request(size=99.0)) is None
+        assert _standing(client)
+        assert client.call('stop').message == 'nothing was running; turtle stopped'
+
+
+def test_ctrl_c_in_the_menu_cancels_the_run_and_asks_again(running_system):
+    assert cli.main(['reset']) == 0
+    terminal = Terminal('turtle_traj.cli', 'menu')
+    for prompt, answer in [('choice: ', '5'), ('radius', '1'), ('clockwise', ''),
+                           ('until stopped', 'y'), ('top speed', '')]:
+        terminal.expect(prompt)
+        terminal.send(answer + '\n')
+    terminal.expect('circle lap [')
+    terminal.send('\x03')
+    terminal.expect('cancelled (interrupted): circle stopped by request')
+    terminal.expect('choice: ')  # the menu again
+    terminal.send('0\n')
+    assert terminal.finish() == 0
+    assert 'Traceback' not in terminal.output
+    with TrajClient() as client:
+        assert _standing(client)
+
+
+def _standing(client: TrajClient) -> bool:
+    """The turtle is where it was half a second ago."""
+    before = client.turtle_pose()
+    time.sleep(0.5)
+    return client.turtle_pose() == before
 
 
 def test_menu_enter_on_speed_keeps_the_nodes_parameter():

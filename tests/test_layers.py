@@ -23,7 +23,7 @@ LAYERS = [
     # 3: nodes put together, and the script-side client
     ['system', 'sim.main', 'node.main', 'client'],
     # 4: what people run
-    ['menu', 'cli', 'demo', '__main__', 'sim.__main__'],
+    ['console', 'menu', 'cli', 'demo', '__main__', 'sim.__main__'],
 ]
 LAYER_OF = {module: index for index, modules in enumerate(LAYERS) for module in modules}
 PURE = LAYERS[0]

@@ -56,6 +56,16 @@ def test_a_sketch_reads_only_the_fields_its_entry_lists(trajectory):
         pass  # a refusal is fine; an AttributeError would not be
 
 
+def test_a_circle_is_one_turn_unless_forever_is_asked_for():
+    one = BY_NAME['circle'].plan(SimpleNamespace(**{**vars(request('circle', size=1.0)),
+                                                   'turns': 0.0}), SPAWN, DEFAULT_SETTINGS)
+    assert not one.path.endless and one.path.length == pytest.approx(2 * math.pi, rel=1e-4)
+    assert plan('circle', size=1.0, turns=2.5).path.length == pytest.approx(5 * math.pi, rel=1e-4)
+    assert plan('circle', size=1.0, forever=True).path.endless  # --forever sends no turns
+    with pytest.raises(PlanError, match='turns 2 and forever contradict'):
+        plan('circle', size=1.0, turns=2.0, forever=True)
+
+
 def test_every_parameter_backed_field_takes_its_unit_and_range_from_the_table():
     specs = {spec.name: spec for spec in SPECS}
     for trajectory in TRAJECTORIES:

@@ -33,13 +33,14 @@ shape_requests = st.builds(
     sides=st.integers(3, 12), size=st.floats(0.0, 8.0), clockwise=st.booleans(),
     turns=st.floats(0.0, 3.0), growth=st.floats(0.0, 1.0), max_radius=st.floats(0.0, 6.0),
     frequency=st.floats(0.0, 3.0), length=st.floats(0.0, 10.0), linear_speed=st.just(0.0),
-    angular_speed=st.just(0.0))
+    angular_speed=st.just(0.0), forever=st.just(False))
 
 
 def shape(**fields) -> SimpleNamespace:
     """A DrawShape-like request: the given fields, every other one 0 (the default)."""
     values = dict(sides=0, size=0.0, clockwise=False, turns=0.0, growth=0.0, max_radius=0.0,
-                  frequency=0.0, length=0.0, linear_speed=0.0, angular_speed=0.0)
+                  frequency=0.0, length=0.0, linear_speed=0.0, angular_speed=0.0,
+                  forever=False)
     return SimpleNamespace(**{**values, **fields})
 
 

@@ -25,7 +25,8 @@ ARENA = SETTINGS.arena
 
 def shape(**fields) -> SimpleNamespace:
     values = dict(sides=0, size=0.0, clockwise=False, turns=0.0, growth=0.0, max_radius=0.0,
-                  frequency=0.0, length=0.0, linear_speed=0.0, angular_speed=0.0)
+                  frequency=0.0, length=0.0, linear_speed=0.0, angular_speed=0.0,
+                  forever=False)
     return SimpleNamespace(**{**values, **fields})
 
 
@@ -125,9 +126,9 @@ def test_settling_waits_for_standing_still_at_most_a_few_periods():
     assert run.ending == (True, 'rotate done')
 
 
-@pytest.mark.parametrize(('turns', 'success'), [(0.0, True), (1.0, False)])
-def test_a_stop_request_ends_only_an_endless_trajectory_successfully(turns, success):
-    run = Loop('circle', shape(size=1.0, turns=turns)).run
+@pytest.mark.parametrize(('forever', 'success'), [(True, True), (False, False)])
+def test_a_stop_request_ends_only_an_endless_trajectory_successfully(forever, success):
+    run = Loop('circle', shape(size=1.0, forever=forever)).run
     run.request_stop()
     run.end(True, 'later verdicts are ignored')
     assert run.ending == (success, 'circle stopped by request')

@@ -7,12 +7,14 @@ an option or argument per request field, plus stop, reset, menu, params and up.
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 from collections.abc import Sequence
 
-from turtle_traj.client import TrajClient, TrajClientError, report
+from turtle_traj.client import GoalRejected, Interrupted, TrajClient, TrajClientError
+from turtle_traj.console import ProgressLine, report
 from turtle_traj.menu import run_menu
-from turtle_traj.services import make_request
+from turtle_traj.services import make_goal, make_request
 from turtle_traj.sim.options import add_sim_options, options_from
 from turtle_traj.trajectories import BOOL, INT, POINTS, TRAJECTORIES, Field, Trajectory
 
@@ -78,8 +80,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument('--node', default='/turtle_traj',
                         help='trajectory node to call, with its namespace (default: '
                              '/turtle_traj; e.g. /sim1/turtle_traj)')
-    parser.add_argument('--timeout', type=float, default=300.0,
-                        help='give up after this many seconds (default: 300)')
+    parser.add_argument('--timeout', type=float, default=None,
+                        help='cancel the trajectory if it has not ended after this many '
+                             'seconds (default: no limit; Ctrl-C cancels it)')
     parser.add_argument('--wait', type=float, default=10.0,
                         help='seconds to wait for the node to be found (default: 10; a busy '
                              'machine can take several to discover it)')
@@ -113,35 +116,48 @@ def main(args: Sequence[str] | None = None) -> int:
     if options.command == 'up':
         from turtle_traj.node.main import Options, run  # loads the simulator: only here
         return run(Options(sim=options_from(options)))
+    # `kill` and a closed terminal stop the turtle as Ctrl-C does (the goal is cancelled).
+    for ending in (signal.SIGTERM, signal.SIGHUP):
+        signal.signal(ending, signal.default_int_handler)
     if options.command in ('menu', 'params'):
         return _run_session(options)
-    service, request = to_request(options)
-    interactive = sys.stderr.isatty()
-    expected = ''
-
-    def progress(seconds: float) -> None:
-        if interactive:
-            print(f'\r{service}: running {seconds:5.1f} s{expected}', end='', file=sys.stderr,
-                  flush=True)
-
+    trajectory = getattr(options, 'trajectory', None)
     try:
         with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
-            if interactive and request is not None:
-                bound = client.expected_duration(service, request)
-                expected = f' of at least {bound:.1f} s' if bound is not None else ''
-            response = client.call(service, request, timeout_s=options.timeout,
-                                   on_progress=progress)
+            if trajectory is None:  # stop, reset
+                response = client.call(options.command)
+                print(report(response), file=sys.stdout if response.success else sys.stderr)
+                return 0 if response.success else 1
+            return _draw(client, trajectory, options)
+    except GoalRejected as refusal:
+        print(f'refused: {refusal}', file=sys.stderr)
+        return 1
+    except Interrupted as interrupted:
+        print(interrupted, file=sys.stderr)
+        return 130
     except TrajClientError as error:
-        print(f'\nerror: {error}' if interactive else f'error: {error}', file=sys.stderr)
+        print(f'error: {error}', file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print('\ninterrupted (the trajectory goes on; `turtle-traj stop` stops it)',
+    except KeyboardInterrupt:  # a second Ctrl-C, while cancelling
+        print('\ninterrupted while cancelling: `turtle-traj stop` stops the turtle',
               file=sys.stderr)
         return 130
-    if interactive:
-        print('\r', end='', file=sys.stderr)
-    print(report(response), file=sys.stdout if response.success else sys.stderr)
-    return 0 if response.success else 1
+
+
+def _draw(client: TrajClient, trajectory: Trajectory, options: argparse.Namespace) -> int:
+    """Run one trajectory as a goal of the draw action, with a progress line; Ctrl-C cancels."""
+    goal = make_goal(trajectory, vars(options))
+    line = ProgressLine(trajectory.name, endless=bool(getattr(goal, 'forever', False)))
+    try:
+        outcome = client.draw(goal, on_feedback=line.show, timeout_s=options.timeout)
+    finally:
+        line.clear()
+    result = outcome.result
+    print(report(result, outcome.cancelled),
+          file=sys.stdout if result.success else sys.stderr)
+    if result.success:
+        return 0
+    return 130 if outcome.cancelled.startswith('interrupted') else 1
 
 
 def _run_session(options: argparse.Namespace) -> int:

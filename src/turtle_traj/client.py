@@ -9,25 +9,61 @@ import math
 import os
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import rclpy
+from action_msgs.msg import GoalStatus
+from rcl_interfaces.msg import Log
 from rcl_interfaces.msg import Parameter as ParameterMsg
+from rcl_interfaces.srv import GetParameters
+from rclpy.action import ActionClient
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.parameter import Parameter, get_parameter_value, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
+from rclpy.task import Future
 from rclpy.wait_for_message import wait_for_message
 from turtlesim.msg import Pose
 
 from turtle_traj.geometry.path import Pose2D
-from turtle_traj.planning import PlanError
-from turtle_traj.services import SERVICE_TYPES
-from turtle_traj.settings import settings_from_values
-from turtle_traj.trajectories import BY_SERVICE
+from turtle_traj.services import (
+    DRAW_ACTION,
+    DRAW_ACTION_TYPE,
+    GOAL_REJECTED,
+    SERVICE_TYPES,
+    interface,
+)
 
 
 class TrajClientError(RuntimeError):
     """The call could not be made or did not finish; the message says why."""
+
+
+class Interrupted(TrajClientError):
+    """Ctrl-C came before anything was started."""
+
+
+class GoalRejected(TrajClientError):
+    """The node rejected the goal; the message is the reason it logged."""
+
+
+_START_ONE = ('start one with `python -m turtle_traj --with-sim` (or `turtle-traj up`), and '
+              'check ROS_DOMAIN_ID')
+ANSWER_WAIT_S = 2.0  # a request not answered within this is sent again
+REQUEST_ATTEMPTS = 3
+_ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)
+FEEDBACK_SILENCE_S = 2.0  # no feedback for this long: ask whether the node still answers
+PROBE_TIMEOUT_S = 3.0  # no answer within this: the node is gone
+
+
+@dataclass(frozen=True)
+class DrawOutcome:
+    """How a draw goal ended: its result (Draw.Result), its GoalStatus, and, when this client
+    cancelled it, why."""
+
+    result: object
+    status: int
+    cancelled: str = ''
 
 
 class TrajClient:
@@ -41,6 +77,9 @@ class TrajClient:
         self._node = rclpy.create_node(f'turtle_traj_cli_{os.getpid()}', context=self._context)
         self._executor = SingleThreadedExecutor(context=self._context)
         self._executor.add_node(self._node)
+        self._action: ActionClient | None = None
+        self._probe_client = None
+        self._reasons: list[str] | None = None
 
     def __enter__(self) -> TrajClient:
         return self
@@ -48,11 +87,10 @@ class TrajClient:
     def __exit__(self, *exc_info: object) -> None:
         self.close()
 
-    def call(self, service: str, request=None, *, timeout_s: float = 300.0,
-             on_progress: Callable[[float], None] | None = None):
-        """Call `<node>/<service>` and return its response.
+    def call(self, service: str, request=None, *, timeout_s: float = 300.0):
+        """Call `<node>/<service>` and return its response (for trajectories, `draw` does more:
+        progress, cancel, a vanished node noticed).
 
-        :param on_progress: called about twice a second with the seconds waited so far.
         :raises TrajClientError: when no node answers or the call outlives `timeout_s`.
         """
         try:
@@ -64,24 +102,148 @@ class TrajClient:
         client = self._node.create_client(service_type, name)
         try:
             if not client.wait_for_service(timeout_sec=self.connect_timeout_s):
-                raise TrajClientError(
-                    f'no trajectory node answers on {name} (waited '
-                    f'{self.connect_timeout_s:g} s): start one with `python -m turtle_traj '
-                    '--with-sim` (or `turtle-traj up`), and check ROS_DOMAIN_ID')
+                raise TrajClientError(f'no trajectory node answers on {name} (waited '
+                                      f'{self.connect_timeout_s:g} s): {_START_ONE}')
             future = client.call_async(request if request is not None
                                        else service_type.Request())
-            start = last_report = time.monotonic()
-            while not future.done():
-                self._executor.spin_once(timeout_sec=0.1)
-                now = time.monotonic()
-                if now - start > timeout_s:
-                    raise TrajClientError(f'{name} did not answer within {timeout_s:g} s')
-                if on_progress is not None and now - last_report >= 0.5:
-                    on_progress(now - start)
-                    last_report = now
-            return future.result()
+            return self._wait(future, name, timeout_s)
         finally:
             self._node.destroy_client(client)
+
+    def draw(self, goal, *, on_feedback: Callable[[object], None] | None = None,
+             timeout_s: float | None = None) -> DrawOutcome:
+        """Run a goal of the node's draw action to its end and return how it ended.
+
+        Ctrl-C (KeyboardInterrupt) while it runs, or `timeout_s` wall seconds, cancel the goal:
+        the turtle stops and the outcome says why it was cancelled.
+
+        :param on_feedback: called with each Draw.Feedback (at least 5 Hz of the node's clock).
+        :raises TrajClientError: no node, the goal rejected (with the node's reason), or the
+            node gone mid-run (noticed within about `FEEDBACK_SILENCE_S + PROBE_TIMEOUT_S`).
+        """
+        action = self._draw_action()
+        reasons = self._rejection_reasons()
+        try:
+            found = action.wait_for_server(timeout_sec=self.connect_timeout_s)
+        except KeyboardInterrupt:
+            raise Interrupted('interrupted before the goal was sent: nothing runs') from None
+        if not found:
+            raise TrajClientError(
+                f'no trajectory node answers on {self.node_name}/{DRAW_ACTION} (waited '
+                f'{self.connect_timeout_s:g} s): {_START_ONE}')
+        heard = [time.monotonic()]
+
+        def feedback(message) -> None:
+            heard[0] = time.monotonic()
+            if on_feedback is not None:
+                on_feedback(message.feedback)
+        sent: list[Future] = []
+        try:
+            handle = self._answer(lambda: action.send_goal_async(goal, feedback_callback=feedback),
+                                  'the draw action', sent)
+            if not handle.accepted:
+                raise GoalRejected(self._rejection_reason(reasons))
+            result = self._follow(goal.trajectory, handle, heard, timeout_s)
+        except KeyboardInterrupt:
+            return self._cancel(sent, 'interrupted')
+        except TimeoutError:
+            return self._cancel(sent, f'not done within {timeout_s:g} s')
+        return DrawOutcome(result.result, result.status)
+
+    def _answer(self, send: Callable[[], Future], what: str, sent: list[Future] | None = None):
+        """The first answer to a request, sent again while none comes: DDS loses a request or
+        its response when the endpoints have been discovered but are not matched yet, and a
+        node that lost either has done nothing.
+
+        :param sent: where the futures of the requests sent are kept, for the caller.
+        """
+        sent = [] if sent is None else sent
+        sent_at = -math.inf
+        while True:
+            for future in sent:
+                if future.done():
+                    return future.result()
+            if time.monotonic() - sent_at >= ANSWER_WAIT_S:
+                if len(sent) == REQUEST_ATTEMPTS:
+                    raise TrajClientError(f'{what} did not answer ({REQUEST_ATTEMPTS} requests, '
+                                          f'{REQUEST_ATTEMPTS * ANSWER_WAIT_S:g} s)')
+                sent.append(send())
+                sent_at = time.monotonic()
+            self._executor.spin_once(timeout_sec=0.05)
+
+    def _follow(self, name: str, handle, heard: list[float], timeout_s: float | None):
+        """Spin until the goal's result arrives and return it; TimeoutError after `timeout_s`;
+        TrajClientError when the node vanished."""
+        start = time.monotonic()
+        result, asked_at = handle.get_result_async(), start
+        probe = None
+        while not result.done():
+            self._executor.spin_once(timeout_sec=0.1)
+            now = time.monotonic()
+            if timeout_s is not None and now - start > timeout_s:
+                raise TimeoutError
+            if handle.status in _ENDED and now - asked_at > ANSWER_WAIT_S:
+                result, asked_at = handle.get_result_async(), now  # that request was lost
+            if not self._draw_action().server_is_ready():
+                raise TrajClientError(f'{self.node_name} left during the {name}: it was shut '
+                                      'down')
+            if now - heard[0] < FEEDBACK_SILENCE_S:
+                continue
+            if probe is None:  # silent: does the node still answer at all?
+                probe = (self._probe().call_async(GetParameters.Request(names=['turtle_name'])),
+                         now)
+            elif probe[0].done():
+                heard[0], probe = now, None
+            elif now - probe[1] > PROBE_TIMEOUT_S:
+                raise TrajClientError(
+                    f'{self.node_name} stopped answering during the {name} (no feedback for '
+                    f'{now - heard[0]:.0f} s, no reply to a parameter request): it was probably '
+                    "killed. The turtle stops 1 s after the node's last command (turtlesim's "
+                    f'command timeout); {_START_ONE}')
+        return result.result()
+
+    def _cancel(self, sent: list[Future], why: str) -> DrawOutcome:
+        """Cancel a goal sent (once the node has answered it) and wait for its end."""
+        deadline = time.monotonic() + ANSWER_WAIT_S
+        while not any(future.done() for future in sent) and time.monotonic() < deadline:
+            self._executor.spin_once(timeout_sec=0.05)
+        handle = next((future.result() for future in sent if future.done()), None)
+        if handle is None or not handle.accepted:
+            raise Interrupted(f'{why} before the node accepted the goal: nothing runs')
+        self._answer(handle.cancel_goal_async, 'the cancel request')
+        result = self._answer(handle.get_result_async, 'the cancelled goal')
+        return DrawOutcome(result.result, result.status, cancelled=why)
+
+    def _draw_action(self) -> ActionClient:
+        if self._action is None:
+            self._action = ActionClient(self._node, interface(DRAW_ACTION_TYPE),
+                                        f'{self.node_name}/{DRAW_ACTION}')
+        return self._action
+
+    def _probe(self):
+        if self._probe_client is None:
+            self._probe_client = self._node.create_client(
+                GetParameters, f'{self.node_name}/get_parameters')
+        return self._probe_client
+
+    def _rejection_reasons(self) -> list[str]:
+        """Collects, from /rosout, the reasons the node logs when it rejects a goal."""
+        if self._reasons is None:
+            self._reasons = []
+            logger = self.node_name.lstrip('/').replace('/', '.')
+
+            def heard(entry: Log) -> None:
+                if entry.name == logger and entry.msg.startswith(GOAL_REJECTED):
+                    self._reasons.append(entry.msg.removeprefix(GOAL_REJECTED))
+            self._node.create_subscription(Log, '/rosout', heard, 100)
+        self._reasons.clear()
+        return self._reasons
+
+    def _rejection_reason(self, reasons: list[str]) -> str:
+        deadline = time.monotonic() + 1.0  # the log line travels on its own topic
+        while not reasons and time.monotonic() < deadline:
+            self._executor.spin_once(timeout_sec=0.05)
+        return reasons[-1] if reasons else "the node's log says why"
 
     def _wait(self, future, what: str, timeout_s: float = 5.0):
         deadline = time.monotonic() + timeout_s
@@ -125,35 +287,8 @@ class TrajClient:
                                        time_to_wait=1.0)
         return Pose2D(pose.x, pose.y, pose.theta) if found else None
 
-    def expected_duration(self, service: str, request) -> float | None:
-        """Lower bound of a trajectory call's duration (node clock), planned as the node will.
-
-        None when it cannot be known here (no pose, or a request the node will refuse).
-        """
-        try:
-            values = self.parameters()
-            pose = self.turtle_pose(values)
-            if pose is None:
-                return None
-            settings = settings_from_values(values)
-            plan = BY_SERVICE[service].plan(request, pose, settings)
-        except (TrajClientError, PlanError, KeyError):
-            return None
-        return plan.lower_bound_s(settings)
-
     def close(self) -> None:
         self._executor.shutdown()
         self._node.destroy_node()
         rclpy.try_shutdown(context=self._context)
 
-
-def report(response) -> str:
-    """Human-readable result of a trajectory call."""
-    lines = [('done: ' if response.success else 'failed: ') + response.message]
-    if hasattr(response, 'final_x'):
-        lines.append(f'  final pose  x={response.final_x:.3f} m  y={response.final_y:.3f} m  '
-                     f'theta={math.degrees(response.final_theta):.1f} deg')
-        lines.append(f'  elapsed {response.elapsed:.2f} s, path {response.path_length:.2f} m, '
-                     f'max deviation {response.max_deviation:.4f} m, final error '
-                     f'{response.final_error:.4f} m')
-    return '\n'.join(lines)

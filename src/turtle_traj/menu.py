@@ -3,7 +3,9 @@
 Every field is asked with its default and the range valid from where the turtle stands (a size
 up to the largest that fits); a bad answer is asked again, and Ctrl-D or Ctrl-C at a prompt
 leaves the menu cleanly. Enter on a field backed by a node parameter sends 0, "use your
-parameter", and the prompt shows that parameter's live value.
+parameter", and the prompt shows that parameter's live value. A trajectory runs as a goal of
+the node's draw action with a progress line; Ctrl-C while it runs cancels it (the turtle
+stops) and comes back to the menu.
 """
 
 from __future__ import annotations
@@ -14,9 +16,10 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Any
 
-from turtle_traj.client import TrajClient, TrajClientError, report
+from turtle_traj.client import GoalRejected, TrajClient, TrajClientError
+from turtle_traj.console import ProgressLine, report
 from turtle_traj.geometry.path import Pose2D
-from turtle_traj.services import make_request
+from turtle_traj.services import make_goal
 from turtle_traj.settings import Settings, settings_from_values
 from turtle_traj.trajectories import BOOL, INT, POINTS, TRAJECTORIES, Field, Trajectory
 
@@ -115,6 +118,36 @@ def _live(client: TrajClient) -> Live:
     return Live(parameters, settings_from_values(parameters), client.turtle_pose(parameters))
 
 
+def _say_call(client: TrajClient, service: str, say: Callable[[str], None]) -> None:
+    try:
+        say(report(client.call(service)))
+    except TrajClientError as error:
+        say(f'  error: {error}')
+
+
+def _run(client: TrajClient, trajectory: Trajectory, ask: Callable[[str], str],
+         say: Callable[[str], None]) -> None:
+    """Ask a trajectory's fields and run it as a draw goal; Ctrl-C while it runs cancels it."""
+    live, answers = _live(client), {}
+    for item in trajectory.fields:
+        if item.menu and not any(answers.get(other.name) for other in trajectory.fields
+                                 if other.excludes == item.name):
+            answers[item.name] = ask_field(trajectory, item, answers, live, ask, say)
+    goal = make_goal(trajectory, answers)
+    line = ProgressLine(trajectory.name, endless=bool(getattr(goal, 'forever', False)))
+    try:
+        outcome = client.draw(goal, on_feedback=line.show)
+    except GoalRejected as refusal:
+        say(f'  refused: {refusal}')
+        return
+    except TrajClientError as error:
+        say(f'  error: {error}')
+        return
+    finally:
+        line.clear()
+    say(report(outcome.result, outcome.cancelled))
+
+
 def run_menu(client: TrajClient, ask: Callable[[str], str] = input,
              say: Callable[[str], None] = print) -> int:
     """The menu loop; returns the exit code."""
@@ -127,23 +160,11 @@ def run_menu(client: TrajClient, ask: Callable[[str], str] = input,
             if key == EXIT_KEY:
                 return 0
             if key == RESET_KEY:
-                service, request = 'reset', None
+                _say_call(client, 'reset', say)
             elif key in CHOICES:
-                trajectory = CHOICES[key]
-                live, answers = _live(client), {}
-                for item in trajectory.fields:
-                    if item.menu:
-                        answers[item.name] = ask_field(trajectory, item, answers, live, ask,
-                                                       say)
-                service, request = trajectory.service, make_request(trajectory, answers)
+                _run(client, CHOICES[key], ask, say)
             else:
                 say(f'  unknown choice {key!r}')
-                continue
-            say(f'  running {service} ...')
-            try:
-                say(report(client.call(service, request)))
-            except TrajClientError as error:
-                say(f'  error: {error}')
-    except _Leave:
+    except (_Leave, KeyboardInterrupt):  # Ctrl-D or Ctrl-C at a prompt, or twice in a run
         say('\nbye')
         return 0

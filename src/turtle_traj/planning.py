@@ -174,7 +174,12 @@ def sketch_polygon(request: Any, start: Pose2D, settings: Settings, *,
 
 
 def sketch_circle(request: Any, start: Pose2D, settings: Settings) -> Sketch:
-    turns = _non_negative('turns', request.turns, 0.0, 'turns', shapes.MAX_TURNS)
+    turns = _non_negative('turns', request.turns, 1.0, 'turns', shapes.MAX_TURNS)
+    if request.forever:
+        if request.turns:
+            raise PlanError(f'turns {request.turns:g} and forever contradict each other: give '
+                            'one of them')
+        turns = 0.0  # endless: until stopped
     radius = _non_negative('size', request.size, settings.defaults.radius, 'm',
                            _diagonal(settings.arena) / 2)
 

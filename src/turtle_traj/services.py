@@ -1,7 +1,7 @@
 """The registry's trajectories as ROS services: their types and requests.
 
 The node's services are private (`<node>/<service>`); besides one per trajectory it has `stop`
-and `reset` (std_srvs/srv/Trigger).
+and `reset` (std_srvs/srv/Trigger). Its action `<node>/draw` runs any trajectory as a goal.
 """
 
 from __future__ import annotations
@@ -25,15 +25,28 @@ def service_type(trajectory: Trajectory) -> type:
     return interface(trajectory.service_type)
 
 
-def make_request(trajectory: Trajectory, given: Mapping[str, Any]):
-    """The service request for values as entered (see `Trajectory.request_values`)."""
+def _message_values(trajectory: Trajectory, given: Mapping[str, Any]) -> dict[str, Any]:
     values = trajectory.request_values(given)
     for item in trajectory.fields:
         if item.type == POINTS and item.name in values:
             values[item.name] = [Point(x=float(x), y=float(y)) for x, y in values[item.name]]
-    return service_type(trajectory).Request(**values)
+    return values
 
 
+def make_request(trajectory: Trajectory, given: Mapping[str, Any]):
+    """The service request for values as entered (see `Trajectory.request_values`)."""
+    return service_type(trajectory).Request(**_message_values(trajectory, given))
+
+
+def make_goal(trajectory: Trajectory, given: Mapping[str, Any]):
+    """The draw action's goal for values as entered: the same fields as the service request."""
+    return interface(DRAW_ACTION_TYPE).Goal(trajectory=trajectory.name,
+                                            **_message_values(trajectory, given))
+
+
+DRAW_ACTION, DRAW_ACTION_TYPE = 'draw', 'turtle_traj_interfaces/action/Draw'
+# A rejected goal carries no reason; the node logs it (and so publishes it on /rosout) thus.
+GOAL_REJECTED = 'draw goal rejected: '
 COMMAND_SERVICES = {'stop': 'std_srvs/srv/Trigger', 'reset': 'std_srvs/srv/Trigger'}
 SERVICE_TYPES: dict[str, type] = {
     **{trajectory.service: service_type(trajectory) for trajectory in TRAJECTORIES},

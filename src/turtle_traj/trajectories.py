@@ -44,6 +44,7 @@ class Field:
     flag: str = ''  # command-line option, when not --<name>
     menu: bool = True  # asked in the menu (False: command line only)
     axis: str = ''  # 'x' or 'y': a coordinate, within the arena's bounds on that axis
+    excludes: str = ''  # a field sent as 0, not its default, when this flag is true
 
     def __post_init__(self) -> None:
         if self.parameter:
@@ -101,10 +102,14 @@ class Trajectory:
     def request_values(self, given: Mapping[str, Any]) -> dict[str, Any]:
         """Request field values from values as entered (missing ones take their defaults)."""
         values = {}
+        excluded = {item.excludes for item in self.fields
+                    if item.excludes and given.get(item.name)}
         for item in self.fields:
             value = given.get(item.name)
             if value is None:
-                if item.default is not None:
+                if item.name in excluded:
+                    values[item.name] = 0.0
+                elif item.default is not None:
                     values[item.name] = item.default
                 if item.given:
                     values[item.given] = False
@@ -165,8 +170,10 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
         'circle', 'draw_circle', _DRAW_SHAPE, planning.sketch_circle,
         'drive a circle to the left (or right) of the turtle',
         (_size('radius', 'default_radius'), CLOCKWISE,
-         Field('turns', 'number of turns (0: until stopped)', 'turns', default=1.0, low=0.0,
-               high=100.0), *_SHAPE_SPEEDS),
+         Field('forever', 'circle until stopped (Ctrl-C, cancel or the stop service)',
+               type=BOOL, default=False, excludes='turns'),
+         Field('turns', 'number of turns', 'turns', default=1.0, low=0.01, high=100.0),
+         *_SHAPE_SPEEDS),
         ('draw', 'circle'), Example((5.5, 3.0, 0.0), {'size': 2.5})),
     Trajectory(
         'spiral', 'draw_spiral', _DRAW_SHAPE, planning.sketch_spiral,

@@ -34,7 +34,7 @@ from turtle_traj.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.node import parameters
 from turtle_traj.planning import PlanError
-from turtle_traj.services import service_type
+from turtle_traj.services import DRAW_ACTION, GOAL_REJECTED, service_type
 from turtle_traj.trajectories import BY_NAME, TRAJECTORIES, Trajectory
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
@@ -96,8 +96,9 @@ class TrajectoryNode(Node):
         for trajectory in TRAJECTORIES:
             self.create_service(service_type(trajectory), f'~/{trajectory.service}',
                                 partial(self._execute, trajectory), callback_group=group)
-        ActionServer(self, Draw, '~/draw', self._execute_goal, goal_callback=self._on_goal,
-                     cancel_callback=self._on_cancel, callback_group=group)
+        ActionServer(self, Draw, f'~/{DRAW_ACTION}', self._execute_goal,
+                     goal_callback=self._on_goal, cancel_callback=self._on_cancel,
+                     callback_group=group)
         self.create_service(Trigger, '~/stop', self._handle_stop, callback_group=group)
         self.create_service(Trigger, '~/reset', self._handle_reset, callback_group=group)
         self.stop_service = self.resolve_service_name('~/stop')
@@ -265,7 +266,7 @@ class TrajectoryNode(Node):
                 reason = f'{trajectory.name} refused: {error}'
         if reason is None:
             return GoalResponse.ACCEPT
-        self.get_logger().warning(f'draw goal rejected: {reason}')
+        self.get_logger().warning(GOAL_REJECTED + reason)
         return GoalResponse.REJECT
 
     def _on_cancel(self, goal_handle: ServerGoalHandle) -> CancelResponse:

@@ -1,0 +1,60 @@
+"""What the command line and the menu print about a run: a progress line fed by the draw
+action's feedback, and the report of its result."""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from typing import TextIO
+
+BAR_WIDTH = 24
+
+
+def progress_text(name: str, feedback, *, endless: bool) -> str:
+    """One line for a Draw.Feedback: bar, percent, distance, elapsed, deviation."""
+    filled = round(feedback.progress * BAR_WIDTH)
+    bar = '#' * filled + '-' * (BAR_WIDTH - filled)
+    lap = ' lap' if endless else ''
+    text = (f'{name}{lap} [{bar}] {feedback.progress * 100:3.0f}%  {feedback.distance:6.2f} m  '
+            f'{feedback.elapsed:6.1f} s  deviation {feedback.deviation * 1000:5.1f} mm')
+    return text + ('  (Ctrl-C stops it)' if endless else '')
+
+
+class ProgressLine:
+    """A line rewritten in place on a terminal, at most ten times a second; silent when the
+    stream is not a terminal (a pipe or a log file gets only the report)."""
+
+    def __init__(self, name: str, *, endless: bool = False, stream: TextIO | None = None) -> None:
+        self.name, self.endless = name, endless
+        self.stream = stream if stream is not None else sys.stderr
+        self.enabled = self.stream.isatty()
+        self._shown_at = -math.inf
+
+    def show(self, feedback) -> None:
+        now = time.monotonic()
+        if self.enabled and now - self._shown_at >= 0.1:
+            self._shown_at = now
+            self.stream.write('\r\x1b[K' + progress_text(self.name, feedback,
+                                                         endless=self.endless))
+            self.stream.flush()
+
+    def clear(self) -> None:
+        if self.enabled and self._shown_at > -math.inf:
+            self.stream.write('\r\x1b[K')
+            self.stream.flush()
+            self._shown_at = -math.inf
+
+
+def report(result, cancelled: str = '') -> str:
+    """Human-readable result of a trajectory (a service response or a Draw.Result)."""
+    verdict = (f'cancelled ({cancelled}): ' if cancelled
+               else 'done: ' if result.success else 'failed: ')
+    lines = [verdict + result.message]
+    if hasattr(result, 'final_x'):
+        lines.append(f'  final pose  x={result.final_x:.3f} m  y={result.final_y:.3f} m  '
+                     f'theta={math.degrees(result.final_theta):.1f} deg')
+        lines.append(f'  elapsed {result.elapsed:.2f} s, path {result.path_length:.2f} m, '
+                     f'max deviation {result.max_deviation:.4f} m, final error '
+                     f'{result.final_error:.4f} m')
+    return '\n'.join(lines)
