@@ -40,7 +40,8 @@ class Terminal:
 
     def __init__(self, *args: str) -> None:
         self.pid, self._fd = pty.fork()
-        if self.pid == 0:  # the child: become the program
+        if self.pid == 0:  # the child: become the program, Ctrl-C live as at a keyboard
+            signal.signal(signal.SIGINT, signal.SIG_DFL)  # a background job's is ignored
             os.execv(sys.executable, [sys.executable, '-m', *args])
         self.output = ''
         self._seen = 0  # where the next `expect` starts looking

@@ -1,7 +1,10 @@
 """`turtle-traj` against a running simulator and node (one subprocess), and without one."""
 
 import math
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -174,3 +177,55 @@ def test_menu_enter_uses_the_nodes_live_default_size(running_system, monkeypatch
         assert 'path 5.00 m' in out  # four sides of 1.25 m: the node's value, not 2 m
     finally:
         assert cli.main(['params', 'default_side_length', '2.0']) == 0
+
+
+def _readme_python_example() -> str:
+    readme = (Path(__file__).resolve().parents[1] / 'README.md').read_text()
+    return readme.split('#### From Python\n\n```python\n', 1)[1].split('```', 1)[0]
+
+
+def test_the_readmes_python_example_runs_as_written(running_system):
+    assert cli.main(['reset']) == 0
+    ran = subprocess.run([sys.executable, '-c', _readme_python_example()], capture_output=True,
+                         text=True, timeout=120)
+    assert ran.returncode == 0, ran.stderr
+    assert ran.stdout.startswith('True square done ')
+
+
+def test_the_readmes_python_example_says_when_no_node_runs():
+    script = _readme_python_example().replace('/turtle_traj/', '/nobody_here/')
+    ran = subprocess.run([sys.executable, '-c', script], capture_output=True, text=True,
+                         timeout=60)
+    assert ran.returncode == 1
+    assert ran.stderr.strip() == ('no /nobody_here/draw_square: is the node running (and '
+                                  'ROS_DOMAIN_ID right)?')
+
+
+def test_params_reads_one_converts_to_the_declared_type_and_names_unknown_ones(
+        running_system, capsys):
+    assert cli.main(['params', 'linear_speed']) == 0
+    assert capsys.readouterr().out == 'linear_speed: 1.0\n'
+    assert cli.main(['params', 'linear_speed', '2']) == 0  # an integer literal, to a double
+    assert cli.main(['params', 'position_tolerance', '1e-3']) == 0  # not a string
+    assert cli.main(['params', 'position_tolerance']) == 0
+    assert capsys.readouterr().out.endswith('position_tolerance: 0.001\n')
+    assert cli.main(['params', 'linear_speed', '100']) == 1
+    assert 'out of range' in capsys.readouterr().err  # the range message shows
+    assert cli.main(['params', 'linear_speed', 'fast']) == 1
+    assert "linear_speed: expects a number, got 'fast'" in capsys.readouterr().err
+    assert cli.main(['params', 'blob', '3']) == 2
+    assert 'has no parameter blob; it has: angular_deceleration' in capsys.readouterr().err
+    assert cli.main(['params', 'arena_max_x', '5.0']) == 1  # the turtle stands at x = 5.54
+    assert 'outside the room this arena leaves' in capsys.readouterr().err
+    for name, value in [('linear_speed', '1.0'), ('position_tolerance', '0.0005')]:
+        assert cli.main(['params', name, value]) == 0
+
+
+def test_no_progress_line_without_a_terminal(running_system, capsys):
+    assert cli.main(['reset']) == 0
+    capsys.readouterr()
+    assert cli.main(['rotate', '90', '--timeout', '60']) == 0  # options after the command too
+    captured = capsys.readouterr()
+    assert captured.err == '' and '\r' not in captured.out
+    assert captured.out.startswith('done: rotate done')
+    assert 'heading error' in captured.out

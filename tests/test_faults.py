@@ -97,7 +97,7 @@ def test_hostile_simulator_requests_leave_it_working(traj):
 
 @pytest.mark.parametrize(('service_type', 'name', 'request_fields'), [
     (Move, 'rotate', dict(angle=6.0)),                      # in-place turn
-    (DrawShape, 'draw_circle', dict(size=1.0)),             # continuous curve (endless)
+    (DrawShape, 'draw_circle', dict(size=1.0, forever=True)),  # continuous curve (endless)
     (GoTo, 'go_to', dict(x=9.0, y=2.0)),                    # turn, then straight
 ])
 def test_stop_in_each_kind_of_phase_leaves_the_turtle_still(traj, service_type, name,
@@ -135,7 +135,7 @@ def test_sigterm_mid_run_sends_a_final_stop_command(ros_context, tmp_path):
             poses = []
             observer.create_subscription(Pose, 'turtle1/pose', poses.append, TURTLE_TOPIC_QOS)
             assert spin_until(executor, lambda: len(poses) > 10, timeout_s=10.0)
-            client.call_async(DrawShape.Request(size=1.0))  # endless circle
+            client.call_async(DrawShape.Request(size=1.0, forever=True))
             assert spin_until(executor, lambda: any(c.linear.x > 0 for c in commands),
                               timeout_s=10.0)
             stderr = terminate(process)

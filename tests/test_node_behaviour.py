@@ -53,7 +53,7 @@ def test_bad_requests_are_refused_and_the_node_still_works(traj, service, servic
 
 
 def test_busy_refusal_names_the_runner_and_stop_ends_it(traj):
-    circling = traj.start(DrawShape, 'draw_circle', DrawShape.Request(size=1.0))  # endless
+    circling = traj.start(DrawShape, 'draw_circle', DrawShape.Request(size=1.0, forever=True))
     assert traj.spin_until(lambda: traj.node.busy)
     traj.spin_sim_seconds(2.0)
     busy = traj.call(GoTo, 'go_to', GoTo.Request(x=2.0, y=2.0))

@@ -78,7 +78,7 @@ def test_every_parameter_backed_field_takes_its_unit_and_range_from_the_table():
 @pytest.mark.parametrize(('name', 'given', 'reason'), [
     ('square', dict(size=math.nan), 'size must be a finite number'),
     ('circle', dict(size=-1.0), 'size must be at least 0.001 m'),
-    ('circle', dict(size=1e308), 'too large'),
+    ('circle', dict(size=1e308), f'the largest that fits from here is {ROOM / 2:.2f}'),
     ('square', dict(size=5e-324), 'size must be at least'),
     ('polygon', dict(sides=2), 'needs 3 to'),
     ('polygon', dict(sides=4_000_000_000), 'needs 3 to'),
@@ -92,7 +92,9 @@ def test_every_parameter_backed_field_takes_its_unit_and_range_from_the_table():
     ('go_to', dict(x=8.0, y=8.0, theta=math.nan), 'theta must be a finite number'),
     ('move', dict(distance=0.0), 'distance must be at least'),
     ('move', dict(distance=9.0), f'the largest that fits from here is {ROOM:.2f}'),
-    ('move', dict(distance=20.0), 'longer than the arena diagonal'),
+    ('move', dict(distance=20.0), f'the largest that fits from here is {ROOM:.2f}'),
+    ('square', dict(size=20.0), f'the largest that fits from here is {ROOM:.2f}'),
+    ('spiral', dict(growth=1.0, turns=20.0), '5.1 turns fit from here'),
     ('rotate', dict(angle=math.nan), 'angle must be a finite number'),
     ('rotate', dict(angle=1e9), 'more than 100 turns'),
     ('follow_path', dict(points=[]), 'points is empty'),
@@ -138,3 +140,10 @@ def test_a_zero_field_stands_for_the_parameter():
 def test_arena_parameters_must_leave_room(changes, problem):
     found = arena_problem({**DEFAULTS, **changes})
     assert (found is None) if problem is None else (problem in found)
+
+
+def test_an_arena_must_keep_the_turtle_inside():
+    smaller = {**DEFAULTS, 'arena_max_x': 5.0}
+    assert arena_problem(smaller) is None
+    assert 'the turtle stands at (5.54, 5.54), outside' in arena_problem(smaller, SPAWN)
+    assert arena_problem(smaller, Pose2D(4.0, 5.5, 0.0)) is None

@@ -57,7 +57,7 @@ class Loop:
             self.latency.observe(float(np.float32(turtle.linear_speed)),
                                  float(np.float32(turtle.omega)))
             standing = turtle.linear_speed == 0.0 and turtle.omega == 0.0
-            command = run.command(pose, standing, SETTINGS.control, ARENA)
+            command = run.command(pose, standing, SETTINGS.control, ARENA, step * STEP_S)
             if run.ending is not None:
                 return poses
             self.latency.sent(command)
@@ -86,7 +86,7 @@ def test_a_circle_keeps_its_radius_on_the_physics():
     radii = [math.dist((p.x, p.y), (5.5, 7.0)) for p in poses]
     assert max(abs(r - 1.5) for r in radii) < 1e-3
     assert run.ending[0]
-    assert run.follower.max_deviation < 1e-3
+    assert run.max_deviation < 1e-3
 
 
 def test_a_jump_aborts_the_run():
@@ -119,11 +119,12 @@ def test_settling_waits_for_standing_still_at_most_a_few_periods():
     run = Loop('rotate', SimpleNamespace(angle=0.5, speed=0.0)).run
     run.follower.leg_index = len(run.plan.path.legs)  # the path is done
     pose = Pose2D(5.5, 5.5, 0.5)
-    for _ in range(SETTLE_PERIODS):
-        run.command(pose, False, SETTINGS.control, ARENA)
+    for period in range(SETTLE_PERIODS):
+        run.command(pose, False, SETTINGS.control, ARENA, period * 0.016)
     assert run.ending is None  # still moving: keep waiting
-    run.command(pose, False, SETTINGS.control, ARENA)
+    run.command(pose, False, SETTINGS.control, ARENA, 1.0)
     assert run.ending == (True, 'rotate done')
+    assert run.outcome(pose, now_s=1.0).elapsed_s == 0.0  # the settling is not counted
 
 
 @pytest.mark.parametrize(('forever', 'success'), [(True, True), (False, False)])
@@ -141,3 +142,54 @@ def test_the_plans_speeds_override_the_nodes_live_ones():
     assert plan.control(SETTINGS.control).angular_speed == SETTINGS.control.angular_speed
     default = Plan('move', plan.path)
     assert default.lower_bound_s(SETTINGS) == pytest.approx(1.0 / SETTINGS.control.linear_speed)
+
+
+# -- the figures of the report, against an independent measurement of the poses ------------
+
+def _xy(poses: list[Pose2D]) -> np.ndarray:
+    return np.array([(p.x, p.y) for p in poses])
+
+
+def test_the_deviation_of_a_square_is_its_distance_from_the_square_as_drawn():
+    loop = Loop('square', shape(size=2.0), 4.0, 4.0)
+    poses = loop.drive()
+    corners = regular_polygon(4.0, 4.0, 0.0, 4, 2.0, False)
+    measured = distance_to_polyline(_xy(poses), corners).max()
+    # stopping a little short of a corner and turning there is not a deviation from the square
+    assert loop.run.max_deviation == pytest.approx(measured, abs=1e-9)
+
+
+def test_a_rotation_reports_its_heading_error():
+    loop = Loop('rotate', SimpleNamespace(angle=1.0, speed=0.0), theta=0.2)
+    poses = loop.drive()
+    outcome = loop.run.outcome(poses[-1], now_s=len(poses) * STEP_S)
+    assert outcome.final_heading_error == pytest.approx(poses[-1].theta - 1.2, abs=1e-12)
+    assert outcome.final_error < 1e-9 and abs(outcome.final_heading_error) < 0.01
+
+
+def test_a_move_pushed_sideways_reports_the_drift():
+    loop = Loop('move', SimpleNamespace(distance=3.0, speed=0.0), 4.0, 5.0)
+
+    def push(step, turtle):
+        if step == 60:
+            turtle.y += 0.004  # 4 mm sideways, mid-way
+    poses = loop.drive(disturb=push)
+    drift = np.abs(_xy(poses)[:, 1] - 5.0).max()
+    assert drift >= 0.003
+    assert loop.run.max_deviation == pytest.approx(drift, abs=1e-9)
+
+
+def test_a_circle_stopped_by_request_reports_what_was_driven():
+    loop = Loop('circle', shape(size=1.0, forever=True))
+
+    def stop_later(step, turtle):
+        if step == 500:  # 8 s: more than one lap
+            loop.run.request_stop()
+    poses = loop.drive(disturb=stop_later)
+    outcome = loop.run.outcome(poses[-1], now_s=len(poses) * STEP_S)
+    driven = np.hypot(*np.diff(_xy(poses), axis=0).T).sum()
+    assert outcome.success and outcome.path_length == pytest.approx(driven, rel=1e-6)
+    assert outcome.path_length > 2 * math.pi  # not one fixed lap
+    radius = math.dist((poses[-1].x, poses[-1].y), (5.5, 6.5))
+    assert outcome.final_error == pytest.approx(abs(radius - 1.0), abs=1e-4)  # off the path
+    assert outcome.final_heading_error == 0.0

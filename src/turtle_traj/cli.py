@@ -10,6 +10,7 @@ import argparse
 import signal
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from turtle_traj.client import GoalRejected, Interrupted, TrajClient, TrajClientError
 from turtle_traj.console import ProgressLine, report
@@ -42,8 +43,11 @@ def _add_field(parser: argparse.ArgumentParser, item: Field) -> None:
         parser.add_argument(item.option, dest=item.name, action='store_true',
                             help=_field_help(item))
     elif item.type == POINTS:
-        parser.add_argument(item.name, type=_point, nargs='+', metavar='X,Y',
+        parser.add_argument(item.name, type=_point, nargs='*', metavar='X,Y',
                             help=_field_help(item))
+        parser.add_argument('--file', dest=f'{item.name}_file', type=Path, metavar='FILE',
+                            help='read (more) points from FILE: one x,y (or x y) per line, '
+                                 '# comments')
     elif item.positional:
         parser.add_argument(item.name, type=int if item.type == INT else float,
                             metavar=item.name.upper(), help=_field_help(item))
@@ -53,6 +57,21 @@ def _add_field(parser: argparse.ArgumentParser, item: Field) -> None:
     if item.negate:
         parser.add_argument(f'--{item.negate}', action='store_true',
                             help=f'the other way (negates {item.name.upper()})')
+
+
+def _add_connection_options(parser: argparse.ArgumentParser, defaults: bool = False) -> None:
+    """--node, --timeout and --wait, before the command (with their defaults) or after it."""
+    def default(value: object) -> object:
+        return value if defaults else argparse.SUPPRESS
+    parser.add_argument('--node', default=default('/turtle_traj'),
+                        help='trajectory node to call, with its namespace (default: '
+                             '/turtle_traj; e.g. /sim1/turtle_traj)')
+    parser.add_argument('--timeout', type=float, default=default(None),
+                        help='cancel the trajectory if it has not ended after this many '
+                             'seconds (default: no limit; Ctrl-C cancels it)')
+    parser.add_argument('--wait', type=float, default=default(10.0),
+                        help='seconds to wait for the node to be found (default: 10; a busy '
+                             'machine can take several to discover it)')
 
 
 def _add_trajectory(groups: dict[tuple[str, ...], argparse._SubParsersAction],
@@ -69,6 +88,7 @@ def _add_trajectory(groups: dict[tuple[str, ...], argparse._SubParsersAction],
                                             description=trajectory.summary)
     for item in trajectory.fields:
         _add_field(parser, item)
+    _add_connection_options(parser)
     parser.set_defaults(trajectory=trajectory)
 
 
@@ -77,26 +97,26 @@ def build_parser() -> argparse.ArgumentParser:
         prog='turtle-traj', description='Drive a turtle along trajectories through the '
         'turtle_traj node. Sizes in metres, speeds in m/s, turn rates in rad/s, angles in '
         'degrees.')
-    parser.add_argument('--node', default='/turtle_traj',
-                        help='trajectory node to call, with its namespace (default: '
-                             '/turtle_traj; e.g. /sim1/turtle_traj)')
-    parser.add_argument('--timeout', type=float, default=None,
-                        help='cancel the trajectory if it has not ended after this many '
-                             'seconds (default: no limit; Ctrl-C cancels it)')
-    parser.add_argument('--wait', type=float, default=10.0,
-                        help='seconds to wait for the node to be found (default: 10; a busy '
-                             'machine can take several to discover it)')
+    _add_connection_options(parser, defaults=True)
     commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
     groups = {(): commands}
     for trajectory in TRAJECTORIES:
         _add_trajectory(groups, trajectory)
 
-    commands.add_parser('stop', help='abort the running trajectory and stop the turtle')
-    commands.add_parser('reset', help='abort, reset the simulator, ready again')
-    commands.add_parser('menu', help='interactive menu of every trajectory')
-    params = commands.add_parser('params', help='show the node\'s parameters, or set one')
-    params.add_argument('name', nargs='?', help='parameter to set')
-    params.add_argument('value', nargs='?', help='new value (YAML: 1.5, true, turtle2)')
+    for name, text in [('stop', 'abort the running trajectory and stop the turtle'),
+                       ('reset', 'abort, reset the simulator, ready again'),
+                       ('menu', 'interactive menu of every trajectory')]:
+        _add_connection_options(commands.add_parser(name, help=text))
+    save = commands.add_parser('save', help="save our simulator's canvas as a PNG file")
+    save.add_argument('filename', metavar='FILE.png',
+                      help="file name, inside the simulator's output_dir (default: output)")
+    _add_connection_options(save)
+    params = commands.add_parser('params', help="show the node's parameters, one of them, or "
+                                 'set one')
+    _add_connection_options(params)
+    params.add_argument('name', nargs='?', help='parameter to show or set')
+    params.add_argument('value', nargs='?', help="new value, read as the parameter's type "
+                        '(1.5, 2, 1e-9, true, turtle2)')
 
     up = commands.add_parser('up', help='run simulator and node together in this process')
     add_sim_options(up)
@@ -111,8 +131,33 @@ def to_request(options: argparse.Namespace) -> tuple[str, object]:
     return trajectory.service, make_request(trajectory, vars(options))
 
 
+def _read_points(path: Path) -> list[tuple[float, float]]:
+    """Points from a file: one `x,y` or `x y` per line; blank lines and # comments skipped."""
+    points = []
+    for number, line in enumerate(path.read_text().splitlines(), start=1):
+        text = line.split('#', 1)[0].replace(',', ' ').split()
+        if not text:
+            continue
+        try:
+            x, y = (float(part) for part in text)
+        except ValueError:
+            raise ValueError(f'{path}:{number}: {line.strip()!r} is not a point x,y') from None
+        points.append((x, y))
+    return points
+
+
 def main(args: Sequence[str] | None = None) -> int:
-    options = build_parser().parse_args(args)
+    parser = build_parser()
+    options = parser.parse_args(args)
+    trajectory = getattr(options, 'trajectory', None)
+    for item in trajectory.fields if trajectory is not None else ():
+        if item.type == POINTS:  # from the command line, then from --file
+            path = getattr(options, f'{item.name}_file')
+            try:
+                extra = _read_points(path) if path is not None else []
+            except (OSError, ValueError) as error:
+                parser.error(str(error))
+            setattr(options, item.name, [*getattr(options, item.name), *extra] or None)
     if options.command == 'up':
         from turtle_traj.node.main import Options, run  # loads the simulator: only here
         return run(Options(sim=options_from(options)))
@@ -121,9 +166,12 @@ def main(args: Sequence[str] | None = None) -> int:
         signal.signal(ending, signal.default_int_handler)
     if options.command in ('menu', 'params'):
         return _run_session(options)
-    trajectory = getattr(options, 'trajectory', None)
     try:
         with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
+            if options.command == 'save':
+                response = client.save_canvas(options.filename)
+                print(response.message, file=sys.stdout if response.success else sys.stderr)
+                return 0 if response.success else 1
             if trajectory is None:  # stop, reset
                 response = client.call(options.command)
                 print(report(response), file=sys.stdout if response.success else sys.stderr)
@@ -166,13 +214,11 @@ def _run_session(options: argparse.Namespace) -> int:
         with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
             if options.command == 'menu':
                 return run_menu(client)
-            if options.name is None:
-                for name, value in client.parameters().items():
+            if options.value is None:  # show all, or one
+                names = None if options.name is None else [options.name]
+                for name, value in client.parameters(names).items():
                     print(f'{name}: {value}')
                 return 0
-            if options.value is None:
-                print('error: params NAME needs a VALUE', file=sys.stderr)
-                return 2
             reason = client.set_parameter(options.name, options.value)
     except TrajClientError as error:
         print(f'error: {error}', file=sys.stderr)

@@ -56,5 +56,6 @@ def report(result, cancelled: str = '') -> str:
                      f'theta={math.degrees(result.final_theta):.1f} deg')
         lines.append(f'  elapsed {result.elapsed:.2f} s, path {result.path_length:.2f} m, '
                      f'max deviation {result.max_deviation:.4f} m, final error '
-                     f'{result.final_error:.4f} m')
+                     f'{result.final_error:.4f} m, heading error '
+                     f'{math.degrees(result.final_heading_error):.2f} deg')
     return '\n'.join(lines)

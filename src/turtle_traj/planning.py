@@ -105,7 +105,10 @@ def require_finite(**values: float) -> None:
             raise PlanError(f'{name} must be a finite number, got {value}')
 
 
-def _non_negative(name: str, value: float, default: float, unit: str, upper: float) -> float:
+def _non_negative(name: str, value: float, default: float, unit: str,
+                  upper: float = math.inf) -> float:
+    """A size: finite, 0 (the default) or at least MIN_SIZE, and at most `upper` (a size that
+    scales has no upper bound here: the arena check names the largest that fits)."""
     require_finite(**{name: value})
     if value < 0 or 0 < value < MIN_SIZE:
         raise PlanError(f'{name} must be at least {MIN_SIZE:g} {unit}, or 0 for the default '
@@ -136,16 +139,20 @@ def _fits(path: Path, arena: Arena, start: Pose2D) -> bool:
 
 
 def _checked(sketch: Sketch, arena: Arena, start: Pose2D) -> Path:
-    path = sketch.build(sketch.size)
-    if not path.legs and sketch.size_unit:
-        raise PlanError(f'the {sketch.what} is too small to drive')
-    if _fits(path, arena, start):
-        return path
+    """The sketch's path if it fits in the arena; else PlanError naming the largest size that
+    fits from here (a size beyond the arena's diagonal is refused unbuilt)."""
+    diagonal = _diagonal(arena)
+    if sketch.size <= diagonal or not sketch.size_unit:
+        path = sketch.build(sketch.size)
+        if not path.legs and sketch.size_unit:
+            raise PlanError(f'the {sketch.what} is too small to drive')
+        if _fits(path, arena, start):
+            return path
     message = (f'the {sketch.what} would leave the arena ({arena.describe()}, after the wall '
                f'margin) from ({start.x:.2f}, {start.y:.2f})')
     if sketch.size_unit:
         largest = shapes.largest_fitting(sketch.build, lambda p: _fits(p, arena, start),
-                                         sketch.size)
+                                         min(sketch.size, diagonal))
         message += (f'; the largest that fits from here is {largest:.2f} {sketch.size_unit}'
                     if largest > 1e-3 else '; nothing of this kind fits from here: move the '
                                            'turtle away from the wall first')
@@ -164,8 +171,7 @@ def sketch_polygon(request: Any, start: Pose2D, settings: Settings, *,
     sides = request.sides if sides is None else sides
     if not 3 <= sides <= MAX_SIDES:
         raise PlanError(f'a polygon needs 3 to {MAX_SIDES} sides, got {sides}')
-    side = _non_negative('size', request.size, settings.defaults.side_length, 'm',
-                         _diagonal(settings.arena))
+    side = _non_negative('size', request.size, settings.defaults.side_length, 'm')
 
     def build(size: float) -> Path:
         return shapes.polygon(start, sides=sides, side_length=size, clockwise=request.clockwise)
@@ -180,8 +186,7 @@ def sketch_circle(request: Any, start: Pose2D, settings: Settings) -> Sketch:
             raise PlanError(f'turns {request.turns:g} and forever contradict each other: give '
                             'one of them')
         turns = 0.0  # endless: until stopped
-    radius = _non_negative('size', request.size, settings.defaults.radius, 'm',
-                           _diagonal(settings.arena) / 2)
+    radius = _non_negative('size', request.size, settings.defaults.radius, 'm')
 
     def one_lap(size: float) -> Path:  # every lap covers the same points: check one
         return shapes.circle(start, radius=size, clockwise=request.clockwise, turns=1.0)
@@ -195,8 +200,7 @@ def sketch_circle(request: Any, start: Pose2D, settings: Settings) -> Sketch:
 def sketch_spiral(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     diagonal, defaults = _diagonal(settings.arena), settings.defaults
     turns = _non_negative('turns', request.turns, 0.0, 'turns', shapes.MAX_TURNS)
-    start_radius = _non_negative('size', request.size, defaults.spiral_start_radius, 'm',
-                                 diagonal / 2)
+    start_radius = _non_negative('size', request.size, defaults.spiral_start_radius, 'm')
     growth = _non_negative('growth', request.growth, defaults.spiral_growth, 'm per turn',
                            diagonal)
     max_radius = _non_negative('max_radius', request.max_radius, 0.0, 'm', diagonal)
@@ -205,8 +209,31 @@ def sketch_spiral(request: Any, start: Pose2D, settings: Settings) -> Sketch:
         return shapes.spiral(start, start_radius=size, growth=growth,
                              clockwise=request.clockwise, turns=turns, max_radius=max_radius,
                              arena=settings.arena)
+    if turns or max_radius:  # an end was asked for: refuse one beyond the wall by its turns
+        _require_spiral_turns_fit(start, start_radius, growth, request.clockwise,
+                                  min(turns or math.inf, max(max_radius - start_radius, 0.0)
+                                      / growth if max_radius else math.inf), settings.arena)
     return Sketch(f'spiral from radius {start_radius:g} m', build, start_radius,
                   'm (start radius)', **_shape_speeds(request))
+
+
+def _require_spiral_turns_fit(start: Pose2D, start_radius: float, growth: float,
+                              clockwise: bool, turns: float, arena: Arena) -> None:
+    def build(count: float) -> Path:
+        return shapes.spiral(start, start_radius=start_radius, growth=growth,
+                             clockwise=clockwise, turns=count, max_radius=0.0, arena=arena)
+    try:
+        if _fits(build(turns), arena, start):
+            return
+    except ShapeError:
+        pass  # too many turns or not beyond the start: said below, or by the sketch
+    fitting = math.floor(shapes.largest_fitting(build, lambda p: _fits(p, arena, start),
+                                                min(turns, shapes.MAX_TURNS)) * 10) / 10
+    raise PlanError(
+        f'{turns:g} turns of a spiral from radius {start_radius:g} m growing {growth:g} m per '
+        f'turn would leave the arena ({arena.describe()}, after the wall margin) from '
+        f'({start.x:.2f}, {start.y:.2f}); {fitting:g} turns fit from here. Ask for fewer '
+        'turns, or for none: the spiral then ends before the wall')
 
 
 def sketch_sine(request: Any, start: Pose2D, settings: Settings) -> Sketch:
@@ -214,7 +241,7 @@ def sketch_sine(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     amplitude = _non_negative('size', request.size, defaults.sine_amplitude, 'm', diagonal)
     frequency = _non_negative('frequency', request.frequency, defaults.sine_frequency,
                               'cycles/m', MAX_FREQUENCY)
-    length = _non_negative('length', request.length, defaults.sine_length, 'm', diagonal)
+    length = _non_negative('length', request.length, defaults.sine_length, 'm')
 
     def build(size: float) -> Path:
         return shapes.sine(start, amplitude=amplitude, frequency=frequency, length=size,
@@ -245,21 +272,21 @@ def sketch_go_to(request: Any, start: Pose2D, settings: Settings) -> Sketch:
                   end_tolerance=tolerance)
 
 
-def _signed(name: str, value: float, unit: str, negative: str, upper: float,
-            too_large: str) -> float:
-    """A signed amount whose sign is its direction: finite, not vanishing, within `upper`."""
+def _signed(name: str, value: float, unit: str, negative: str,
+            limit: tuple[float, str] | None = None) -> float:
+    """A signed amount whose sign is its direction: finite, not vanishing, within the
+    `limit` (largest magnitude, and what exceeding it means) if there is one."""
     require_finite(**{name: value})
     if abs(value) < MIN_SIZE:
         raise PlanError(f'{name} must be at least {MIN_SIZE:g} {unit} either way (negative '
                         f'{negative}); got {value:g}')
-    if abs(value) > upper:
-        raise PlanError(f'{name} {value:g} {unit} is {too_large}')
+    if limit is not None and abs(value) > limit[0]:
+        raise PlanError(f'{name} {value:g} {unit} is {limit[1]}')
     return value
 
 
 def sketch_move(request: Any, start: Pose2D, settings: Settings) -> Sketch:
-    distance = _signed('distance', request.distance, 'm', 'drives backwards',
-                       _diagonal(settings.arena), 'longer than the arena diagonal')
+    distance = _signed('distance', request.distance, 'm', 'drives backwards')
     sign = math.copysign(1.0, distance)
 
     def build(size: float) -> Path:
@@ -271,7 +298,7 @@ def sketch_move(request: Any, start: Pose2D, settings: Settings) -> Sketch:
 
 def sketch_rotation(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     angle = _signed('angle', request.angle, 'rad', 'turns clockwise',
-                    2 * math.pi * shapes.MAX_TURNS, f'more than {shapes.MAX_TURNS:g} turns')
+                    (2 * math.pi * shapes.MAX_TURNS, f'more than {shapes.MAX_TURNS:g} turns'))
     path = shapes.rotation(start, angle_rad=angle)
     return Sketch(f'rotation by {angle:g} rad', lambda _: path,
                   angular_speed=_speed('angular_speed', request.speed))

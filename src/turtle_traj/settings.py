@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from turtle_traj.control.follower import ControlConfig
+from turtle_traj.geometry.path import Pose2D
 from turtle_traj.geometry.shapes import Arena
 from turtle_traj.sim.physics import WORLD_SIZE_M
 
@@ -124,12 +125,19 @@ ARENA_PARAMETERS = frozenset({'arena_min_x', 'arena_min_y', 'arena_max_x', 'aren
                               'wall_margin'})
 
 
-def arena_problem(value: dict[str, object]) -> str | None:
-    """Why these arena parameters leave no room to drive, or None (cross-field rule)."""
+def arena_problem(value: dict[str, object], turtle: Pose2D | None = None) -> str | None:
+    """Why these arena parameters leave no room to drive, or leave the turtle (where it stands
+    now) outside the room they leave; None when they are fine (cross-field rule)."""
     margin = value['wall_margin']
     for axis in 'xy':
         room = value[f'arena_max_{axis}'] - value[f'arena_min_{axis}'] - 2 * margin
         if room <= 0.1:
             return (f'arena_max_{axis} - arena_min_{axis} must exceed 2 * wall_margin + 0.1 m '
                     f'(it leaves {room:.3f} m)')
+    arena = Arena(value['arena_min_x'], value['arena_min_y'], value['arena_max_x'],
+                  value['arena_max_y'], margin)
+    if turtle is not None and not arena.contains([(turtle.x, turtle.y)]):
+        return (f'the turtle stands at ({turtle.x:.2f}, {turtle.y:.2f}), outside the room this '
+                f'arena leaves ({arena.describe()}, after the wall margin): move the turtle '
+                'first, or choose bounds around it')
     return None

@@ -87,18 +87,17 @@ class _TurnTracker:
         return min(max(self.turned / self.turn.sweep_rad, 0.0), 1.0)
 
     def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
-               latency: LatencyPredictor) -> tuple[Command | None, float]:
+               latency: LatencyPredictor) -> Command | None:
         self.turned += wrap_angle(pose.theta - self.previous)
         self.previous = pose.theta
         remaining = self.turn.sweep_rad - self.turned
         error = remaining - wrap_angle(predicted.theta - pose.theta)
-        deviation = math.hypot(pose.x - self.turn.x, pose.y - self.turn.y)
         if abs(error) < config.heading_tolerance:
-            return _finished(abs(remaining) < config.heading_tolerance, latency), deviation
+            return _finished(abs(remaining) < config.heading_tolerance, latency)
         rate = min(config.angular_speed,
                    _braking_speed(max(abs(error) - latency.overrun()[1], 0.0),
                                   config.angular_deceleration, config.period_s, latency))
-        return Command(0.0, math.copysign(rate, error)), deviation
+        return Command(0.0, math.copysign(rate, error))
 
 
 class _CurveTracker:
@@ -153,11 +152,10 @@ class _CurveTracker:
             and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
 
     def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
-               latency: LatencyPredictor) -> tuple[Command | None, float]:
-        """Steer from the predicted pose; the deviation reported is the actual pose's."""
+               latency: LatencyPredictor) -> Command | None:
+        """Steer from the predicted pose; progress and arrival are the actual pose's."""
         curve = self.curve
-        actual_segment, actual_fraction, actual_offset = self._project(pose)
-        deviation = abs(actual_offset)
+        actual_segment, actual_fraction, _ = self._project(pose)
         self.fraction = (curve.cumulative_length[actual_segment] + actual_fraction
                          * curve.segment_lengths[actual_segment]) / max(curve.length, 1e-12)
         self.segment, fraction, offset = self._project(predicted)
@@ -165,7 +163,7 @@ class _CurveTracker:
         if self._arrived(predicted, self.segment, remaining):
             arrived = self._arrived(pose, actual_segment,
                                     self._remaining(pose, actual_segment, actual_fraction))
-            return _finished(arrived, latency), deviation
+            return _finished(arrived, latency)
         pose = predicted
 
         facing = pose.theta + (math.pi if curve.reverse else 0.0)
@@ -191,7 +189,7 @@ class _CurveTracker:
         steering = config.heading_gain * wrap_angle(target - facing)
         angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
         linear = -speed if curve.reverse else speed
-        return Command(linear, angular), deviation
+        return Command(linear, angular)
 
 
 class PathFollower:
@@ -203,8 +201,6 @@ class PathFollower:
             the pose echoes); without it the follower assumes each command acts at once."""
         self.path = path
         self.leg_index = 0
-        self.max_deviation = 0.0
-        self.deviation = 0.0  # the turtle's distance from the leg it is on, at the last update
         self._end_tolerance = end_tolerance
         self._tracker: _TurnTracker | _CurveTracker | None = None
         self._latency = latency
@@ -240,9 +236,7 @@ class PathFollower:
                     tolerance = self._end_tolerance
                 self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
                                  else _CurveTracker(leg, tolerance))
-            command, self.deviation = self._tracker.update(pose, predicted, config,
-                                                           self._latency)
-            self.max_deviation = max(self.max_deviation, self.deviation)
+            command = self._tracker.update(pose, predicted, config, self._latency)
             if command is not None:
                 return command
             self.leg_index += 1

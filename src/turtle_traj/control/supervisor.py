@@ -11,10 +11,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.follower import ControlConfig, PathFollower
 from turtle_traj.control.latency import LatencyPredictor
-from turtle_traj.geometry.path import Pose2D
+from turtle_traj.geometry.angles import wrap_angle
+from turtle_traj.geometry.path import Pose2D, distance_to_polyline
 from turtle_traj.geometry.shapes import Arena
 from turtle_traj.planning import Plan
 
@@ -34,6 +37,7 @@ class Outcome:
     path_length: float = 0.0
     max_deviation: float = 0.0
     final_error: float = 0.0
+    final_heading_error: float = 0.0
 
 
 def wall_clearance(arena: Arena, pose: Pose2D) -> float:
@@ -59,7 +63,12 @@ class RunSupervisor:
         self._start_clearance = wall_clearance(arena, start)
         self._settled_periods = 0
         self._pose = start
+        self._path_done_s: float | None = None  # when the follower reached the path's end
+        points = plan.path.points()
+        self._drawn = points if len(points) > 1 else np.repeat(points, 2, axis=0)
         self.distance = 0.0  # driven so far, pose to pose
+        self.deviation = 0.0  # distance from the path as drawn, at the last pose
+        self.max_deviation = 0.0
 
     @property
     def name(self) -> str:
@@ -74,27 +83,36 @@ class RunSupervisor:
         """A stop request: success for an endless trajectory (it ends only this way)."""
         self.end(self.plan.path.endless, f'{self.name} stopped by request')
 
+    def distance_from_path(self, pose: Pose2D) -> float:
+        """Distance from the planned path as drawn (every leg; a turn is its point)."""
+        return float(distance_to_polyline(np.array([[pose.x, pose.y]]), self._drawn)[0])
+
     def observe(self, pose: Pose2D) -> None:
-        """A new pose: a jump from the last one aborts the run."""
+        """A new pose: measured against the path; a jump from the last one aborts the run."""
         jump = math.dist((self._pose.x, self._pose.y), (pose.x, pose.y))
         self._pose = pose
         if jump <= MAX_POSE_JUMP_M:
             self.distance += jump
+            self.deviation = self.distance_from_path(pose)
+            self.max_deviation = max(self.max_deviation, self.deviation)
         else:
             self.end(False, f'{self.name} aborted: the turtle jumped {jump:.2f} m between two '
                             'poses (teleported, reset, respawned, a second simulator in this '
                             'ROS domain, or this node fell behind the simulator)')
 
-    def command(self, pose: Pose2D, standing: bool, config: ControlConfig,
-                arena: Arena) -> Command:
+    def command(self, pose: Pose2D, standing: bool, config: ControlConfig, arena: Arena,
+                now_s: float) -> Command:
         """The command for this control period; may decide the verdict.
 
         :param standing: the turtle reports zero velocity.
         :param config: the node's control settings (the plan's speeds override them).
+        :param now_s: the node clock, seconds.
         """
         if self.ending is not None:
             return STOP
         if self.follower.done:
+            if self._path_done_s is None:
+                self._path_done_s = now_s
             self._settled_periods += 1
             if standing or self._settled_periods > SETTLE_PERIODS:
                 self.end(True, f'{self.name} done')
@@ -107,10 +125,24 @@ class RunSupervisor:
         return self.follower.update(pose, self.plan.control(config))
 
     def outcome(self, pose: Pose2D | None, now_s: float) -> Outcome:
-        """The report of the run once `ending` is decided."""
+        """The report of the run once `ending` is decided.
+
+        Elapsed time runs to the path's end (not the settling after it) or to the stop. A run
+        that reached its end reports the miss of its end point and end heading; one ended
+        early reports its distance from the path, and no heading error.
+        """
         success, message = self.ending or (False, f'{self.name} still running')
         path = self.plan.path
-        return Outcome(
-            success, message, pose, elapsed_s=now_s - self.started_s,
-            path_length=path.length, max_deviation=self.follower.max_deviation,
-            final_error=math.dist((pose.x, pose.y), path.end) if pose else math.nan)
+        ended_s = self._path_done_s if self._path_done_s is not None else now_s
+        outcome = Outcome(
+            success, message, pose, elapsed_s=ended_s - self.started_s,
+            path_length=self.distance if path.endless else path.length,
+            max_deviation=self.max_deviation, final_error=math.nan)
+        if pose is None:
+            return outcome
+        if self.follower.done:
+            outcome.final_error = math.dist((pose.x, pose.y), path.end)
+            outcome.final_heading_error = wrap_angle(pose.theta - path.end_heading)
+        else:
+            outcome.final_error = self.distance_from_path(pose)
+        return outcome

@@ -106,6 +106,15 @@ class Path:
         return self.legs[-1].end
 
     @property
+    def end_heading(self) -> float:
+        """The turtle's heading at the end: a last turn's final heading, else the direction of
+        the last segment (the opposite one when driven backwards)."""
+        leg = self.legs[-1]
+        if isinstance(leg, Turn):
+            return wrap_angle(leg.start_heading + leg.sweep_rad)
+        return wrap_angle(float(leg.headings[-1]) + (math.pi if leg.reverse else 0.0))
+
+    @property
     def length(self) -> float:
         return sum(leg.length for leg in self.legs if isinstance(leg, Curve))
 

@@ -6,6 +6,7 @@ from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParam
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
+from turtle_traj.geometry.path import Pose2D
 from turtle_traj.settings import (
     ARENA_PARAMETERS,
     DEFAULTS,
@@ -38,13 +39,15 @@ def read_settings(node: Node) -> Settings:
                                  for spec in SPECS})
 
 
-def validate(node: Node, parameters: list[Parameter]) -> SetParametersResult:
-    """Cross-field rules of the settings table, on the values the change would leave."""
+def validate(node: Node, parameters: list[Parameter],
+             turtle: Pose2D | None = None) -> SetParametersResult:
+    """Cross-field rules of the settings table, on the values the change would leave (and the
+    turtle's pose, which a new arena must contain)."""
     incoming = {p.name: p.value for p in parameters}
     if not incoming.keys() & ARENA_PARAMETERS:
         return SetParametersResult(successful=True)
     values = {name: incoming[name] if name in incoming
               else node.get_parameter(name).value if node.has_parameter(name)
               else DEFAULTS[name] for name in ARENA_PARAMETERS}
-    problem = arena_problem(values)
+    problem = arena_problem(values, turtle)
     return SetParametersResult(successful=problem is None, reason=problem or '')

@@ -56,6 +56,7 @@ def fill_response(response, outcome: Outcome):
     response.path_length = outcome.path_length
     response.max_deviation = outcome.max_deviation
     response.final_error = outcome.final_error
+    response.final_heading_error = outcome.final_heading_error
     return response
 
 
@@ -64,14 +65,16 @@ class TrajectoryNode(Node):
 
     def __init__(self, node_name: str = 'turtle_traj', **kwargs) -> None:
         super().__init__(node_name, **kwargs)
-        # The validator goes first so that overrides given at start-up are checked too.
-        self.add_on_set_parameters_callback(lambda params: parameters.validate(self, params))
+        self._pose: Pose2D | None = None
+        # The validator goes first so that overrides given at start-up are checked too; a new
+        # arena must contain the turtle.
+        self.add_on_set_parameters_callback(
+            lambda params: parameters.validate(self, params, self._pose))
         parameters.declare(self)
         self.settings = parameters.read_settings(self)
         self.add_post_set_parameters_callback(self._on_parameters_set)
         turtle = self.get_parameter('turtle_name').value
 
-        self._pose: Pose2D | None = None
         self._pose_msg: Pose | None = None
         self._pose_wall_s = -math.inf
         self._pose_time: Time | None = None
@@ -108,6 +111,10 @@ class TrajectoryNode(Node):
                           self._on_control_timer)
         self.create_timer(_WATCHDOG_PERIOD_S, self._on_watchdog,
                           clock=Clock(clock_type=ClockType.STEADY_TIME))
+        name = self.get_fully_qualified_name()
+        self.get_logger().info(
+            f'serving {len(TRAJECTORIES)} trajectories on {name}/<service> and the action '
+            f'{name}/{DRAW_ACTION}; driving {self.pose_topic.removesuffix("/pose")}')
 
     # -- inputs ------------------------------------------------------------------------------
 
@@ -154,7 +161,8 @@ class TrajectoryNode(Node):
         if run is None or msg is None:
             return
         standing = msg.linear_velocity == 0.0 and msg.angular_velocity == 0.0
-        command = run.command(self._pose, standing, self.settings.control, self.settings.arena)
+        command = run.command(self._pose, standing, self.settings.control, self.settings.arena,
+                              self._now_s())
         if run.ending is None:
             self._publish(command)
         else:
@@ -195,7 +203,8 @@ class TrajectoryNode(Node):
         self._publish(STOP)
         outcome = run.outcome(self._pose, self._now_s())
         summary = (f'{outcome.message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
-                   f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m)')
+                   f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m, '
+                   f'heading error {outcome.final_heading_error:.4f} rad)')
         # Two call sites: rclpy refuses one call site logging at two severities.
         if outcome.success:
             self.get_logger().info(summary)
@@ -309,7 +318,7 @@ class TrajectoryNode(Node):
         return Draw.Feedback(
             progress=run.follower.progress(run.plan.control(self.settings.control)),
             distance=run.distance, elapsed=self._now_s() - run.started_s,
-            deviation=run.follower.deviation, x=pose.x, y=pose.y, theta=pose.theta)
+            deviation=run.deviation, x=pose.x, y=pose.y, theta=pose.theta)
 
     def _publish_plan(self, path: Path) -> None:
         msg = PathMsg()
