@@ -23,6 +23,8 @@ def running_system(tmp_path_factory):
     """
     with program('turtle_traj', '--with-sim', '--time-scale', '2',
                  cwd=tmp_path_factory.mktemp('system')) as process:
+        with TrajClient(connect_timeout_s=30.0) as client:  # answers once poses reach the node
+            assert client.call('reset').success
         yield process
 
 

@@ -15,6 +15,7 @@ def test_a_node_killed_mid_goal_is_noticed_within_seconds(tmp_path):
     with program('turtle_traj', '--with-sim', '--ros-args', '-r', '__ns:=/doomed',
                  cwd=tmp_path) as process, \
             TrajClient(node='/doomed/turtle_traj', connect_timeout_s=10.0) as client:
+        assert client.call('reset').success  # answers once poses reach the node
         killed_at = []
 
         def kill_once(feedback) -> None:

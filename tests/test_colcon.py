@@ -10,6 +10,7 @@ import re
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -90,7 +91,13 @@ def test_the_installed_executables_draw_a_square(install, tmp_path):
     try:
         with TrajClient(connect_timeout_s=30.0) as client:
             from turtle_traj_interfaces.srv import DrawShape
-            response = client.call('draw_square', DrawShape.Request(size=1.0), timeout_s=60.0)
+            deadline = time.monotonic() + 30.0
+            while True:  # the node refuses until the simulator's first pose has reached it
+                response = client.call('draw_square', DrawShape.Request(size=1.0),
+                                       timeout_s=60.0)
+                if not response.message.startswith('no pose') or time.monotonic() > deadline:
+                    break
+                time.sleep(0.2)
         assert response.success, response.message
         assert response.path_length == pytest.approx(4.0)
     finally:
