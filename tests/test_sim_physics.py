@@ -9,6 +9,7 @@ from turtle_traj.sim.physics import (
     STEP_S,
     WORLD_SIZE_M,
     GoalStatus,
+    NonFiniteCommand,
     SimulationError,
     World,
     normalize_angle,
@@ -38,31 +39,59 @@ def _world() -> World:
     return world
 
 
-def _run_until_stopped(world: World, name: str = 'turtle1', limit: int = 10_000) -> int:
-    steps = 0
+def _moving_steps(world: World, name: str = 'turtle1', limit: int = 10_000) -> int:
+    """Step until the turtle stands; how many steps moved it."""
+    moved = 0
     turtle = world.turtles[name]
-    while (turtle.vx or turtle.vy or turtle.omega) and steps < limit:
+    for _ in range(limit):
+        before = (turtle.x, turtle.y, turtle.theta)
         world.step()
-        steps += 1
-    return steps
+        if (turtle.x, turtle.y, turtle.theta) == before:
+            return moved
+        moved += 1
+    raise AssertionError('the turtle never stopped')
 
 
-def test_one_command_lasts_one_second_and_moves_one_metre():
+def test_one_command_lasts_63_steps_as_on_turtlesim():
     world = _world()
-    world.command('turtle1', 1.0, 0.0, 0.0)
-    steps = _run_until_stopped(world)
+    world.step()  # a tick goes by; the command comes in between two
+    world.command('turtle1', 2.0, 0.0, 0.0)
+    assert _moving_steps(world) == 63  # measured on turtlesim 1.8.2: 63 of 63, 2.016 m
     turtle = world.turtles['turtle1']
-    assert steps == 63  # the 63rd step sees 1.008 s > 1.0 s and stops without moving
-    assert turtle.x - SPAWN_XY_M == pytest.approx(1.0, abs=STEP_S)
+    assert turtle.x - SPAWN_XY_M == pytest.approx(2.016, abs=1e-9)
     assert turtle.y == SPAWN_XY_M
+
+
+def test_the_timeout_runs_on_the_clock_the_caller_gives():
+    world = _world()
+    world.command('turtle1', 1.0, 0.0, 0.0, now_s=100.0)  # stamped at the reading tick
+    ticks = [100.0 + 0.017 * n for n in range(70)]  # a slower timer: 17 ms apart
+    moved = 0
+    for now in ticks:
+        before = world.turtles['turtle1'].x
+        world.step(now)
+        moved += world.turtles['turtle1'].x != before
+    assert moved == 59  # 58 * 17 ms = 0.986 s <= 1 s < 59 * 17 ms
+
+
+def test_a_non_finite_command_stops_the_turtle():
+    world = _world()
+    world.command('turtle1', 1.0, 0.0, 0.5)
+    world.step()
+    with pytest.raises(NonFiniteCommand, match='linear.x=nan'):
+        world.command('turtle1', math.nan, 0.0, 0.0)
+    turtle = world.turtles['turtle1']
+    assert (turtle.vx, turtle.vy, turtle.omega) == (0.0, 0.0, 0.0)
+    assert _moving_steps(world) == 0
+    assert math.isfinite(turtle.x) and math.isfinite(turtle.theta)
 
 
 def test_arc_matches_the_reference_example():
     world = _world()
     world.command('turtle1', 2.0, 0.0, 1.8)
-    _run_until_stopped(world)
+    assert _moving_steps(world) == 63
     turtle = world.turtles['turtle1']
-    assert turtle.theta == pytest.approx(1.8 * 62 * STEP_S, abs=1e-9)
+    assert turtle.theta == pytest.approx(1.8 * 63 * STEP_S, abs=1e-9)
     chord = math.hypot(turtle.x - SPAWN_XY_M, turtle.y - SPAWN_XY_M)
     radius = 2.0 / 1.8
     assert chord == pytest.approx(2 * radius * math.sin(turtle.theta / 2), abs=0.02)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections import deque
 from functools import partial
 from pathlib import Path
 
@@ -28,6 +29,7 @@ from turtle_traj.sim.physics import (
     SPAWN_XY_M,
     STEP_S,
     GoalStatus,
+    NonFiniteCommand,
     RotationEvent,
     SimulationError,
     Turtle,
@@ -36,6 +38,7 @@ from turtle_traj.sim.physics import (
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 _FIRST_TURTLE = 'turtle1'
+_CMD_VEL_DEPTH = TURTLE_TOPIC_QOS.depth
 
 
 class _TurtleEndpoints:
@@ -131,6 +134,11 @@ class SimNode(Node):
 
         self.canvas = Canvas()
         self._endpoints: dict[str, _TurtleEndpoints] = {}
+        # Velocity commands wait for the next tick, which reads one per turtle, the oldest, as
+        # turtlesim's spin_some does; a subscription keeps the last 7 (its history depth).
+        self._pending: dict[str, deque[Twist]] = {}
+        # Our own simulated time when we publish /clock or scale time; else the node clock.
+        self._own_time = lockstep or publish_clock or time_scale != 1.0
 
         self._clock_publisher = (
             self.create_publisher(ClockMsg, '/clock', 10) if publish_clock or lockstep else None)
@@ -162,11 +170,19 @@ class SimNode(Node):
 
     # -- simulation ------------------------------------------------------------------------
 
+    def _now_s(self) -> float | None:
+        """The clock commands are stamped with (None: the world's simulated time)."""
+        return None if self._own_time else self.get_clock().now().nanoseconds * 1e-9
+
     def step(self) -> None:
         """Advance the world one step, then publish and draw what it produced."""
+        now = self._now_s()
         for name, msg in self._command_delay.due(self.world.time_s):
-            self._apply_cmd_vel(name, msg)
-        report = self.world.step()
+            self._queue_cmd_vel(name, msg)
+        for name, queue in self._pending.items():
+            if queue:
+                self._apply_cmd_vel(name, queue.popleft(), now)
+        report = self.world.step(now)
         if self._clock_publisher is not None:
             stamp = ClockMsg()
             stamp.clock.sec, nanoseconds = divmod(round(self.world.time_s * 1e9), 10**9)
@@ -201,7 +217,7 @@ class SimNode(Node):
 
         :raises SimulationError: a taken or invalid name, or a non-finite pose.
         """
-        turtle = self.world.spawn(x, y, theta, name)
+        turtle = self.world.spawn(x, y, theta, name, self._now_s())
         try:
             if turtle.name not in self._endpoints:  # kept through a reset: see handle_reset
                 self._endpoints[turtle.name] = _TurtleEndpoints(self, turtle.name)
@@ -215,6 +231,7 @@ class SimNode(Node):
     def _remove(self, name: str, *, keep_endpoints: bool = False) -> None:
         turtle = self.world.kill(name)
         self._command_delay.drop(name)
+        self._pending.pop(name, None)
         if turtle.rotation is not None:
             self._finish_rotation(turtle.rotation.token, GoalStatus.ABORTED,
                                   turtle.rotation.delta_rad)
@@ -225,20 +242,24 @@ class SimNode(Node):
         if self._command_delay.active:
             self._command_delay.push(self.world.time_s, name, msg)
         else:
-            self._apply_cmd_vel(name, msg)
+            self._queue_cmd_vel(name, msg)
 
-    def _apply_cmd_vel(self, name: str, msg: Twist) -> None:
+    def _queue_cmd_vel(self, name: str, msg: Twist) -> None:
+        self._pending.setdefault(name, deque(maxlen=_CMD_VEL_DEPTH)).append(msg)
+
+    def _apply_cmd_vel(self, name: str, msg: Twist, now_s: float | None) -> None:
         if name not in self.world.turtles:
             return  # a message still queued for a turtle killed a moment ago
         try:
-            aborted = self.world.command(name, msg.linear.x, msg.linear.y, msg.angular.z)
-        except SimulationError as error:
+            aborted = self.world.command(name, msg.linear.x, msg.linear.y, msg.angular.z,
+                                         now_s)
+        except NonFiniteCommand as error:
             self.get_logger().error(f'Ignoring cmd_vel for [{name}]: {error}',
                                     throttle_duration_sec=1.0)
-            return
+            aborted = error.aborted
         if aborted is not None:
             self.get_logger().warning(
-                'Rotation goal aborted: velocity command received during rotation goal')
+                'Velocity command received during rotation goal. Aborting goal')
             self._finish_rotation(aborted.token, GoalStatus.ABORTED, aborted.delta_rad)
 
     # -- services --------------------------------------------------------------------------
@@ -262,8 +283,8 @@ class SimNode(Node):
     def handle_spawn(self, request: Spawn.Request, response: Spawn.Response) -> Spawn.Response:
         try:
             response.name = self.spawn_turtle(request.name, request.x, request.y, request.theta)
-        except SimulationError as error:
-            self.get_logger().error(f'Could not spawn turtle: {error}')
+        except SimulationError as error:  # a taken name in turtlesim's words; ours else
+            self.get_logger().error(str(error))
             response.name = ''
         return response
 
@@ -337,6 +358,8 @@ class SimNode(Node):
         else:
             if event.status is GoalStatus.CANCELED:
                 self.get_logger().info('Rotation goal canceled')
+            elif event.status is GoalStatus.SUCCEEDED:
+                self.get_logger().info('Rotation goal completed successfully')
             self._finish_rotation(event.token, event.status, event.delta_rad)
 
     def _finish_rotation(self, rotation: _Rotation, status: GoalStatus, delta_rad: float) -> None:

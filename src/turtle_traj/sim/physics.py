@@ -1,8 +1,13 @@
 """Turtlesim physics as plain Python: turtles, commands, teleports, rotation goals, walls.
 
 Matches ROS 2 Jazzy's turtlesim (see shared turtlesim reference): a fixed 16 ms step, heading
-integrated first, per-axis wall clamp without zeroing velocity, 1 s command timeout. Time here is
-simulated time (step count times the step), which keeps the world deterministic.
+integrated first, per-axis wall clamp without zeroing velocity, 1 s command timeout.
+
+Time: turtlesim reads its velocity commands at the start of a tick, stamps them with the node
+clock then, and drops a command older than 1 s at the start of a later tick. Callers pass that
+clock as `now_s`; without it the world uses its own simulated time (step count times the step),
+and a command given between steps is stamped with the coming step's time, as turtlesim would
+stamp it. Either way a single command lasts 63 steps.
 """
 
 from __future__ import annotations
@@ -31,6 +36,17 @@ def normalize_angle(angle_rad: float) -> float:
 
 class SimulationError(ValueError):
     """A request the world refuses; the message says why."""
+
+
+class NonFiniteCommand(SimulationError):
+    """A velocity command with NaN or infinity: refused, and the turtle stopped instead.
+
+    :ivar aborted: the rotation goal the command aborted, if any (any cmd_vel aborts one).
+    """
+
+    def __init__(self, message: str, aborted: RotationGoal | None) -> None:
+        super().__init__(message)
+        self.aborted = aborted
 
 
 @dataclass
@@ -141,16 +157,20 @@ class World:
         except KeyError:
             raise SimulationError(f'no turtle named {name!r}') from None
 
-    def spawn(self, x: float, y: float, theta: float, name: str = '') -> Turtle:
-        """Add a turtle; an empty name gets the next free `turtleN`."""
+    def spawn(self, x: float, y: float, theta: float, name: str = '',
+              now_s: float | None = None) -> Turtle:
+        """Add a turtle; an empty name gets the next free `turtleN`.
+
+        :param now_s: the clock (see the module); its command timestamp starts there.
+        """
         _require_finite(x=x, y=y, theta=theta)
         if name in self.turtles:
-            raise SimulationError(f'a turtle named [{name}] already exists')
+            raise SimulationError(f'A turtle named [{name}] already exists')
         if not name:
             while not name or name in self.turtles:
                 self._name_counter += 1
                 name = f'turtle{self._name_counter}'
-        turtle = Turtle(name, x, y, theta, command_time_s=self.time_s)
+        turtle = Turtle(name, x, y, theta, command_time_s=self._now(now_s))
         self.turtles[name] = turtle
         return turtle
 
@@ -170,19 +190,33 @@ class World:
         self.remove_all()
         return self.spawn(SPAWN_XY_M, SPAWN_XY_M, 0.0)
 
-    def command(
-        self, name: str, linear_x: float, linear_y: float, angular_z: float
-    ) -> RotationGoal | None:
-        """Apply a cmd_vel message; return the rotation goal it aborts, if any."""
-        _require_finite(linear_x=linear_x, linear_y=linear_y, angular_z=angular_z)
+    def command(self, name: str, linear_x: float, linear_y: float, angular_z: float,
+                now_s: float | None = None) -> RotationGoal | None:
+        """Apply a cmd_vel message; return the rotation goal it aborts, if any.
+
+        :param now_s: the clock at the tick that reads the command (see the module).
+        :raises NonFiniteCommand: NaN or infinity; the turtle is stopped instead (turtlesim
+            would write NaN into its pose).
+        """
         turtle = self.turtle(name)
-        turtle.command_time_s = self.time_s
+        turtle.command_time_s = self._now(now_s, coming=True)
+        aborted, turtle.rotation = turtle.rotation, None
+        values = {'linear.x': linear_x, 'linear.y': linear_y, 'angular.z': angular_z}
+        if not all(math.isfinite(value) for value in values.values()):
+            turtle.stop()
+            shown = ', '.join(f'{key}={value}' for key, value in values.items())
+            raise NonFiniteCommand(f'non-finite velocity ({shown}): the turtle stops', aborted)
         turtle.vx = linear_x
         if self.holonomic:
             turtle.vy = linear_y
         turtle.omega = angular_z
-        aborted, turtle.rotation = turtle.rotation, None
         return aborted
+
+    def _now(self, now_s: float | None, coming: bool = False) -> float:
+        """The given clock, else simulated time (of the coming step, for a command)."""
+        if now_s is not None:
+            return now_s
+        return self.time_s + STEP_S if coming else self.time_s
 
     def teleport_absolute(self, name: str, x: float, y: float, theta: float) -> None:
         _require_finite(x=x, y=y, theta=theta)
@@ -213,15 +247,19 @@ class World:
         if rotation and rotation.token is token:
             rotation.cancel_requested = True
 
-    def step(self) -> StepReport:
-        """Advance every turtle by one 16 ms step."""
+    def step(self, now_s: float | None = None) -> StepReport:
+        """Advance every turtle by one 16 ms step.
+
+        :param now_s: the clock at this tick (see the module), for the command timeout.
+        """
         self.time_s += STEP_S
+        now = self._now(now_s)
         report = StepReport()
         for turtle in self:
-            self._update(turtle, report)
+            self._update(turtle, report, now)
         return report
 
-    def _update(self, turtle: Turtle, report: StepReport) -> None:
+    def _update(self, turtle: Turtle, report: StepReport, now_s: float) -> None:
         for kind, a, b, c in turtle.teleports:
             old = (turtle.x, turtle.y)
             if kind == 'absolute':
@@ -235,9 +273,9 @@ class World:
         turtle.teleports.clear()
 
         if turtle.rotation is not None:
-            self._rotate(turtle, report)
+            self._rotate(turtle, report, now_s)
 
-        if self.time_s - turtle.command_time_s > COMMAND_TIMEOUT_S:
+        if now_s - turtle.command_time_s > COMMAND_TIMEOUT_S:
             turtle.stop()
 
         old = (turtle.x, turtle.y)
@@ -252,7 +290,7 @@ class World:
         if turtle.pen.on and (turtle.x, turtle.y) != old:
             report.segments.append(Segment(old, (turtle.x, turtle.y), turtle.pen))
 
-    def _rotate(self, turtle: Turtle, report: StepReport) -> None:
+    def _rotate(self, turtle: Turtle, report: StepReport, now_s: float) -> None:
         goal = turtle.rotation
         assert goal is not None
         if goal.cancel_requested:
@@ -275,4 +313,4 @@ class World:
             return
         turtle.vx = turtle.vy = 0.0
         turtle.omega = -ROTATION_SPEED_RAD_S if remaining < 0 else ROTATION_SPEED_RAD_S
-        turtle.command_time_s = self.time_s
+        turtle.command_time_s = now_s
