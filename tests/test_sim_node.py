@@ -6,12 +6,14 @@ import subprocess
 import sys
 
 import pytest
+import rclpy
 from geometry_msgs.msg import Twist
 from PIL import Image
 from rcl_interfaces.msg import Log, ParameterType, ParameterValue
 from rcl_interfaces.msg import Parameter as ParameterMsg
 from rcl_interfaces.srv import SetParameters
 from rclpy.action import ActionClient
+from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty
@@ -21,6 +23,7 @@ from turtlesim.msg import Color, Pose
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelative
 
 from tests.ros_helpers import program, terminate
+from turtle_traj.runtime import spin_until
 from turtle_traj.sim.canvas import to_pixel
 from turtle_traj.sim.physics import SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 from turtle_traj.wire import TURTLE_TOPIC_QOS
@@ -358,3 +361,53 @@ def test_sigterm_ends_the_program_cleanly_and_writes_the_snapshot(tmp_path):
     assert process.returncode == 0
     assert 'Traceback' not in stderr
     assert Image.open(snapshot).size == (500, 500)
+
+
+def test_the_simulator_program_serves_on_its_events_executor(ros_context, tmp_path):
+    """`python -m turtle_traj.sim` spins rclpy's experimental EventsExecutor: all it relies on,
+    through the real program."""
+    with program('turtle_traj.sim', cwd=tmp_path) as process:
+        node = rclpy.create_node('checker', context=ros_context)
+        executor = SingleThreadedExecutor(context=ros_context)
+        executor.add_node(node)
+        poses: list[Pose] = []
+        node.create_subscription(Pose, 'turtle1/pose', poses.append, TURTLE_TOPIC_QOS)
+        assert spin_until(executor, lambda: len(poses) > 5, timeout_s=10.0)  # the timer
+        publisher = node.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
+        twist = Twist()
+        twist.linear.x = 1.0
+        publisher.publish(twist)  # a subscription
+        assert spin_until(executor, lambda: poses[-1].linear_velocity == 1.0, timeout_s=10.0)
+
+        def call(service_type, name, request):
+            client = node.create_client(service_type, name)
+            assert client.wait_for_service(timeout_sec=10.0)
+            future = client.call_async(request)
+            assert spin_until(executor, future.done, timeout_s=10.0)
+            return future.result()
+        assert call(Spawn, 'spawn', Spawn.Request(x=2.0, y=2.0)).name == 'turtle2'
+        refused = call(SetParameters, '/turtlesim/set_parameters', SetParameters.Request(
+            parameters=[ParameterMsg(name='background_r', value=ParameterValue(
+                type=ParameterType.PARAMETER_INTEGER, integer_value=300))])).results[0]
+        assert not refused.successful
+
+        rotate = ActionClient(node, RotateAbsolute, 'turtle1/rotate_absolute')
+        assert rotate.wait_for_server(timeout_sec=10.0)
+
+        def goal(theta: float, cancel: bool = False) -> int:
+            sent = rotate.send_goal_async(RotateAbsolute.Goal(theta=theta))
+            assert spin_until(executor, sent.done, timeout_s=10.0)
+            if cancel:
+                spin_until(executor, lambda: False, timeout_s=0.3)
+                cancelled = sent.result().cancel_goal_async()
+                assert spin_until(executor, cancelled.done, timeout_s=10.0)
+            result = sent.result().get_result_async()
+            assert spin_until(executor, result.done, timeout_s=10.0)
+            return result.result().status
+        assert goal(0.5) == 4  # SUCCEEDED: the awaited future was resolved from the timer
+        assert goal(-2.5, cancel=True) == 5  # CANCELED
+        executor.shutdown()
+        node.destroy_node()
+        stderr = terminate(process)
+    assert process.returncode == 0, stderr
+    assert 'Traceback' not in stderr

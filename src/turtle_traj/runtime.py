@@ -23,6 +23,7 @@ def run_nodes(
     *,
     args: Sequence[str] | None = None,
     on_exit: Callable[[], None] | None = None,
+    executor_type: Callable[[], Executor] = SingleThreadedExecutor,
 ) -> int:
     """Create nodes, spin them in one executor until asked to stop, then tidy up.
 
@@ -34,6 +35,7 @@ def run_nodes(
     :param create_nodes: builds the nodes once rclpy is initialised; gets `stop`.
     :param args: command-line arguments for rclpy (``--ros-args`` remappings and parameters).
     :param on_exit: runs after spinning stopped and before the nodes are destroyed.
+    :param executor_type: makes the executor (after rclpy is initialised).
     :return: the process exit code: 0 after a stop, 1 when something else shut the ROS
         context down.
     """
@@ -44,7 +46,7 @@ def run_nodes(
     for signum in _STOP_SIGNALS:
         signal.signal(signum, lambda *_: stop.set())
     nodes: list[Node] = []
-    executor = SingleThreadedExecutor()
+    executor = executor_type()
     exit_code = 0
     try:
         nodes.extend(create_nodes(stop.set))
