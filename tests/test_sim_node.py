@@ -181,18 +181,24 @@ def _set_parameter(sim, name, value):
     return sim.call(SetParameters, '/turtlesim/set_parameters', request).results[0]
 
 
-@pytest.mark.parametrize(('name', 'value'), [
-    ('background_r', ParameterValue(type=ParameterType.PARAMETER_INTEGER, integer_value=256)),
-    ('background_g', ParameterValue(type=ParameterType.PARAMETER_INTEGER, integer_value=-1)),
-    ('background_b', ParameterValue(type=ParameterType.PARAMETER_STRING, string_value='blue')),
-    ('holonomic', ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=1.0)),
-    ('time_scale', ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=2.0)),
+@pytest.mark.parametrize(('name', 'value', 'reason'), [
+    ('background_r', ParameterValue(type=ParameterType.PARAMETER_INTEGER, integer_value=256),
+     'Parameter background_r out of range. Min: 0, Max: 255, value: 256'),
+    ('background_g', ParameterValue(type=ParameterType.PARAMETER_INTEGER, integer_value=-1),
+     'Parameter background_g out of range. Min: 0, Max: 255, value: -1'),
+    ('background_b', ParameterValue(type=ParameterType.PARAMETER_STRING, string_value='blue'),
+     'Wrong parameter type'),
+    ('holonomic', ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=1.0),
+     'Wrong parameter type'),
+    ('time_scale', ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=2.0),
+     'read-only'),
 ])
-def test_invalid_parameters_are_refused_with_a_reason(sim, name, value):
+def test_invalid_parameters_are_refused_with_a_reason(sim, name, value, reason):
+    """The parameter layer's refusals (rclcpp's words in turtlesim, rclpy's here)."""
     before = sim.sim.get_parameter(name).value
     result = _set_parameter(sim, name, value)
     assert not result.successful
-    assert result.reason
+    assert reason in result.reason, result.reason
     assert sim.sim.get_parameter(name).value == before
 
 

@@ -1,10 +1,12 @@
-"""The turtlesim window as images: a trail layer, the background and turtle icons (Pillow)."""
+"""The turtlesim window as images: a trail layer (numpy), the background and turtle icons
+(Pillow)."""
 
 from __future__ import annotations
 
 import math
 from functools import cache
 
+import numpy as np
 from PIL import Image, ImageDraw
 
 from turtle_traj.sim.physics import (
@@ -40,38 +42,56 @@ def turtle_icon() -> Image.Image:
 
 
 class Canvas:
-    """Pen trails on a transparent 500x500 layer, plus rendering of the full window."""
+    """Pen trails on a transparent 500x500 layer (RGBA, numpy), plus rendering of the window."""
 
     def __init__(self) -> None:
-        self.trails = Image.new('RGBA', (CANVAS_SIZE_PX, CANVAS_SIZE_PX), _TRANSPARENT_WHITE)
-        self._draw = ImageDraw.Draw(self.trails)
+        self.trails = np.empty((CANVAS_SIZE_PX, CANVAS_SIZE_PX, 4), dtype=np.uint8)
+        self.clear()
 
     def clear(self) -> None:
-        self._draw.rectangle((0, 0, CANVAS_SIZE_PX, CANVAS_SIZE_PX), fill=_TRANSPARENT_WHITE)
+        self.trails[:] = _TRANSPARENT_WHITE
 
     def draw(self, segment: Segment) -> None:
-        """Stroke a segment with a square cap (the line is extended by half the width)."""
+        """Stroke a segment as turtlesim's Qt painter does: solid, square cap, no antialiasing.
+
+        The stroke is the rectangle around the segment, lengthened by half the width at both
+        ends (the square cap); Qt paints an aliased shape's pixel when the pixel's centre, half
+        a pixel right of and below its corner, lies inside. That decides whether the colour
+        sensor, a step ahead, still reads the previous segment's cap (tests/test_sim_node.py).
+        A 1 px pen is a cap-less hairline through the pixels it crosses.
+        """
         (x0, y0), (x1, y1) = to_pixel(*segment.start), to_pixel(*segment.end)
         pen = segment.pen
-        half = pen.width_px / 2.0
+        half = max(pen.width_px, 1) / 2.0
+        reach = half * math.sqrt(2.0) + 1.0  # the stroke's farthest corner, and a margin
+        columns = np.arange(max(math.floor(min(x0, x1) - reach), 0),
+                            min(math.ceil(max(x0, x1) + reach), CANVAS_SIZE_PX - 1) + 1)
+        rows = np.arange(max(math.floor(min(y0, y1) - reach), 0),
+                         min(math.ceil(max(y0, y1) + reach), CANVAS_SIZE_PX - 1) + 1)
+        if not len(columns) or not len(rows):
+            return  # wholly off the canvas
+        cx, cy = np.meshgrid(columns + 0.5, rows + 0.5)
         length = math.hypot(x1 - x0, y1 - y0)
-        if length > 0.0 and pen.width_px > 1:
-            ux, uy = (x1 - x0) / length * half, (y1 - y0) / length * half
-            x0, y0, x1, y1 = x0 - ux, y0 - uy, x1 + ux, y1 + uy
-        self._draw.line((x0, y0, x1, y1), fill=(pen.r, pen.g, pen.b, 255), width=pen.width_px)
+        ux, uy = ((x1 - x0) / length, (y1 - y0) / length) if length > 0.0 else (1.0, 0.0)
+        along = (cx - x0) * ux + (cy - y0) * uy
+        across = (cy - y0) * ux - (cx - x0) * uy
+        cap = half if pen.width_px > 1 else 0.5
+        inside = (along >= -cap) & (along <= length + cap) & (np.abs(across) <= half)
+        self.trails[rows[0]:rows[-1] + 1, columns[0]:columns[-1] + 1][inside] = (
+            pen.r, pen.g, pen.b, 255)
 
     def color_under(self, turtle: Turtle) -> tuple[int, int, int]:
         """RGB of the trail layer under the turtle, as turtlesim's color sensor reads it."""
         px, py = to_pixel(turtle.x, turtle.y)
         column = min(max(math.floor(px + 0.5), 0), CANVAS_SIZE_PX - 1)
         row = min(max(math.floor(py + 0.5), 0), CANVAS_SIZE_PX - 1)
-        r, g, b, _ = self.trails.getpixel((column, row))
-        return r, g, b
+        r, g, b, _ = self.trails[row, column]
+        return int(r), int(g), int(b)
 
     def render(self, background: tuple[int, int, int], turtles: list[Turtle]) -> Image.Image:
         """The window as a user sees it: background, trails, then turtles in name order."""
-        frame = Image.new('RGBA', self.trails.size, (*background, 255))
-        frame.alpha_composite(self.trails)
+        frame = Image.new('RGBA', (CANVAS_SIZE_PX, CANVAS_SIZE_PX), (*background, 255))
+        frame.alpha_composite(Image.fromarray(self.trails, 'RGBA'))
         for turtle in turtles:
             icon = turtle_icon().rotate(math.degrees(turtle.theta) - 90.0, expand=True)
             px, py = to_pixel(turtle.x, turtle.y)
