@@ -9,12 +9,11 @@ import pytest
 import rclpy
 from geometry_msgs.msg import Twist
 from PIL import Image
-from rcl_interfaces.msg import Log, ParameterType, ParameterValue
 from rcl_interfaces.msg import Parameter as ParameterMsg
+from rcl_interfaces.msg import ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
 from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
-from rclpy.qos import DurabilityPolicy, QoSProfile
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty
 from turtle_traj_interfaces.srv import SaveImage
@@ -46,22 +45,21 @@ class PoseRecorder:
         return self.poses[-1]
 
 
-class RosoutRecorder:
-    """The simulator's log lines, as /rosout carries them."""
+class LogRecorder:
+    """The simulator's log lines, as its console output shows them (/rosout is unreliable
+    within one test process: rcl keeps one rosout publisher per node name, and the
+    destruction of an earlier `turtlesim` node unregisters it)."""
 
-    def __init__(self, sim):
-        self.sim = sim
-        self.lines: list[str] = []
-        # /rosout keeps its recent lines for late subscribers: none is missed while matching
-        sim.client.create_subscription(
-            Log, '/rosout', lambda entry: self.lines.append(entry.msg) if entry.name ==
-            'turtlesim' else None,
-            QoSProfile(depth=1000, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    def __init__(self, sim, capfd):
+        self.sim, self.capfd, self.text = sim, capfd, ''
 
     def wait_for(self, text: str) -> bool:
-        """A line starting with `text` has been (or is soon) logged."""
-        return self.sim.spin_until(lambda: any(line.startswith(text) for line in self.lines),
-                                   timeout_s=5.0)
+        """`text` has been (or is soon) logged by the simulator."""
+        def seen() -> bool:
+            self.text += self.capfd.readouterr().err
+            return any(line.split('[turtlesim]: ', 1)[-1].startswith(text)
+                       for line in self.text.splitlines() if '[turtlesim]: ' in line)
+        return self.sim.spin_until(seen, timeout_s=5.0)
 
 
 def _drive(sim, publisher, linear=0.0, angular=0.0, linear_y=0.0):
@@ -142,8 +140,8 @@ def test_a_single_command_drives_63_steps_as_on_turtlesim(sim):
     assert recorder.last.x - SPAWN_XY_M == pytest.approx(2.016, abs=1e-5)
 
 
-def test_a_non_finite_command_stops_the_turtle_and_says_so(sim):
-    recorder, logs = PoseRecorder(sim), RosoutRecorder(sim)
+def test_a_non_finite_command_stops_the_turtle_and_says_so(sim, capfd):
+    recorder, logs = PoseRecorder(sim), LogRecorder(sim, capfd)
     publisher = sim.client.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
     _drive(sim, publisher, linear=1.0, angular=0.5)
     assert sim.spin_until(lambda: recorder.last.linear_velocity == 1.0)
@@ -259,8 +257,8 @@ def test_rotate_absolute_reaches_the_goal(sim):
     assert recorder.last.theta == pytest.approx(1.57, abs=0.02)
 
 
-def test_log_lines_use_turtlesims_words(sim):
-    logs = RosoutRecorder(sim)
+def test_log_lines_use_turtlesims_words(sim, capfd):
+    logs = LogRecorder(sim, capfd)
     sim.call(Spawn, 'spawn', Spawn.Request(x=1.0, y=1.0, name='turtle1'))
     assert logs.wait_for('A turtle named [turtle1] already exists')
     sim.call(Kill, 'kill', Kill.Request(name='nobody'))
