@@ -86,7 +86,8 @@ def _typed_value(declared: int, text: str) -> ParameterValue:
 
 
 class TrajClient:
-    """Calls the services of one trajectory node (default `/turtle_traj`)."""
+    """Calls the services and runs the draw action of one trajectory node (default
+    `/turtle_traj`)."""
 
     def __init__(self, *, node: str = '/turtle_traj', connect_timeout_s: float = 3.0) -> None:
         self.node_name = node if node.startswith('/') else f'/{node}'
