@@ -283,8 +283,9 @@ class SimNode(Node):
     def handle_spawn(self, request: Spawn.Request, response: Spawn.Response) -> Spawn.Response:
         try:
             response.name = self.spawn_turtle(request.name, request.x, request.y, request.theta)
-        except SimulationError as error:  # a taken name in turtlesim's words; ours else
-            self.get_logger().error(str(error))
+        except SimulationError as error:
+            taken = request.name in self.world.turtles  # turtlesim's own words for that one
+            self.get_logger().error(str(error) if taken else f'Could not spawn turtle: {error}')
             response.name = ''
         return response
 
