@@ -28,25 +28,26 @@ def running_system(tmp_path_factory):
         yield process
 
 
-@pytest.mark.parametrize(('argv', 'service', 'fields'), [
-    (['draw', 'polygon', '--sides', '5', '--size', '1.5', '--clockwise'], 'draw_polygon',
+@pytest.mark.parametrize(('argv', 'trajectory', 'fields'), [
+    (['draw', 'polygon', '--sides', '5', '--size', '1.5', '--clockwise'], 'polygon',
      dict(sides=5, size=1.5, clockwise=True)),
-    (['draw', 'circle', '--size', '2'], 'draw_circle', dict(size=2.0, turns=1.0, forever=False)),
-    (['draw', 'circle', '--forever'], 'draw_circle', dict(turns=0.0, forever=True)),
+    (['draw', 'circle', '--size', '2'], 'circle', dict(size=2.0, turns=1.0, forever=False)),
+    (['draw', 'circle', '--forever'], 'circle', dict(turns=0.0, forever=True)),
     (['go-to', '8', '2', '--theta', '90'], 'go_to',
      dict(x=8.0, y=2.0, use_theta=True, theta=math.pi / 2)),
     (['move', '2', '--backward'], 'move', dict(distance=-2.0)),
     (['rotate', '90', '--clockwise'], 'rotate', dict(angle=-math.pi / 2)),
-    (['stop'], 'stop', None),
+    (['follow-path', '2,3', '4,5', '--closed'], 'follow_path', dict(closed=True)),
+    (['stop'], None, None),
 ])
-def test_arguments_become_requests(argv, service, fields):
-    name, request = cli.to_request(cli.build_parser().parse_args(argv))
-    assert name == service
-    if fields is None:
-        assert request is None
-    else:
-        for field, value in fields.items():
-            assert getattr(request, field) == pytest.approx(value)
+def test_arguments_become_goals(argv, trajectory, fields):
+    goal = cli.to_goal(cli.build_parser().parse_args(argv))
+    if trajectory is None:
+        assert goal is None
+        return
+    assert goal.trajectory == trajectory
+    for field, value in fields.items():
+        assert getattr(goal, field) == pytest.approx(value)
 
 
 def test_bad_arguments_exit_with_usage(capsys):

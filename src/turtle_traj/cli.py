@@ -1,7 +1,8 @@
 """`turtle-traj`: the command line of the trajectory node.
 
 One subcommand per entry of the trajectory registry (`draw square`, `go-to`, ...), each with
-an option or argument per request field, plus stop, reset, menu, params and up.
+an option or argument per request field, plus stop, reset, save, menu, params and up. A
+trajectory runs as a goal of the node's draw action.
 """
 
 from __future__ import annotations
@@ -12,10 +13,10 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from turtle_traj.client import GoalRejected, Interrupted, TrajClient, TrajClientError
+from turtle_traj.client import INTERRUPTED, GoalRejected, Interrupted, TrajClient, TrajClientError
 from turtle_traj.console import ProgressLine, report
 from turtle_traj.menu import run_menu
-from turtle_traj.services import make_goal, make_request
+from turtle_traj.services import make_goal
 from turtle_traj.sim.options import add_sim_options, options_from
 from turtle_traj.trajectories import BOOL, INT, POINTS, TRAJECTORIES, Field, Trajectory
 
@@ -123,12 +124,10 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def to_request(options: argparse.Namespace) -> tuple[str, object]:
-    """The service name and request for parsed options (None for stop and reset)."""
+def to_goal(options: argparse.Namespace):
+    """The draw action's goal for parsed options (None for the other commands)."""
     trajectory = getattr(options, 'trajectory', None)
-    if trajectory is None:
-        return options.command, None
-    return trajectory.service, make_request(trajectory, vars(options))
+    return None if trajectory is None else make_goal(trajectory, vars(options))
 
 
 def _read_points(path: Path) -> list[tuple[float, float]]:
@@ -194,8 +193,8 @@ def main(args: Sequence[str] | None = None) -> int:
 
 def _draw(client: TrajClient, trajectory: Trajectory, options: argparse.Namespace) -> int:
     """Run one trajectory as a goal of the draw action, with a progress line; Ctrl-C cancels."""
-    goal = make_goal(trajectory, vars(options))
-    line = ProgressLine(trajectory.name, endless=bool(getattr(goal, 'forever', False)))
+    goal = to_goal(options)
+    line = ProgressLine(trajectory.name, endless=goal.forever)
     try:
         outcome = client.draw(goal, on_feedback=line.show, timeout_s=options.timeout)
     finally:
@@ -205,7 +204,7 @@ def _draw(client: TrajClient, trajectory: Trajectory, options: argparse.Namespac
           file=sys.stdout if result.success else sys.stderr)
     if result.success:
         return 0
-    return 130 if outcome.cancelled.startswith('interrupted') else 1
+    return 130 if outcome.cancelled == INTERRUPTED else 1
 
 
 def _run_session(options: argparse.Namespace) -> int:

@@ -50,6 +50,7 @@ class GoalRejected(TrajClientError):
 
 _START_ONE = ('start one with `python -m turtle_traj --with-sim` (or `turtle-traj up`), and '
               'check ROS_DOMAIN_ID')
+INTERRUPTED = 'interrupted'  # why a goal was cancelled on Ctrl-C
 ANSWER_WAIT_S = 2.0  # a request not answered within this is sent again
 REQUEST_ATTEMPTS = 3
 _ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)
@@ -175,7 +176,7 @@ class TrajClient:
                 raise GoalRejected(self._rejection_reason(reasons))
             result = self._follow(goal.trajectory, handle, heard, timeout_s)
         except KeyboardInterrupt:
-            return self._cancel(sent, 'interrupted')
+            return self._cancel(sent, INTERRUPTED)
         except TimeoutError:
             return self._cancel(sent, f'not done within {timeout_s:g} s')
         return DrawOutcome(result.result, result.status)

@@ -130,11 +130,10 @@ def _run(client: TrajClient, trajectory: Trajectory, ask: Callable[[str], str],
     """Ask a trajectory's fields and run it as a draw goal; Ctrl-C while it runs cancels it."""
     live, answers = _live(client), {}
     for item in trajectory.fields:
-        if item.menu and not any(answers.get(other.name) for other in trajectory.fields
-                                 if other.excludes == item.name):
+        if item.menu and item.name not in trajectory.excluded(answers):
             answers[item.name] = ask_field(trajectory, item, answers, live, ask, say)
     goal = make_goal(trajectory, answers)
-    line = ProgressLine(trajectory.name, endless=bool(getattr(goal, 'forever', False)))
+    line = ProgressLine(trajectory.name, endless=goal.forever)
     try:
         outcome = client.draw(goal, on_feedback=line.show)
     except GoalRejected as refusal:

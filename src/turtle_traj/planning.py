@@ -209,10 +209,12 @@ def sketch_spiral(request: Any, start: Pose2D, settings: Settings) -> Sketch:
         return shapes.spiral(start, start_radius=size, growth=growth,
                              clockwise=request.clockwise, turns=turns, max_radius=max_radius,
                              arena=settings.arena)
-    if turns or max_radius:  # an end was asked for: refuse one beyond the wall by its turns
-        _require_spiral_turns_fit(start, start_radius, growth, request.clockwise,
-                                  min(turns or math.inf, max(max_radius - start_radius, 0.0)
-                                      / growth if max_radius else math.inf), settings.arena)
+    ends = [turns] if turns else []  # the end asked for, in turns: refused beyond the wall
+    if max_radius:
+        ends.append(max(max_radius - start_radius, 0.0) / growth)
+    if ends:
+        _require_spiral_turns_fit(start, start_radius, growth, request.clockwise, min(ends),
+                                  settings.arena)
     return Sketch(f'spiral from radius {start_radius:g} m', build, start_radius,
                   'm (start radius)', **_shape_speeds(request))
 

@@ -99,11 +99,14 @@ class Trajectory:
         """The largest size field value that fits from `start` (None: nothing scales)."""
         return planning.largest_size(self.sketch, request, start, settings)
 
+    def excluded(self, given: Mapping[str, Any]) -> set[str]:
+        """Fields that flags given true exclude (`forever` excludes a circle's `turns`)."""
+        return {item.excludes for item in self.fields if item.excludes and given.get(item.name)}
+
     def request_values(self, given: Mapping[str, Any]) -> dict[str, Any]:
         """Request field values from values as entered (missing ones take their defaults)."""
         values = {}
-        excluded = {item.excludes for item in self.fields
-                    if item.excludes and given.get(item.name)}
+        excluded = self.excluded(given)
         for item in self.fields:
             value = given.get(item.name)
             if value is None:
