@@ -108,6 +108,32 @@ def simulator_program_cpu(seconds: float = 10.0) -> tuple[float, float]:
                 process.wait(timeout=15)
 
 
+def _program_cpu_driven(program: list[str], seconds: float = 10.0) -> tuple[float, float]:
+    """Share of one core used by `program` idle, then while the traffic driver runs."""
+    quiet = {'stdout': subprocess.DEVNULL, 'stderr': subprocess.DEVNULL}
+    floor = str(Path(__file__).with_name('traffic_floor.py'))
+    sim = subprocess.Popen([sys.executable, *program], **quiet)
+    driver = None
+    try:
+        time.sleep(3.0)
+        idle = _cpu_share(sim.pid, seconds)
+        driver = subprocess.Popen([sys.executable, floor, 'driver'], **quiet)
+        time.sleep(3.0)  # discovered and matched
+        return idle, _cpu_share(sim.pid, seconds)
+    finally:
+        for process in (driver, sim):
+            if process is not None:
+                process.terminate()
+                process.wait(timeout=15)
+
+
+def traffic_floor() -> dict[str, tuple[float, float]]:
+    """Our simulator and a stand-in with turtlesim's traffic only, under the same driver."""
+    floor = str(Path(__file__).with_name('traffic_floor.py'))
+    return {'our simulator': _program_cpu_driven(['-m', 'turtle_traj.sim']),
+            'traffic-only stand-in': _program_cpu_driven([floor, 'stand-in'])}
+
+
 def update_cost_ms(turtles: int, updates: int = 300) -> tuple[float, float]:
     """Median and worst wall time of one update (physics, drawing, publishing)."""
     node = SimNode(lockstep=True)  # no timer: we call the update ourselves
@@ -143,6 +169,11 @@ def main() -> None:
             print(f'  CPU of `python -m turtle_traj.sim`, one turtle, real time, run {run}: '
                   f'idle {100 * idle:4.1f}% of one core (target <= 2.5%), while our node '
                   f'drives a circle {100 * driven:4.1f}% (target <= 3%)')
+        for run in range(1, 3):
+            for program, (idle, driven) in traffic_floor().items():
+                print(f'  CPU under the traffic driver (pose subscribed, cmd_vel every 16 ms), '
+                      f'run {run}: {program:21s} idle {100 * idle:4.1f}%, '
+                      f'driven {100 * driven:4.1f}%')
         budget_ms = STEP_S * 1e3
         for turtles in (1, 10, 100):
             median, worst = update_cost_ms(turtles)
