@@ -18,7 +18,7 @@ from turtle_traj.console import ProgressLine, report
 from turtle_traj.menu import run_menu
 from turtle_traj.services import make_goal
 from turtle_traj.sim.options import add_sim_options, options_from
-from turtle_traj.trajectories import BOOL, INT, POINTS, TRAJECTORIES, Field, Trajectory
+from turtle_traj.trajectories import BOOL, INT, POINTS, STRING, TRAJECTORIES, Field, Trajectory
 
 
 def _point(text: str) -> tuple[float, float]:
@@ -34,9 +34,13 @@ def _field_help(item: Field) -> str:
     text = f'{item.help} [{unit}]' if unit and item.type != POINTS else item.help
     if item.parameter:
         return f"{text}; default: the node's {item.parameter}"
-    if item.default not in (None, 0.0, False) and not item.positional:
+    if item.default not in (None, 0.0, False, '') and not item.positional:
         return f'{text}; default: {item.default:g}'
     return text
+
+
+def _value_type(item: Field) -> type:
+    return {INT: int, STRING: str}.get(item.type, float)
 
 
 def _add_field(parser: argparse.ArgumentParser, item: Field) -> None:
@@ -50,11 +54,12 @@ def _add_field(parser: argparse.ArgumentParser, item: Field) -> None:
                             help='read (more) points from FILE: one x,y (or x y) per line, '
                                  '# comments')
     elif item.positional:
-        parser.add_argument(item.name, type=int if item.type == INT else float,
-                            metavar=item.name.upper(), help=_field_help(item))
+        optional = {'nargs': '?'} if item.default is not None else {}
+        parser.add_argument(item.name, type=_value_type(item), metavar=item.name.upper(),
+                            help=_field_help(item), **optional)
     else:
         parser.add_argument(item.option, dest=item.name, metavar=item.option[2:].upper(),
-                            type=int if item.type == INT else float, help=_field_help(item))
+                            type=_value_type(item), help=_field_help(item))
     if item.negate:
         parser.add_argument(f'--{item.negate}', action='store_true',
                             help=f'the other way (negates {item.name.upper()})')

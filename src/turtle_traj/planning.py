@@ -10,6 +10,7 @@ against the arena, and `largest_size` finds the largest size that fits from a po
 from __future__ import annotations
 
 import math
+import pathlib
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
@@ -17,16 +18,24 @@ from typing import Any
 import numpy as np
 
 from turtle_traj.control.follower import ControlConfig
-from turtle_traj.geometry import shapes
-from turtle_traj.geometry.path import Path, Pose2D
+from turtle_traj.geometry import curves, drawing, shapes, svg, text
+from turtle_traj.geometry.path import Path, Pose2D, legs_from_polyline
 from turtle_traj.geometry.shapes import Arena, ShapeError
-from turtle_traj.settings import SPEC, Settings
+from turtle_traj.settings import SPEC, PenStyle, Settings, pen_color_problem, pen_style
 
 POLYGON_SIDES = {'square': 4, 'triangle': 3, 'hexagon': 6}
 MAX_SIDES = 360
 MAX_FREQUENCY = 20.0  # cycles per metre: beyond this the wave is finer than the sampling
 MAX_POINTS = 10_000
 MIN_SIZE = 0.001  # m (or turns, cycles/m): anything smaller is noise, not a request
+MAX_TIPS = 100  # star points
+MAX_PETALS = 100
+MAX_FREQUENCY_RATIO = 50  # Lissajous a and b
+STAR_INNER_RATIO = 0.382  # a regular five-pointed star's inner / outer radius
+SVG_TOLERANCE_M = 0.0005  # SVG curves sampled within this of the true curve, at the size drawn
+# Drawings turn in place at kinks sharper than this (or the corner_angle parameter, if smaller):
+# a font's glyphs are coarse polylines, and cutting their kinks would smear the letters.
+DRAWING_CORNER_ANGLE_RAD = 0.1
 
 
 class PlanError(ValueError):
@@ -45,6 +54,8 @@ class Sketch:
     linear_speed: float | None = None  # per-run overrides of the node's top speeds
     angular_speed: float | None = None
     end_tolerance: float | None = None
+    pen: PenStyle | None = None  # drawings: the pen to draw with (None: leave it alone)
+    pen_up_unordered: float = 0.0  # drawings: pen-up distance in the strokes' given order
 
 
 @dataclass(frozen=True)
@@ -56,6 +67,8 @@ class Plan:
     linear_speed: float | None = None  # None: the node's parameter, read live
     angular_speed: float | None = None
     end_tolerance: float | None = None
+    pen: PenStyle | None = None  # a drawing's pen: the node sets it, and restores its own after
+    pen_up_unordered: float = 0.0  # pen-up distance had the strokes not been reordered [m]
 
     def control(self, config: ControlConfig) -> ControlConfig:
         """The node's control config with this run's speeds."""
@@ -82,7 +95,8 @@ def plan(trajectory: str, sketch: SketchFunction, request: Any, start: Pose2D,
         raise PlanError(str(error)) from None
     if not path.legs:  # the follower and the report need at least one leg
         raise PlanError('nothing to drive: the turtle is already there')
-    return Plan(trajectory, path, drawn.linear_speed, drawn.angular_speed, drawn.end_tolerance)
+    return Plan(trajectory, path, drawn.linear_speed, drawn.angular_speed, drawn.end_tolerance,
+                drawn.pen, drawn.pen_up_unordered)
 
 
 def largest_size(sketch: SketchFunction, request: Any, start: Pose2D,
@@ -322,3 +336,146 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
                          corner_angle_rad=settings.defaults.corner_angle)
     return Sketch(f'path through {len(points)} points', lambda _: path,
                   linear_speed=_speed('linear_speed', request.linear_speed))
+
+
+# -- parametric curves: one continuous stroke from where the turtle stands ---------------------
+
+def _curve_sketch(what: str, local: Callable[[float], np.ndarray], size: float, unit: str,
+                  request: Any, start: Pose2D, corner_angle_rad: float) -> Sketch:
+    """A curve given in the drawing frame (`curves`), anchored at the turtle: its sharp
+    corners (a star's, a heart's cusps) turned in place, the rest tracked continuously."""
+    def build(scale: float) -> Path:
+        points = shapes.anchored(local(scale), start)
+        return Path(tuple(legs_from_polyline(start, points, corner_angle_rad=corner_angle_rad)),
+                    closed=bool(np.allclose(points[0], points[-1])))
+    return Sketch(what, build, size, unit, **_shape_speeds(request))
+
+
+def _count(name: str, value: int, default: int, low: int, high: int) -> int:
+    value = value or default
+    if not low <= value <= high:
+        raise PlanError(f'{name} must be {low} to {high} (0: {default}), got {value}')
+    return value
+
+
+def sketch_star(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    tips = _count('tips', request.tips, 5, 3, MAX_TIPS)
+    outer = _non_negative('size', request.size, settings.defaults.radius, 'm')
+    inner = _non_negative('inner_radius', request.inner_radius, STAR_INNER_RATIO * outer, 'm')
+    if inner >= outer:
+        raise PlanError(f'inner_radius {inner:g} m must be smaller than the outer radius '
+                        f'(size) {outer:g} m')
+    return _curve_sketch(
+        f'{tips}-pointed star of radius {outer:g} m',
+        lambda size: curves.star(tips=tips, outer_radius=size, inner_radius=inner * size / outer),
+        outer, 'm (outer radius)', request, start, corner_angle_rad=1e-9)
+
+
+def _curve_width(request: Any, settings: Settings) -> float:
+    return _non_negative('size', request.size, settings.defaults.curve_width, 'm')
+
+
+def sketch_heart(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    width = _curve_width(request, settings)
+    return _curve_sketch(f'heart {width:g} m wide', lambda size: curves.heart(size=size), width,
+                         'm (width)', request, start, settings.defaults.corner_angle)
+
+
+def sketch_lemniscate(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    width = _curve_width(request, settings)
+    return _curve_sketch(f'lemniscate {width:g} m wide',
+                         lambda size: curves.lemniscate(size=size), width, 'm (width)', request,
+                         start, settings.defaults.corner_angle)
+
+
+def sketch_rose(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    petals = _count('petals', request.petals, 5, 1, MAX_PETALS)
+    if curves.rose_k(petals) is None:
+        raise PlanError(f'no rose r = sin(k t) has {petals} petals: odd k gives k petals and '
+                        f'even k 2k, so ask for {petals - 1}, {petals + 1} or {petals + 2}')
+    width = _curve_width(request, settings)
+    return _curve_sketch(f'rose of {petals} petals {width:g} m wide',
+                         lambda size: curves.rose(petals=petals, size=size), width, 'm (width)',
+                         request, start, settings.defaults.corner_angle)
+
+
+def sketch_lissajous(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    a = _count('a', request.a, 3, 1, MAX_FREQUENCY_RATIO)
+    b = _count('b', request.b, 2, 1, MAX_FREQUENCY_RATIO)
+    require_finite(phase=request.phase)
+    width = _curve_width(request, settings)
+    return _curve_sketch(
+        f'Lissajous curve {a}:{b} {width:g} m wide',
+        lambda size: curves.lissajous(a=a, b=b, phase=request.phase, size=size), width,
+        'm (width)', request, start, settings.defaults.corner_angle)
+
+
+# -- drawings: strokes joined by pen-up moves ----------------------------------------------------
+
+def _pen(request: Any, settings: Settings) -> PenStyle:
+    color = request.pen_color.strip()
+    if color:
+        problem = pen_color_problem(color)
+        if problem is not None:
+            raise PlanError(problem)
+    default = settings.pen
+    if not color:
+        return replace(default, width=request.pen_width or default.width)
+    return pen_style(color, request.pen_width or default.width)
+
+
+def _drawing_sketch(what: str, strokes: Callable[[float], list[np.ndarray]], size: float,
+                    unit: str, request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    """Strokes in the drawing frame (metres at a size), anchored at the turtle and ordered for
+    short pen-up moves (a scaled drawing keeps its order: it is found once, at `size`)."""
+    unordered = [shapes.anchored(stroke, start) for stroke in strokes(size)]
+    if not unordered:
+        raise PlanError(f'the {what} has nothing to draw')
+    here = (start.x, start.y)
+    order = drawing.order_strokes(unordered, here)
+    corner = min(settings.defaults.corner_angle, DRAWING_CORNER_ANGLE_RAD)
+
+    def build(scale: float) -> Path:
+        factor = scale / size
+        origin = np.array(here)
+        return drawing.drawing_path(start, [origin + (stroke - origin) * factor
+                                            for stroke in order], corner_angle_rad=corner)
+    return Sketch(what, build, size, unit, **_shape_speeds(request), pen=_pen(request, settings),
+                  pen_up_unordered=drawing.pen_up_length(unordered, here))
+
+
+def sketch_text(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    height = _non_negative('height', request.height, settings.defaults.text_height, 'm')
+    try:
+        text.text_strokes(request.text, 1.0)
+    except ShapeError as error:
+        raise PlanError(str(error)) from None
+    return _drawing_sketch(f'text {request.text!r} {height:g} m high',
+                           lambda size: text.text_strokes(request.text, size), height,
+                           'm (height)', request, start, settings)
+
+
+def sketch_svg(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    size = _non_negative('size', request.size, settings.defaults.svg_size, 'm')
+    try:
+        if request.path_data.strip() and request.file:
+            raise ShapeError('give path_data or a file, not both')
+        if request.path_data.strip():
+            parsed, what = svg.parse_path_data(request.path_data), 'SVG path'
+        else:
+            parsed = svg.parse_file(pathlib.Path(settings.svg_dir), request.file)
+            what = request.file
+        x_min, y_min, x_max, y_max = svg.bounding_box(parsed)
+    except ShapeError as error:
+        raise PlanError(str(error)) from None
+    extent = max(x_max - x_min, y_max - y_min)
+    if extent <= 0:
+        raise PlanError(f'the {what} has no extent: nothing to draw')
+    units_per_metre = extent / size
+    strokes = svg.path_strokes(parsed, SVG_TOLERANCE_M * units_per_metre,
+                               shapes.SAMPLE_SPACING_M * units_per_metre)
+
+    def scaled(scale: float) -> list[np.ndarray]:  # lower-left corner at the origin, y up
+        return [(stroke - (x_min, -y_max)) * (scale / extent) for stroke in strokes]
+    return _drawing_sketch(f'{what} {size:g} m wide', scaled, size, 'm (larger side)', request,
+                           start, settings)

@@ -6,6 +6,9 @@ parameters (`node.parameters`); clients and tests use it without ROS.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from importlib.resources import files
+
+from PIL import ImageColor
 
 from turtle_traj.control.follower import ControlConfig
 from turtle_traj.geometry.path import Pose2D
@@ -18,7 +21,7 @@ class Spec:
     """One parameter: default, unit, allowed range and whether it can change at run time."""
 
     name: str
-    default: float | str
+    default: float | int | str
     description: str
     unit: str = ''
     low: float | None = None
@@ -66,6 +69,19 @@ SPECS = (
     Spec('default_sine_frequency', 0.5, 'Sine frequency when frequency is 0', 'cycles/m',
          0.01, 20.0),
     Spec('default_sine_length', 4.0, 'Sine length when length is 0', 'm', 0.01, 100.0),
+    Spec('default_curve_width', 3.0, 'Width of a heart, lemniscate, rose or Lissajous curve '
+         'when size is 0', 'm', 0.01, 50.0),
+    Spec('default_text_height', 1.0, 'Height of capitals when a text request leaves height 0',
+         'm', 0.01, 50.0),
+    Spec('default_svg_size', 4.0, 'Larger side of an SVG drawing when size is 0', 'm',
+         0.01, 50.0),
+    Spec('pen_color', '#b3b8ff', "Pen colour of drawings (text, SVG) when a request gives "
+         "none, and the colour the pen is left with: a name (red) or #rrggbb; turtlesim's own "
+         'is #b3b8ff'),
+    Spec('pen_width', 3, 'Pen width of drawings when a request leaves it 0 (turtlesim: 3)',
+         'px', 1, 255),
+    Spec('svg_dir', str(files('turtle_traj') / 'drawings'), 'Folder the draw_svg service reads '
+         'files from (requests name them relative to it)', read_only=True),
 )
 
 
@@ -84,8 +100,36 @@ class ShapeDefaults:
     sine_amplitude: float
     sine_frequency: float
     sine_length: float
+    curve_width: float
+    text_height: float
+    svg_size: float
     goal_tolerance: float
     corner_angle: float
+
+
+@dataclass(frozen=True)
+class PenStyle:
+    """The pen turtlesim's set_pen sets: colour and width (turtlesim cannot be asked for it)."""
+
+    r: int
+    g: int
+    b: int
+    width: int
+
+
+def pen_color_problem(text: str) -> str | None:
+    """Why `text` is not a colour, or None."""
+    try:
+        ImageColor.getrgb(text)
+    except ValueError:
+        return f'pen_color {text!r} is not a colour: give a name (red) or #rrggbb'
+    return None
+
+
+def pen_style(color: str, width: int) -> PenStyle:
+    """A pen from a colour name or #rrggbb (checked first: `pen_color_problem`) and a width."""
+    r, g, b = ImageColor.getrgb(color)[:3]
+    return PenStyle(r, g, b, width)
 
 
 @dataclass(frozen=True)
@@ -96,6 +140,8 @@ class Settings:
     defaults: ShapeDefaults
     arena: Arena
     pose_timeout_s: float
+    pen: PenStyle  # drawings' default pen, and the pen a drawing leaves behind
+    svg_dir: str
 
 
 def settings_from_values(value: dict[str, object]) -> Settings:
@@ -113,11 +159,13 @@ def settings_from_values(value: dict[str, object]) -> Settings:
         spiral_growth=value['default_spiral_growth'],
         sine_amplitude=value['default_sine_amplitude'],
         sine_frequency=value['default_sine_frequency'],
-        sine_length=value['default_sine_length'],
+        sine_length=value['default_sine_length'], curve_width=value['default_curve_width'],
+        text_height=value['default_text_height'], svg_size=value['default_svg_size'],
         goal_tolerance=value['goal_tolerance'], corner_angle=value['corner_angle'])
     arena = Arena(value['arena_min_x'], value['arena_min_y'], value['arena_max_x'],
                   value['arena_max_y'], value['wall_margin'])
-    return Settings(control, defaults, arena, value['pose_timeout'])
+    pen = pen_style(value['pen_color'], value['pen_width'])
+    return Settings(control, defaults, arena, value['pose_timeout'], pen, value['svg_dir'])
 
 
 DEFAULT_SETTINGS = settings_from_values(DEFAULTS)

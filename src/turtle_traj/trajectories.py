@@ -15,10 +15,18 @@ from typing import Any
 
 from turtle_traj import planning
 from turtle_traj.geometry.path import Pose2D
-from turtle_traj.planning import MAX_POINTS, MAX_SIDES, Plan, SketchFunction
+from turtle_traj.planning import (
+    MAX_FREQUENCY_RATIO,
+    MAX_PETALS,
+    MAX_POINTS,
+    MAX_SIDES,
+    MAX_TIPS,
+    Plan,
+    SketchFunction,
+)
 from turtle_traj.settings import SPEC, Settings
 
-FLOAT, INT, BOOL, POINTS = 'float', 'int', 'bool', 'points'
+FLOAT, INT, BOOL, POINTS, STRING = 'float', 'int', 'bool', 'points', 'string'
 
 
 @dataclass(frozen=True)
@@ -32,7 +40,7 @@ class Field:
     name: str  # the request's field
     help: str
     unit: str = ''  # as entered; 'deg' is sent in radians
-    type: str = FLOAT  # FLOAT, INT, BOOL or POINTS
+    type: str = FLOAT  # FLOAT, INT, BOOL, POINTS or STRING
     default: float | None = 0.0  # sent when not given; None: optional (see `given`)
     parameter: str = ''
     low: float | None = None
@@ -137,6 +145,19 @@ ANGULAR_SPEED = Field('angular_speed', 'top turn rate (corners)', parameter='ang
                       menu=False)
 _SHAPE_SPEEDS = (LINEAR_SPEED, ANGULAR_SPEED)
 _DRAW_SHAPE = 'turtle_traj_interfaces/srv/DrawShape'
+_DRAW_CURVE = 'turtle_traj_interfaces/srv/DrawCurve'
+_PEN = (Field('pen_color', "pen colour: a name (red) or #rrggbb; default: the node's "
+              'pen_color', type=STRING, default='', menu=False),
+        Field('pen_width', "pen width [px]; default: the node's pen_width", type=INT,
+              default=0, low=0, high=255, menu=False))
+
+
+def _curve(name: str, sketch: SketchFunction, summary: str, fields: tuple[Field, ...],
+           example: Example) -> Trajectory:
+    """A parametric curve (DrawCurve): its width (`size`), its own fields and the speeds."""
+    return Trajectory(name, f'draw_{name}', _DRAW_CURVE, sketch, summary,
+                      (_size('width', 'default_curve_width'), *fields, *_SHAPE_SPEEDS),
+                      ('draw', name), example)
 
 
 def _polygon(name: str, sides: int, example: Example) -> Trajectory:
@@ -200,6 +221,46 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          *_SHAPE_SPEEDS),
         ('draw', 'sine'),
         Example((1.0, 5.5, 0.0), {'size': 1.5, 'frequency': 0.4, 'length': 9.0})),
+    Trajectory(
+        'star', 'draw_star', _DRAW_CURVE, planning.sketch_star,
+        'draw a star, upright, from its top tip',
+        (_size('outer radius', 'default_radius'),
+         Field('tips', 'number of points', type=INT, default=5, low=3, high=MAX_TIPS),
+         Field('inner_radius', 'radius of the inner corners (default: 0.382 x size)', 'm',
+               low=0.0, high=50.0, menu=False),
+         *_SHAPE_SPEEDS),
+        ('draw', 'star'), Example((5.5, 9.5, 0.0), {'size': 1.4, 'tips': 5})),
+    _curve('heart', planning.sketch_heart, 'draw a heart, upright, from its bottom tip', (),
+           Example((8.6, 0.8, 0.0), {'size': 2.6})),
+    _curve('lemniscate', planning.sketch_lemniscate,
+           'draw the infinity sign (lemniscate of Bernoulli), from its crossing', (),
+           Example((5.5, 1.6, 0.0), {'size': 4.0})),
+    _curve('rose', planning.sketch_rose, 'draw a rose r = sin(k t), from its centre',
+           (Field('petals', 'number of petals (odd, or a multiple of 4)', type=INT, default=5,
+                  low=1, high=MAX_PETALS),),
+           Example((2.2, 8.8, 0.0), {'size': 3.0, 'petals': 5})),
+    _curve('lissajous', planning.sketch_lissajous,
+           'draw a Lissajous curve x = sin(a t + phase), y = sin(b t)',
+           (Field('a', 'x frequency', type=INT, default=3, low=1, high=MAX_FREQUENCY_RATIO),
+            Field('b', 'y frequency', type=INT, default=2, low=1, high=MAX_FREQUENCY_RATIO),
+            Field('phase', 'phase of x', 'deg', default=90.0, low=-360.0, high=360.0)),
+           Example((8.0, 8.8, 0.0), {'size': 2.8, 'a': 3, 'b': 2, 'phase': 90.0})),
+    Trajectory(
+        'text', 'draw_text', 'turtle_traj_interfaces/srv/DrawText', planning.sketch_text,
+        'write text in a single-stroke font, along the heading from where the turtle stands',
+        (Field('text', 'what to write', type=STRING, default=None, positional=True),
+         Field('height', 'height of capitals', parameter='default_text_height', fits=True),
+         *_PEN, *_SHAPE_SPEEDS),
+        ('write',), Example((1.0, 5.0, 0.0), {'text': 'Hello ROS', 'height': 1.0})),
+    Trajectory(
+        'svg', 'draw_svg', 'turtle_traj_interfaces/srv/DrawSvg', planning.sketch_svg,
+        "draw SVG paths: a file in the node's svg_dir, or path data (--d)",
+        (Field('file', "SVG file, relative to the node's svg_dir (turtle.svg, wave.svg ship "
+               'with it)', type=STRING, default='', positional=True),
+         Field('path_data', 'SVG path data instead of a file ("M 0 0 C 1 2 3 2 4 0")',
+               type=STRING, default='', flag='d'),
+         _size('larger side', 'default_svg_size'), *_PEN, *_SHAPE_SPEEDS),
+        ('draw', 'svg'), Example((3.5, 2.6, 0.0), {'file': 'turtle.svg', 'size': 4.0})),
     Trajectory(
         'go_to', 'go_to', 'turtle_traj_interfaces/srv/GoTo', planning.sketch_go_to,
         'drive to a point (turn, drive straight, optionally turn to a heading)',

@@ -193,13 +193,21 @@ class _CurveTracker:
 
 
 class PathFollower:
-    """Drives a Path leg by leg; `done` once the last leg is finished."""
+    """Drives a Path leg by leg; `done` once the last leg is finished.
+
+    With `manage_pen`, a curve starts only once the pen is as it needs (`Curve.pen`): until the
+    caller reports that state in `pen_down`, the follower holds the turtle with STOP and names
+    the state it waits for in `pen_wanted`. The pen's state is unknown (None) at first.
+    """
 
     def __init__(self, path: Path, *, end_tolerance: float | None = None,
-                 latency: LatencyPredictor | None = None) -> None:
+                 latency: LatencyPredictor | None = None, manage_pen: bool = False) -> None:
         """:param latency: what the caller knows of the commands it sent (it records them and
             the pose echoes); without it the follower assumes each command acts at once."""
         self.path = path
+        self.manage_pen = manage_pen
+        self.pen_down: bool | None = None
+        self.pen_wanted: bool | None = None
         self.leg_index = 0
         self._end_tolerance = end_tolerance
         self._tracker: _TurnTracker | _CurveTracker | None = None
@@ -230,6 +238,10 @@ class PathFollower:
         while not self.done:
             leg = self.path.legs[self.leg_index]
             if self._tracker is None:
+                if self.manage_pen and isinstance(leg, Curve) and leg.pen != self.pen_down:
+                    self.pen_wanted = leg.pen
+                    return STOP
+                self.pen_wanted = None
                 last = self.leg_index == len(self.path.legs) - 1
                 tolerance = config.position_tolerance
                 if last and self._end_tolerance is not None:

@@ -38,6 +38,8 @@ class Outcome:
     max_deviation: float = 0.0
     final_error: float = 0.0
     final_heading_error: float = 0.0
+    pen_up_length: float = 0.0
+    pen_up_unordered: float = 0.0
 
 
 def wall_clearance(arena: Arena, pose: Pose2D) -> float:
@@ -57,7 +59,7 @@ class RunSupervisor:
                  latency: LatencyPredictor | None = None) -> None:
         self.plan = plan
         self.follower = PathFollower(plan.path, end_tolerance=plan.end_tolerance,
-                                     latency=latency)
+                                     latency=latency, manage_pen=plan.pen is not None)
         self.started_s = started_s
         self.ending: tuple[bool, str] | None = None
         self._start_clearance = wall_clearance(arena, start)
@@ -137,7 +139,8 @@ class RunSupervisor:
         outcome = Outcome(
             success, message, pose, elapsed_s=ended_s - self.started_s,
             path_length=self.distance if path.endless else path.length,
-            max_deviation=self.max_deviation, final_error=math.nan)
+            max_deviation=self.max_deviation, final_error=math.nan,
+            pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered)
         if pose is None:
             return outcome
         if self.follower.done:

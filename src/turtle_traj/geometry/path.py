@@ -31,11 +31,13 @@ class Curve:
     :param points: (N, 2) array, N >= 2, metres.
     :param reverse: driven backwards (the turtle faces away from the direction of travel).
     :param repeat: an endless loop (points[-1] == points[0]); the follower never finishes it.
+    :param pen: drawn with the pen down; False: a pen-up move between strokes of a drawing.
     """
 
     points: np.ndarray
     reverse: bool = False
     repeat: bool = False
+    pen: bool = True
 
     @cached_property
     def segment_lengths(self) -> np.ndarray:
@@ -119,6 +121,11 @@ class Path:
         return sum(leg.length for leg in self.legs if isinstance(leg, Curve))
 
     @property
+    def pen_up_length(self) -> float:
+        """Length driven with the pen up (between the strokes of a drawing)."""
+        return sum(leg.length for leg in self.legs if isinstance(leg, Curve) and not leg.pen)
+
+    @property
     def turning(self) -> float:
         """Total in-place turning, radians."""
         return sum(abs(leg.sweep_rad) for leg in self.legs if isinstance(leg, Turn))
@@ -135,12 +142,12 @@ class Path:
 
 
 def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: float,
-                       reverse: bool = False) -> list[Leg]:
+                       reverse: bool = False, pen: bool = True) -> list[Leg]:
     """Split a polyline into curves at corners sharper than `corner_angle_rad`.
 
     The turtle starts at `start`; a turn in place (shortest direction) is inserted wherever the
     direction of travel changes by more than the corner angle, including before the first
-    segment. Zero-length segments are dropped.
+    segment. Zero-length segments are dropped. `pen` marks the curves (see `Curve`).
     """
     points = np.asarray(points, dtype=float)
     keep = np.concatenate(([True], np.hypot(*np.diff(points, axis=0).T) > 1e-9))
@@ -153,14 +160,14 @@ def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: f
         change = shortest_angular_distance(heading, direction)
         if abs(change) > corner_angle_rad:
             if len(current) > 1:
-                legs.append(Curve(np.array(current), reverse=reverse))
+                legs.append(Curve(np.array(current), reverse=reverse, pen=pen))
             facing = heading - (math.pi if reverse else 0.0)
             legs.append(Turn(float(a[0]), float(a[1]), wrap_angle(facing), change))
             current = [a]
         current.append(b)
         heading = direction
     if len(current) > 1:
-        legs.append(Curve(np.array(current), reverse=reverse))
+        legs.append(Curve(np.array(current), reverse=reverse, pen=pen))
     return legs
 
 

@@ -45,8 +45,9 @@ class Arena:
                 f'y in [{self.min_y + self.margin:.2f}, {self.max_y - self.margin:.2f}]')
 
 
-def _rotate(local: np.ndarray, start: Pose2D) -> np.ndarray:
-    """Local (forward, left) coordinates to world coordinates anchored at `start`."""
+def anchored(local: np.ndarray, start: Pose2D) -> np.ndarray:
+    """Local (forward, left) coordinates to world coordinates anchored at `start`: the local
+    origin at the turtle, the local x axis along its heading."""
     c, s = math.cos(start.theta), math.sin(start.theta)
     return np.column_stack((start.x + c * local[:, 0] - s * local[:, 1],
                             start.y + s * local[:, 0] + c * local[:, 1]))
@@ -78,7 +79,7 @@ def circle(start: Pose2D, *, radius: float, clockwise: bool, turns: float) -> Pa
     count = max(int(math.ceil(2 * math.pi * radius * laps / SAMPLE_SPACING_M)), 16)
     phi = np.linspace(0.0, 2 * math.pi * laps, count + 1)
     local = np.column_stack((radius * np.sin(phi), side * radius * (1.0 - np.cos(phi))))
-    points = _rotate(local, start)
+    points = anchored(local, start)
     whole_laps = abs(laps - round(laps)) < 1e-9
     if whole_laps:
         points[-1] = points[0]
@@ -105,7 +106,7 @@ def spiral_points(start: Pose2D, *, start_radius: float, growth: float, clockwis
     # The radius grows from the first point on, so the curve leaves it angled outwards by
     # atan(growth / (2 pi r0)); turn the spiral so that it leaves along the heading instead.
     outward = math.atan2(-side * growth / (2 * math.pi), start_radius)
-    return _rotate(_rotate(local, Pose2D(0.0, 0.0, -outward)), start)
+    return anchored(anchored(local, Pose2D(0.0, 0.0, -outward)), start)
 
 
 def spiral(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool,
@@ -140,13 +141,13 @@ def sine(start: Pose2D, *, amplitude: float, frequency: float, length: float,
     spacing = min(SAMPLE_SPACING_M, 1.0 / (frequency * 60.0))
     along = np.linspace(0.0, length, max(int(math.ceil(length / spacing)), 2) + 1)
     local = np.column_stack((along, amplitude * np.sin(2 * math.pi * frequency * along)))
-    legs = legs_from_polyline(start, _rotate(local, start), corner_angle_rad=corner_angle_rad)
+    legs = legs_from_polyline(start, anchored(local, start), corner_angle_rad=corner_angle_rad)
     return Path(tuple(legs))
 
 
 def straight(start: Pose2D, *, distance: float) -> Path:
     """Drive `distance` metres along the heading; negative drives backwards."""
-    end = _rotate(np.array([[distance, 0.0]]), start)[0]
+    end = anchored(np.array([[distance, 0.0]]), start)[0]
     return Path((Curve(np.vstack((_start_xy(start), end)), reverse=distance < 0),))
 
 

@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
+from rcl_interfaces.msg import (
+    FloatingPointRange,
+    IntegerRange,
+    ParameterDescriptor,
+    SetParametersResult,
+)
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
@@ -14,6 +19,7 @@ from turtle_traj.settings import (
     Settings,
     Spec,
     arena_problem,
+    pen_color_problem,
     settings_from_values,
 )
 
@@ -23,7 +29,9 @@ def descriptor(spec: Spec) -> ParameterDescriptor:
     result = ParameterDescriptor(
         description=f'{spec.description} [{spec.unit}]' if spec.unit else spec.description,
         read_only=spec.read_only)
-    if spec.low is not None:
+    if isinstance(spec.default, int):
+        result.integer_range = [IntegerRange(from_value=spec.low, to_value=spec.high, step=1)]
+    elif spec.low is not None:
         result.floating_point_range = [FloatingPointRange(from_value=spec.low, to_value=spec.high)]
     return result
 
@@ -44,6 +52,10 @@ def validate(node: Node, parameters: list[Parameter],
     """Cross-field rules of the settings table, on the values the change would leave (and the
     turtle's pose, which a new arena must contain)."""
     incoming = {p.name: p.value for p in parameters}
+    if 'pen_color' in incoming:
+        problem = pen_color_problem(incoming['pen_color'])
+        if problem is not None:
+            return SetParametersResult(successful=False, reason=problem)
     if not incoming.keys() & ARENA_PARAMETERS:
         return SetParametersResult(successful=True)
     values = {name: incoming[name] if name in incoming

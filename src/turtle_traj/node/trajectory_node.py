@@ -27,6 +27,7 @@ from rclpy.time import Time
 from std_srvs.srv import Empty, Trigger
 from turtle_traj_interfaces.action import Draw
 from turtlesim.msg import Pose
+from turtlesim.srv import SetPen
 
 from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.latency import LatencyPredictor
@@ -35,6 +36,7 @@ from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.node import parameters
 from turtle_traj.planning import PlanError
 from turtle_traj.services import DRAW_ACTION, GOAL_REJECTED, service_type
+from turtle_traj.settings import PenStyle
 from turtle_traj.trajectories import BY_NAME, TRAJECTORIES, Trajectory
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
@@ -43,6 +45,7 @@ _WATCHDOG_PERIOD_S = 0.05
 _FEEDBACK_PERIOD_S = 0.1  # node clock: 10 Hz
 _RESET_TIMEOUT_S = 5.0
 _POLL_PERIOD_S = 0.005
+_SET_PEN_TIMEOUT_S = 2.0  # wall clock: a simulator that does not answer set_pen has vanished
 
 
 def fill_response(response, outcome: Outcome):
@@ -57,6 +60,9 @@ def fill_response(response, outcome: Outcome):
     response.max_deviation = outcome.max_deviation
     response.final_error = outcome.final_error
     response.final_heading_error = outcome.final_heading_error
+    if hasattr(response, 'pen_up_length'):  # drawings (text, svg) and the draw action
+        response.pen_up_length = outcome.pen_up_length
+        response.pen_up_unordered = outcome.pen_up_unordered
     return response
 
 
@@ -106,6 +112,10 @@ class TrajectoryNode(Node):
         self.create_service(Trigger, '~/reset', self._handle_reset, callback_group=group)
         self.stop_service = self.resolve_service_name('~/stop')
         self._sim_reset = self.create_client(Empty, 'reset', callback_group=group)
+        # Drawings lift the pen between strokes; the pen call on its way, and when it went.
+        self._set_pen = self.create_client(SetPen, f'{turtle}/set_pen', callback_group=group)
+        self._pen_call: Future | None = None
+        self._pen_call_wall_s = 0.0
 
         self.create_timer(1.0 / self.get_parameter('control_rate').value,
                           self._on_control_timer)
@@ -165,10 +175,32 @@ class TrajectoryNode(Node):
                               self._now_s())
         if run.ending is None:
             self._publish(command)
+            if run.follower.pen_wanted is not None and self._pen_call is None:
+                self._call_set_pen(run.plan.pen, down=run.follower.pen_wanted, run=run)
         else:
             self._finish_if_ended()  # which sends the stop
 
+    def _call_set_pen(self, pen: PenStyle, *, down: bool, run: RunSupervisor | None) -> None:
+        """Ask turtlesim for this pen; once it answers, tell `run`'s follower (if still on)."""
+        request = SetPen.Request(r=pen.r, g=pen.g, b=pen.b, width=pen.width, off=not down)
+        self._pen_call, self._pen_call_wall_s = self._set_pen.call_async(request), time.monotonic()
+
+        def answered(future: Future) -> None:
+            if future is self._pen_call:
+                self._pen_call = None
+            if run is not None and run is self._run and not future.cancelled():
+                run.follower.pen_down = down
+        self._pen_call.add_done_callback(answered)
+
     def _on_watchdog(self) -> None:
+        if (self._pen_call is not None
+                and time.monotonic() - self._pen_call_wall_s > _SET_PEN_TIMEOUT_S):
+            self._pen_call.cancel()
+            self._pen_call = None
+            if self._run is not None:
+                self._finish(False, f'{self._run.name} aborted: {self._set_pen.srv_name} did '
+                                    f'not answer within {_SET_PEN_TIMEOUT_S:g} s; is the '
+                                    'simulator still running?')
         if self._run is None:
             return
         silence = self._pose_silence_s()
@@ -201,6 +233,8 @@ class TrajectoryNode(Node):
             return
         self._run = self._run_done = None
         self._publish(STOP)
+        if run.plan.pen is not None:  # leave the pen down, as turtlesim starts it
+            self._call_set_pen(self.settings.pen, down=True, run=None)
         outcome = run.outcome(self._pose, self._now_s())
         summary = (f'{outcome.message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
                    f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m, '
@@ -231,12 +265,19 @@ class TrajectoryNode(Node):
                     f'running and turtle_name right?')
         return None
 
+    def _pen_refusal(self, trajectory: Trajectory, plan) -> str | None:
+        if plan.pen is not None and not self._set_pen.service_is_ready():
+            return (f'{trajectory.name} refused: it lifts the pen between strokes, and the '
+                    f'simulator service {self._set_pen.srv_name} is not available')
+        return None
+
     def _begin(self, trajectory: Trajectory, request) -> Future | str:
         """Start a run: the future of its Outcome, or why it is refused (logged)."""
         refusal = self._refusal()
         if refusal is None:
             try:
                 plan = trajectory.plan(request, self._pose, self.settings)
+                refusal = self._pen_refusal(trajectory, plan)
             except PlanError as error:
                 refusal = f'{trajectory.name} refused: {error}'
         if refusal is not None:
@@ -270,7 +311,8 @@ class TrajectoryNode(Node):
                       f'{", ".join(BY_NAME)}')
         elif reason is None:
             try:
-                trajectory.plan(goal, self._pose, self.settings)
+                reason = self._pen_refusal(trajectory,
+                                           trajectory.plan(goal, self._pose, self.settings))
             except PlanError as error:
                 reason = f'{trajectory.name} refused: {error}'
         if reason is None:
