@@ -33,14 +33,20 @@ shape_requests = st.builds(
     sides=st.integers(3, 12), size=st.floats(0.0, 8.0), clockwise=st.booleans(),
     turns=st.floats(0.0, 3.0), growth=st.floats(0.0, 1.0), max_radius=st.floats(0.0, 6.0),
     frequency=st.floats(0.0, 3.0), length=st.floats(0.0, 10.0), linear_speed=st.just(0.0),
-    angular_speed=st.just(0.0), forever=st.just(False))
+    angular_speed=st.just(0.0), forever=st.just(False), tips=st.integers(0, 12),
+    inner_radius=st.floats(0.0, 3.0), petals=st.integers(0, 13), a=st.integers(0, 6),
+    b=st.integers(0, 6), phase=st.floats(-7.0, 7.0), path_data=st.just(''),
+    file=st.sampled_from(['', 'turtle.svg', 'wave.svg']), pen_color=st.just(''),
+    pen_width=st.just(0))
 
 
 def shape(**fields) -> SimpleNamespace:
-    """A DrawShape-like request: the given fields, every other one 0 (the default)."""
+    """A DrawShape, DrawCurve or DrawSvg request: the given fields, every other one 0 (the
+    default)."""
     values = dict(sides=0, size=0.0, clockwise=False, turns=0.0, growth=0.0, max_radius=0.0,
                   frequency=0.0, length=0.0, linear_speed=0.0, angular_speed=0.0,
-                  forever=False)
+                  forever=False, tips=0, inner_radius=0.0, petals=0, a=0, b=0, phase=0.0,
+                  path_data='', file='', pen_color='', pen_width=0)
     return SimpleNamespace(**{**values, **fields})
 
 

@@ -21,7 +21,7 @@ from turtle_traj.console import ProgressLine, report
 from turtle_traj.geometry.path import Pose2D
 from turtle_traj.services import make_goal
 from turtle_traj.settings import Settings, settings_from_values
-from turtle_traj.trajectories import BOOL, INT, POINTS, TRAJECTORIES, Field, Trajectory
+from turtle_traj.trajectories import BOOL, INT, POINTS, STRING, TRAJECTORIES, Field, Trajectory
 
 RESET_KEY, EXIT_KEY = 'r', '0'
 CHOICES: dict[str, Trajectory] = {str(index): trajectory
@@ -85,6 +85,8 @@ def ask_field(trajectory: Trajectory, item: Field, answers: dict[str, Any], live
             if answer in ('', 'n', 'no', 'y', 'yes'):
                 return None if not answer else answer in ('y', 'yes')
             say('  please answer y or n')
+    if item.type == STRING:
+        return _read(ask, f'  {item.help} (Enter = none): ') or None
     if item.type == POINTS:
         while True:
             answer = _read(ask, f'  {item.help}, e.g. 2,2 8,2 8,8: ')

@@ -427,8 +427,9 @@ def _pen(request: Any, settings: Settings) -> PenStyle:
 def _drawing_sketch(what: str, strokes: Callable[[float], list[np.ndarray]], size: float,
                     unit: str, request: Any, start: Pose2D, settings: Settings) -> Sketch:
     """Strokes in the drawing frame (metres at a size), anchored at the turtle and ordered for
-    short pen-up moves (a scaled drawing keeps its order: it is found once, at `size`)."""
-    unordered = [shapes.anchored(stroke, start) for stroke in strokes(size)]
+    short pen-up moves. The order is found once: scaling about the turtle keeps it best."""
+    reference = min(size, _diagonal(settings.arena))  # larger is refused, unbuilt
+    unordered = [shapes.anchored(stroke, start) for stroke in strokes(reference)]
     if not unordered:
         raise PlanError(f'the {what} has nothing to draw')
     here = (start.x, start.y)
@@ -436,12 +437,12 @@ def _drawing_sketch(what: str, strokes: Callable[[float], list[np.ndarray]], siz
     corner = min(settings.defaults.corner_angle, DRAWING_CORNER_ANGLE_RAD)
 
     def build(scale: float) -> Path:
-        factor = scale / size
+        factor = scale / reference
         origin = np.array(here)
         return drawing.drawing_path(start, [origin + (stroke - origin) * factor
                                             for stroke in order], corner_angle_rad=corner)
     return Sketch(what, build, size, unit, **_shape_speeds(request), pen=_pen(request, settings),
-                  pen_up_unordered=drawing.pen_up_length(unordered, here))
+                  pen_up_unordered=drawing.pen_up_length(unordered, here) * size / reference)
 
 
 def sketch_text(request: Any, start: Pose2D, settings: Settings) -> Sketch:
@@ -471,7 +472,7 @@ def sketch_svg(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     extent = max(x_max - x_min, y_max - y_min)
     if extent <= 0:
         raise PlanError(f'the {what} has no extent: nothing to draw')
-    units_per_metre = extent / size
+    units_per_metre = extent / min(size, _diagonal(settings.arena))
     strokes = svg.path_strokes(parsed, SVG_TOLERANCE_M * units_per_metre,
                                shapes.SAMPLE_SPACING_M * units_per_metre)
 

@@ -235,7 +235,8 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
     _curve('lemniscate', planning.sketch_lemniscate,
            'draw the infinity sign (lemniscate of Bernoulli), from its crossing', (),
            Example((5.5, 1.6, 0.0), {'size': 4.0})),
-    _curve('rose', planning.sketch_rose, 'draw a rose r = sin(k t), from its centre',
+    _curve('rose', planning.sketch_rose,
+           'draw a rose r = sin(k t), from its centre (size: the circle through its tips)',
            (Field('petals', 'number of petals (odd, or a multiple of 4)', type=INT, default=5,
                   low=1, high=MAX_PETALS),),
            Example((2.2, 8.8, 0.0), {'size': 3.0, 'petals': 5})),
@@ -248,7 +249,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
     Trajectory(
         'text', 'draw_text', 'turtle_traj_interfaces/srv/DrawText', planning.sketch_text,
         'write text in a single-stroke font, along the heading from where the turtle stands',
-        (Field('text', 'what to write', type=STRING, default=None, positional=True),
+        (Field('text', 'what to write', type=STRING, default='', positional=True),
          Field('height', 'height of capitals', parameter='default_text_height', fits=True),
          *_PEN, *_SHAPE_SPEEDS),
         ('write',), Example((1.0, 5.0, 0.0), {'text': 'Hello ROS', 'height': 1.0})),

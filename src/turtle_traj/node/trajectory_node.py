@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from functools import partial
 
 from geometry_msgs.msg import PoseStamped, Twist
@@ -180,8 +181,10 @@ class TrajectoryNode(Node):
         else:
             self._finish_if_ended()  # which sends the stop
 
-    def _call_set_pen(self, pen: PenStyle, *, down: bool, run: RunSupervisor | None) -> None:
-        """Ask turtlesim for this pen; once it answers, tell `run`'s follower (if still on)."""
+    def _call_set_pen(self, pen: PenStyle, *, down: bool, run: RunSupervisor | None = None,
+                      then: Callable[[], None] | None = None) -> None:
+        """Ask turtlesim for this pen. Once it answers, tell `run`'s follower (if that run is
+        still on); answered or given up (the watchdog), call `then`."""
         request = SetPen.Request(r=pen.r, g=pen.g, b=pen.b, width=pen.width, off=not down)
         self._pen_call, self._pen_call_wall_s = self._set_pen.call_async(request), time.monotonic()
 
@@ -190,6 +193,8 @@ class TrajectoryNode(Node):
                 self._pen_call = None
             if run is not None and run is self._run and not future.cancelled():
                 run.follower.pen_down = down
+            if then is not None:
+                then()
         self._pen_call.add_done_callback(answered)
 
     def _on_watchdog(self) -> None:
@@ -233,8 +238,6 @@ class TrajectoryNode(Node):
             return
         self._run = self._run_done = None
         self._publish(STOP)
-        if run.plan.pen is not None:  # leave the pen down, as turtlesim starts it
-            self._call_set_pen(self.settings.pen, down=True, run=None)
         outcome = run.outcome(self._pose, self._now_s())
         summary = (f'{outcome.message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
                    f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m, '
@@ -244,7 +247,10 @@ class TrajectoryNode(Node):
             self.get_logger().info(summary)
         else:
             self.get_logger().warning(summary)
-        done.set_result(outcome)
+        if run.plan.pen is None:
+            done.set_result(outcome)
+        else:  # a drawing answers once the pen is down again, as turtlesim starts it
+            self._call_set_pen(self.settings.pen, down=True, then=lambda: done.set_result(outcome))
 
     def _now_s(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9

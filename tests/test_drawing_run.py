@@ -1,0 +1,155 @@
+"""Drawings driven end to end in our simulator (lock-step): the poses against the geometry, the
+canvas against the pen, and the pen left down after a stop or an abort."""
+
+import math
+
+import numpy as np
+import pytest
+from std_srvs.srv import Trigger
+from turtle_traj_interfaces.action import Draw
+from turtle_traj_interfaces.srv import DrawCurve, DrawSvg, DrawText
+from turtlesim.srv import TeleportAbsolute
+
+from tests.geometry_checks import distance_to_polyline, xy
+from turtle_traj.geometry import drawing
+from turtle_traj.geometry.path import Curve, Pose2D
+from turtle_traj.services import make_request
+from turtle_traj.settings import DEFAULT_SETTINGS
+from turtle_traj.sim.canvas import to_pixel
+from turtle_traj.trajectories import BY_NAME
+
+PEN = DEFAULT_SETTINGS.pen
+INK_CLEARANCE_M = 0.06  # pen-up points this far from any stroke: 3 px of pen and 1 px spare
+
+
+def _planned(traj, name: str, given: dict):
+    """The plan the node will make for this request (planning is deterministic)."""
+    request = make_request(BY_NAME[name], given)
+    return request, BY_NAME[name].plan(request, traj.node.pose, traj.node.settings)
+
+
+def _ink(traj, points: np.ndarray, color=(PEN.r, PEN.g, PEN.b)) -> np.ndarray:
+    """Per point: the canvas pixel under it has this colour."""
+    trails = traj.sim.canvas.trails
+    pixels = np.array([to_pixel(x, y) for x, y in points]).astype(int).reshape(-1, 2)
+    return np.all(trails[pixels[:, 1], pixels[:, 0], :3] == color, axis=1) \
+        & (trails[pixels[:, 1], pixels[:, 0], 3] > 0)
+
+
+def _along(points: np.ndarray, spacing: float = 0.01) -> np.ndarray:
+    """Points every `spacing` metres along a polyline."""
+    pieces = [np.linspace(a, b, max(int(math.dist(a, b) / spacing), 1) + 1)
+              for a, b in zip(points[:-1], points[1:], strict=True)]
+    return np.concatenate(pieces)
+
+
+def _check_drawing(traj, response, path) -> None:
+    """Every stroke drawn where planned, no ink along pen-up moves, figures that agree."""
+    assert response.success, response.message
+    poses = xy(traj.poses)
+    strokes = drawing.drawn_strokes(path)
+    for stroke in strokes:  # the turtle passes through both ends of every stroke
+        for end in (stroke[0], stroke[-1]):
+            assert np.hypot(*(poses - end).T).min() < 0.001
+    independent = distance_to_polyline(poses, path.points()).max()
+    assert response.max_deviation == pytest.approx(independent, abs=1e-9)
+    assert response.max_deviation < 0.002
+    assert response.pen_up_length == pytest.approx(path.pen_up_length)
+    assert _ink(traj, np.concatenate([_along(stroke) for stroke in strokes])).mean() > 0.97
+    travel = np.concatenate([_along(leg.points) for leg in path.legs
+                             if isinstance(leg, Curve) and not leg.pen])
+    to_ink = np.min([distance_to_polyline(travel, stroke) for stroke in strokes], axis=0)
+    clear = travel[to_ink > INK_CLEARANCE_M]
+    assert len(clear) > 20  # enough pen-up travel away from the strokes to look at
+    assert not _ink(traj, clear).any(), 'ink along a pen-up move'
+
+
+def _turtle_pen(traj):
+    return traj.sim.world.turtle('turtle1').pen
+
+
+def test_text_is_written_with_the_pen_lifted_between_strokes(traj):
+    given = {'text': 'H  i!', 'height': 0.6}
+    request, plan = _planned(traj, 'text', given)
+    response = traj.call(DrawText, 'draw_text', request)
+    _check_drawing(traj, response, plan.path)
+    assert response.pen_up_length < response.pen_up_unordered
+    pen = _turtle_pen(traj)
+    assert (pen.on, pen.r, pen.g, pen.b, pen.width_px) == (True, PEN.r, PEN.g, PEN.b, PEN.width)
+
+
+def test_svg_path_data_is_drawn_in_its_own_colour(traj):
+    given = {'path_data': 'M 0 0 C 10 -20 30 -20 40 0 M 0 10 L 40 10 M 20 -5 A 4 4 0 1 0 20 3',
+             'size': 2.0, 'pen_color': 'red', 'pen_width': 2}
+    request, plan = _planned(traj, 'svg', given)
+    response = traj.call(DrawSvg, 'draw_svg', request)
+    assert response.success, response.message
+    poses = xy(traj.poses)
+    assert distance_to_polyline(poses, plan.path.points()).max() < 0.002
+    strokes = drawing.drawn_strokes(plan.path)
+    assert len(strokes) == 3
+    assert _ink(traj, np.concatenate([_along(s) for s in strokes]), (255, 0, 0)).mean() > 0.97
+    assert not _ink(traj, np.concatenate([_along(s) for s in strokes])).any()  # not the default
+    pen = _turtle_pen(traj)  # and the pen is the node's again
+    assert (pen.on, pen.r, pen.g, pen.b, pen.width_px) == (True, PEN.r, PEN.g, PEN.b, PEN.width)
+
+
+@pytest.mark.parametrize(('name', 'given'), [
+    ('star', {'size': 0.8, 'tips': 5}), ('heart', {'size': 1.5}),
+    ('lemniscate', {'size': 2.0}), ('rose', {'size': 1.6, 'petals': 3}),
+    ('lissajous', {'size': 1.4, 'a': 1, 'b': 2, 'phase': 45.0})])
+def test_curves_are_drawn_as_planned(traj, name, given):
+    request, plan = _planned(traj, name, given)
+    response = traj.call(DrawCurve, f'draw_{name}', request)
+    assert response.success, response.message
+    poses = xy(traj.poses)
+    assert response.max_deviation == pytest.approx(
+        distance_to_polyline(poses, plan.path.points()).max(), abs=1e-9)
+    assert response.max_deviation < 0.003
+    assert response.final_error < 0.001
+    # the whole curve is driven: every planned point is passed within 3 mm
+    assert distance_to_polyline(plan.path.points(), poses).max() < 0.003
+
+
+def _stopped_while_the_pen_is_up(traj, end_run) -> None:
+    request, _ = _planned(traj, 'text', {'text': 'I I I', 'height': 0.5})
+    future = traj.start(DrawText, 'draw_text', request)
+    assert traj.spin_until(lambda: traj.node.busy and traj.poses and _turtle_pen(traj).on)
+    assert traj.spin_until(lambda: not _turtle_pen(traj).on)  # travelling to the next I
+    end_run()
+    assert traj.spin_until(future.done)
+    assert not future.result().success
+    traj.spin_sim_seconds(0.1)
+    pen = _turtle_pen(traj)
+    assert (pen.on, pen.r, pen.g, pen.b, pen.width_px) == (True, PEN.r, PEN.g, PEN.b, PEN.width)
+
+
+def test_a_stop_leaves_the_pen_down(traj):
+    _stopped_while_the_pen_is_up(traj, lambda: traj.call(Trigger, 'stop'))
+
+
+def test_an_abort_leaves_the_pen_down(traj):
+    def teleport() -> None:
+        pose = traj.node.pose
+        traj.call(TeleportAbsolute, '/turtle1/teleport_absolute',
+                  TeleportAbsolute.Request(x=pose.x, y=pose.y + 1.0, theta=pose.theta))
+    _stopped_while_the_pen_is_up(traj, teleport)
+
+
+def test_the_draw_action_writes_text_and_reports_the_pen_up_distance(traj):
+    from rclpy.action import ActionClient
+    client = ActionClient(traj.client, Draw, '/turtle_traj/draw')
+    try:
+        assert traj.spin_until(client.server_is_ready, timeout_s=10.0)
+        goal = Draw.Goal(trajectory='text', text='TT', height=0.5)
+        sent = client.send_goal_async(goal)
+        assert traj.spin_until(sent.done)
+        result = sent.result().get_result_async()
+        assert traj.spin_until(result.done)
+        outcome = result.result().result
+        assert outcome.success, outcome.message
+        _, plan = _planned(traj, 'text', {'text': 'TT', 'height': 0.5})  # from where it ended
+        assert outcome.pen_up_length > 0.0 and outcome.pen_up_unordered >= outcome.pen_up_length
+    finally:
+        client.destroy()
+    assert math.isfinite(Pose2D(outcome.final_x, outcome.final_y, 0.0).x)
