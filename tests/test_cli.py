@@ -38,6 +38,13 @@ def running_system(tmp_path_factory):
     (['move', '2', '--backward'], 'move', dict(distance=-2.0)),
     (['rotate', '90', '--clockwise'], 'rotate', dict(angle=-math.pi / 2)),
     (['follow-path', '2,3', '4,5', '--closed'], 'follow_path', dict(closed=True)),
+    (['write', 'Hello ROS', '--height', '1', '--pen-color', 'red', '--pen-width', '5'], 'text',
+     dict(text='Hello ROS', height=1.0, pen_color='red', pen_width=5)),
+    (['draw', 'svg', 'turtle.svg', '--size', '6'], 'svg', dict(file='turtle.svg', size=6.0)),
+    (['draw', 'svg', '--d', 'M 0 0 L 1 1'], 'svg', dict(path_data='M 0 0 L 1 1', file='')),
+    (['draw', 'star', '--tips', '6', '--size', '1'], 'star', dict(tips=6, size=1.0)),
+    (['draw', 'rose', '--petals', '8'], 'rose', dict(petals=8)),
+    (['draw', 'lissajous'], 'lissajous', dict(a=3, b=2, phase=math.pi / 2)),
     (['stop'], None, None),
 ])
 def test_arguments_become_goals(argv, trajectory, fields):
@@ -47,7 +54,10 @@ def test_arguments_become_goals(argv, trajectory, fields):
         return
     assert goal.trajectory == trajectory
     for field, value in fields.items():
-        assert getattr(goal, field) == pytest.approx(value)
+        if isinstance(value, str):
+            assert getattr(goal, field) == value
+        else:
+            assert getattr(goal, field) == pytest.approx(value)
 
 
 def test_bad_arguments_exit_with_usage(capsys):
@@ -71,6 +81,12 @@ def test_draw_and_refusal_against_a_running_system(running_system, capsys):
     assert 'the largest that fits from here' in capsys.readouterr().err
     assert cli.main(['reset']) == 0
     assert 'simulator reset' in capsys.readouterr().out
+    assert cli.main(['write', 'Hi', '--height', '0.4']) == 0
+    out = capsys.readouterr().out
+    assert out.startswith('done: text done') and 'pen up 0.' in out
+    assert cli.main(['write', 'Grüße']) == 1
+    assert "no glyph for 'ß', 'ü'" in capsys.readouterr().err
+    assert cli.main(['reset']) == 0
 
 
 def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monkeypatch,

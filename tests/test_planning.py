@@ -56,6 +56,11 @@ def test_a_sketch_reads_only_the_fields_its_entry_lists(trajectory):
         pass  # a refusal is fine; an AttributeError would not be
 
 
+def test_defaults_in_degrees_are_sent_in_radians():
+    assert BY_NAME['rotate'].request_values({})['angle'] == pytest.approx(math.pi / 2)
+    assert BY_NAME['lissajous'].request_values({})['phase'] == pytest.approx(math.pi / 2)
+
+
 def test_a_circle_is_one_turn_unless_forever_is_asked_for():
     one = BY_NAME['circle'].plan(SimpleNamespace(**{**vars(request('circle', size=1.0)),
                                                    'turns': 0.0}), SPAWN, DEFAULT_SETTINGS)

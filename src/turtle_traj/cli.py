@@ -54,7 +54,7 @@ def _add_field(parser: argparse.ArgumentParser, item: Field) -> None:
                             help='read (more) points from FILE: one x,y (or x y) per line, '
                                  '# comments')
     elif item.positional:
-        optional = {'nargs': '?'} if item.default is not None else {}
+        optional = {'nargs': '?'} if item.type == STRING and item.default is not None else {}
         parser.add_argument(item.name, type=_value_type(item), metavar=item.name.upper(),
                             help=_field_help(item), **optional)
     else:

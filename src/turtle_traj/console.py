@@ -58,4 +58,7 @@ def report(result, cancelled: str = '') -> str:
                      f'max deviation {result.max_deviation:.4f} m, final error '
                      f'{result.final_error:.4f} m, heading error '
                      f'{math.degrees(result.final_heading_error):.2f} deg')
+    if getattr(result, 'pen_up_length', 0.0) > 0.0:
+        lines.append(f'  pen up {result.pen_up_length:.2f} m between strokes (in the order '
+                     f'given: {result.pen_up_unordered:.2f} m)')
     return '\n'.join(lines)

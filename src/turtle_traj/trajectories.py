@@ -121,7 +121,7 @@ class Trajectory:
                 if item.name in excluded:
                     values[item.name] = 0.0
                 elif item.default is not None:
-                    values[item.name] = item.default
+                    values[item.name] = item.to_request(item.default)
                 if item.given:
                     values[item.given] = False
                 continue
