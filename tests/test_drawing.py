@@ -169,10 +169,10 @@ def test_stroke_order_is_near_the_best_on_small_drawings():
     rng = np.random.default_rng(7)
     for _ in range(5):
         strokes = [rng.random((2, 2)) * 8 for _ in range(6)]
-        best = min(drawing.pen_up_length([s[::-1] if flip else s for s, flip in zip(p, flips, strict=True)],
-                                         (0, 0))
-                   for p in itertools.permutations(strokes)
-                   for flips in itertools.product((False, True), repeat=6))
+        best = min(drawing.pen_up_length(
+            [s[::-1] if flip else s for s, flip in zip(order, flips, strict=True)], (0, 0))
+            for order in itertools.permutations(strokes)
+            for flips in itertools.product((False, True), repeat=6))
         assert drawing.pen_up_length(drawing.order_strokes(strokes, (0, 0)), (0, 0)) \
             <= 1.15 * best
 
