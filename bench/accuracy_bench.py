@@ -17,6 +17,7 @@ from rclpy.node import Node
 
 from isolation import isolate
 from turtle_traj.demo import prepare, run_example
+from turtle_traj.geometry import drawing
 from turtle_traj.geometry.path import Pose2D, distance_to_polyline
 from turtle_traj.planning import POLYGON_SIDES
 from turtle_traj.services import make_request
@@ -80,6 +81,31 @@ def drive_open_loop(system: InProcessSystem, schedule) -> tuple[np.ndarray, floa
     return np.array([(p.x, p.y) for p in system.poses]), system.sim.world.time_s - start
 
 
+def drawing_figures(system: InProcessSystem, plan) -> str:
+    """A drawing's accuracy from the recorded poses and the saved canvas: stroke ends missed,
+    deviation while the pen is down, ink pixels along the pen-up moves."""
+    poses = np.array([(p.x, p.y) for p in system.poses])
+    strokes = drawing.drawn_strokes(plan.path)
+    ends = np.array([end for stroke in strokes for end in (stroke[0], stroke[-1])])
+    end_miss = max(np.hypot(*(poses - end).T).min() for end in ends)
+    # Pen-down poses: those nearer a stroke than any pen-up move (ties at stroke ends count).
+    to_strokes = np.min([distance_to_polyline(poses, stroke) for stroke in strokes], axis=0)
+    moves = drawing.pen_up_moves(plan.path)
+    to_moves = (np.min([distance_to_polyline(poses, move) for move in moves], axis=0)
+                if moves else np.full(len(poses), np.inf))
+    stroke_deviation = to_strokes[to_strokes <= to_moves].max()
+    pen = plan.pen
+    travel = np.concatenate([drawing.resampled(move, 0.01) for move in moves]) if moves \
+        else np.empty((0, 2))
+    clear = np.min([distance_to_polyline(travel, stroke) for stroke in strokes], axis=0) > 0.06 \
+        if len(travel) else np.zeros(0, bool)
+    ink = int(system.sim.canvas.ink_at(travel[clear], (pen.r, pen.g, pen.b)).sum())
+    return (f'{len(strokes)} strokes, ends missed by <= {1000 * end_miss:.2f} mm, deviation '
+            f'along strokes <= {1000 * stroke_deviation:.2f} mm, pen up '
+            f'{plan.path.pen_up_length:.2f} m (given order {plan.pen_up_unordered:.2f} m), ink '
+            f'on {ink} of {int(clear.sum())} pen-up points')
+
+
 def main() -> None:
     isolate('accuracy')
     rclpy.init()
@@ -103,6 +129,8 @@ def main() -> None:
                 radii = np.linalg.norm(np.array([(p.x, p.y) for p in system.poses]) - center,
                                        axis=1)
                 extra = f'radius error {100 * np.abs(radii / radius - 1).max():.2f}%'
+            if plan.pen is not None:
+                extra = drawing_figures(system, plan)
             rows.append((trajectory.name, response, bound, extra))
 
             sides = POLYGON_SIDES.get(trajectory.name, getattr(request, 'sides', 0))

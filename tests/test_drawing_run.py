@@ -1,7 +1,6 @@
 """Drawings driven end to end in our simulator (lock-step): the poses against the geometry, the
 canvas against the pen, and the pen left down after a stop or an abort."""
 
-import math
 
 import numpy as np
 import pytest
@@ -12,10 +11,8 @@ from turtlesim.srv import TeleportAbsolute
 
 from tests.geometry_checks import distance_to_polyline, xy
 from turtle_traj.geometry import drawing
-from turtle_traj.geometry.path import Curve, Pose2D
 from turtle_traj.services import make_request
 from turtle_traj.settings import DEFAULT_SETTINGS
-from turtle_traj.sim.canvas import to_pixel
 from turtle_traj.trajectories import BY_NAME
 
 PEN = DEFAULT_SETTINGS.pen
@@ -29,18 +26,11 @@ def _planned(traj, name: str, given: dict):
 
 
 def _ink(traj, points: np.ndarray, color=(PEN.r, PEN.g, PEN.b)) -> np.ndarray:
-    """Per point: the canvas pixel under it has this colour."""
-    trails = traj.sim.canvas.trails
-    pixels = np.array([to_pixel(x, y) for x, y in points]).astype(int).reshape(-1, 2)
-    return np.all(trails[pixels[:, 1], pixels[:, 0], :3] == color, axis=1) \
-        & (trails[pixels[:, 1], pixels[:, 0], 3] > 0)
+    return traj.sim.canvas.ink_at(points, color)
 
 
-def _along(points: np.ndarray, spacing: float = 0.01) -> np.ndarray:
-    """Points every `spacing` metres along a polyline."""
-    pieces = [np.linspace(a, b, max(int(math.dist(a, b) / spacing), 1) + 1)
-              for a, b in zip(points[:-1], points[1:], strict=True)]
-    return np.concatenate(pieces)
+def _along(points: np.ndarray) -> np.ndarray:
+    return drawing.resampled(points, 0.01)
 
 
 def _check_drawing(traj, response, path) -> None:
@@ -56,8 +46,7 @@ def _check_drawing(traj, response, path) -> None:
     assert response.max_deviation < 0.002
     assert response.pen_up_length == pytest.approx(path.pen_up_length)
     assert _ink(traj, np.concatenate([_along(stroke) for stroke in strokes])).mean() > 0.97
-    travel = np.concatenate([_along(leg.points) for leg in path.legs
-                             if isinstance(leg, Curve) and not leg.pen])
+    travel = np.concatenate([_along(move) for move in drawing.pen_up_moves(path)])
     to_ink = np.min([distance_to_polyline(travel, stroke) for stroke in strokes], axis=0)
     clear = travel[to_ink > INK_CLEARANCE_M]
     assert len(clear) > 20  # enough pen-up travel away from the strokes to look at
@@ -138,18 +127,18 @@ def test_an_abort_leaves_the_pen_down(traj):
 
 def test_the_draw_action_writes_text_and_reports_the_pen_up_distance(traj):
     from rclpy.action import ActionClient
+    _, plan = _planned(traj, 'text', {'text': 'T T', 'height': 0.5})
     client = ActionClient(traj.client, Draw, '/turtle_traj/draw')
     try:
         assert traj.spin_until(client.server_is_ready, timeout_s=10.0)
-        goal = Draw.Goal(trajectory='text', text='TT', height=0.5)
-        sent = client.send_goal_async(goal)
+        sent = client.send_goal_async(Draw.Goal(trajectory='text', text='T T', height=0.5))
         assert traj.spin_until(sent.done)
         result = sent.result().get_result_async()
         assert traj.spin_until(result.done)
         outcome = result.result().result
-        assert outcome.success, outcome.message
-        _, plan = _planned(traj, 'text', {'text': 'TT', 'height': 0.5})  # from where it ended
-        assert outcome.pen_up_length > 0.0 and outcome.pen_up_unordered >= outcome.pen_up_length
     finally:
         client.destroy()
-    assert math.isfinite(Pose2D(outcome.final_x, outcome.final_y, 0.0).x)
+    assert outcome.success, outcome.message
+    assert outcome.pen_up_length == pytest.approx(plan.path.pen_up_length)
+    assert outcome.pen_up_unordered == pytest.approx(plan.pen_up_unordered)
+    assert outcome.pen_up_length > 0.4  # from one T to the other, past the space

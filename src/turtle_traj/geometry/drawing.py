@@ -138,5 +138,13 @@ def drawn_strokes(path: Path) -> list[np.ndarray]:
     return [np.concatenate(parts) for parts in strokes]
 
 
-def has_pen_up(path: Path) -> bool:
-    return any(isinstance(leg, Curve) and not leg.pen for leg in path.legs)
+def pen_up_moves(path: Path) -> list[np.ndarray]:
+    """The polylines driven with the pen up."""
+    return [leg.points for leg in path.legs if isinstance(leg, Curve) and not leg.pen]
+
+
+def resampled(points: np.ndarray, spacing: float) -> np.ndarray:
+    """Points along a polyline, at most `spacing` apart, its vertices included."""
+    pieces = [np.linspace(a, b, max(math.ceil(math.dist(a, b) / spacing), 1) + 1)[:-1]
+              for a, b in zip(points[:-1], points[1:], strict=True)]
+    return np.concatenate(pieces + [points[-1:]])

@@ -80,6 +80,14 @@ class Canvas:
         self.trails[rows[0]:rows[-1] + 1, columns[0]:columns[-1] + 1][inside] = (
             pen.r, pen.g, pen.b, 255)
 
+    def ink_at(self, points_m: np.ndarray, rgb: tuple[int, int, int]) -> np.ndarray:
+        """Per point (world metres, (N, 2)): the trail pixel under it has colour `rgb`."""
+        pixels = np.array([to_pixel(x, y) for x, y in np.reshape(points_m, (-1, 2))])
+        columns, rows = (np.clip(np.floor(pixels.reshape(-1, 2)).astype(int), 0,
+                                 CANVAS_SIZE_PX - 1).T)
+        under = self.trails[rows, columns]
+        return np.all(under[:, :3] == rgb, axis=1) & (under[:, 3] > 0)
+
     def color_under(self, turtle: Turtle) -> tuple[int, int, int]:
         """RGB of the trail layer under the turtle, as turtlesim's color sensor reads it."""
         px, py = to_pixel(turtle.x, turtle.y)
