@@ -81,7 +81,7 @@ def test_draw_and_refusal_against_a_running_system(running_system, capsys):
     assert 'the largest that fits from here' in capsys.readouterr().err
     assert cli.main(['reset']) == 0
     assert 'simulator reset' in capsys.readouterr().out
-    assert cli.main(['write', 'Hi', '--height', '0.4']) == 0
+    assert cli.main(['write', 'I', '--height', '0.3']) == 0
     out = capsys.readouterr().out
     assert out.startswith('done: text done') and 'pen up 0.' in out
     assert cli.main(['write', 'Grüße']) == 1

@@ -124,7 +124,7 @@ def test_wave_svg_is_sampled_within_half_a_millimetre_of_the_true_curve():
     truth = []
     for segment in parsed:
         if not isinstance(segment, svgelements.Move):
-            truth.append(np.asarray(segment.npoint(np.linspace(0, 1, 4001))) * (1, -1) * scale)
+            truth.append(np.asarray(segment.npoint(np.linspace(0, 1, 1001))) * (1, -1) * scale)
     error = distance_to_polyline(np.concatenate(truth), stroke)
     assert error.max() < 0.0005
 
@@ -168,11 +168,11 @@ def _canonical(stroke: np.ndarray) -> tuple:
 def test_stroke_order_is_near_the_best_on_small_drawings():
     rng = np.random.default_rng(7)
     for _ in range(5):
-        strokes = [rng.random((2, 2)) * 8 for _ in range(6)]
+        strokes = [rng.random((2, 2)) * 8 for _ in range(5)]
         best = min(drawing.pen_up_length(
             [s[::-1] if flip else s for s, flip in zip(order, flips, strict=True)], (0, 0))
             for order in itertools.permutations(strokes)
-            for flips in itertools.product((False, True), repeat=6))
+            for flips in itertools.product((False, True), repeat=5))
         assert drawing.pen_up_length(drawing.order_strokes(strokes, (0, 0)), (0, 0)) \
             <= 1.15 * best
 

@@ -342,13 +342,17 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
 # -- parametric curves: one continuous stroke from where the turtle stands ---------------------
 
 def _curve_sketch(what: str, local: Callable[[float], np.ndarray], size: float, unit: str,
-                  request: Any, start: Pose2D, corner_angle_rad: float) -> Sketch:
+                  request: Any, start: Pose2D, settings: Settings, *,
+                  corner_angle_rad: float | None = None) -> Sketch:
     """A curve given in the drawing frame (`curves`), anchored at the turtle: its sharp
     corners (a star's, a heart's cusps) turned in place, the rest tracked continuously."""
-    corner = min(corner_angle_rad, DRAWING_CORNER_ANGLE_RAD)
+    corner = min(settings.defaults.corner_angle, DRAWING_CORNER_ANGLE_RAD) \
+        if corner_angle_rad is None else corner_angle_rad
+    reference = min(size, _diagonal(settings.arena))  # larger is refused, unbuilt
+    sampled = local(reference)  # once: a curve scaled down is the same curve, sampled finer
 
     def build(scale: float) -> Path:
-        points = shapes.anchored(local(scale), start)
+        points = shapes.anchored(sampled * (scale / reference), start)
         return Path(tuple(legs_from_polyline(start, points, corner_angle_rad=corner)),
                     closed=bool(np.allclose(points[0], points[-1])))
     return Sketch(what, build, size, unit, **_shape_speeds(request))
@@ -371,7 +375,7 @@ def sketch_star(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     return _curve_sketch(
         f'{tips}-pointed star of radius {outer:g} m',
         lambda size: curves.star(tips=tips, outer_radius=size, inner_radius=inner * size / outer),
-        outer, 'm (outer radius)', request, start, corner_angle_rad=1e-9)
+        outer, 'm (outer radius)', request, start, settings, corner_angle_rad=1e-9)
 
 
 def _curve_width(request: Any, settings: Settings) -> float:
@@ -381,14 +385,14 @@ def _curve_width(request: Any, settings: Settings) -> float:
 def sketch_heart(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     width = _curve_width(request, settings)
     return _curve_sketch(f'heart {width:g} m wide', lambda size: curves.heart(size=size), width,
-                         'm (width)', request, start, settings.defaults.corner_angle)
+                         'm (width)', request, start, settings)
 
 
 def sketch_lemniscate(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     width = _curve_width(request, settings)
     return _curve_sketch(f'lemniscate {width:g} m wide',
                          lambda size: curves.lemniscate(size=size), width, 'm (width)', request,
-                         start, settings.defaults.corner_angle)
+                         start, settings)
 
 
 def sketch_rose(request: Any, start: Pose2D, settings: Settings) -> Sketch:
@@ -399,7 +403,7 @@ def sketch_rose(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     width = _curve_width(request, settings)
     return _curve_sketch(f'rose of {petals} petals {width:g} m wide',
                          lambda size: curves.rose(petals=petals, size=size), width, 'm (width)',
-                         request, start, settings.defaults.corner_angle)
+                         request, start, settings)
 
 
 def sketch_lissajous(request: Any, start: Pose2D, settings: Settings) -> Sketch:
@@ -410,7 +414,7 @@ def sketch_lissajous(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     return _curve_sketch(
         f'Lissajous curve {a}:{b} {width:g} m wide',
         lambda size: curves.lissajous(a=a, b=b, phase=request.phase, size=size), width,
-        'm (width)', request, start, settings.defaults.corner_angle)
+        'm (width)', request, start, settings)
 
 
 # -- drawings: strokes joined by pen-up moves ----------------------------------------------------

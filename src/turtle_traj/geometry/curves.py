@@ -16,16 +16,21 @@ import numpy as np
 
 SAMPLE_SPACING_M = 0.005
 MIN_SAMPLES = 64
-DENSE_SAMPLES = 200_000  # evaluated before resampling: 0.1 mm apart on a 20 m curve
+MAX_SAMPLES = 200_000  # a curve longer than 1 km is sampled more coarsely
+DENSE_SPACING_M = 0.001  # evaluated this finely before resampling (interpolation error 4 um
+MAX_DENSE_SAMPLES = 400_000  # at a 3 cm radius)
 
 
 def _sampled(curve, parameter_end: float) -> np.ndarray:
     """Points of `curve(t)` for t in [0, parameter_end], SAMPLE_SPACING_M apart along the
     curve (resampled by arc length: near a cusp, even steps of t bunch up, and the follower
     would cut the tight turn their tiny kinks hide), shifted so that the first is the origin."""
-    dense = curve(np.linspace(0.0, parameter_end, DENSE_SAMPLES + 1))
+    rough = curve(np.linspace(0.0, parameter_end, 4097))
+    rough_length = float(np.hypot(*np.diff(rough, axis=0).T).sum())
+    count = min(max(4096, int(rough_length / DENSE_SPACING_M)), MAX_DENSE_SAMPLES)
+    dense = curve(np.linspace(0.0, parameter_end, count + 1))
     arc = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(dense, axis=0).T))))
-    count = max(MIN_SAMPLES, int(math.ceil(arc[-1] / SAMPLE_SPACING_M)))
+    count = min(max(MIN_SAMPLES, int(math.ceil(arc[-1] / SAMPLE_SPACING_M))), MAX_SAMPLES)
     even = np.linspace(0.0, arc[-1], count + 1)
     points = np.column_stack([np.interp(even, arc, dense[:, axis]) for axis in (0, 1)])
     return points - points[0]
