@@ -23,8 +23,11 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 	interfaces/build.sh $(VENV)
 	touch $@
 
+# Two workers, a test file each at a time: the subprocess-heavy files wait on DDS discovery
+# and the colcon build, so two run in about half the time, loaded or not (each worker claims
+# its own ROS_DOMAIN_ID in tests/conftest.py).
 test: setup
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n 2 --dist loadfile
 
 demo: setup
 	$(PY) -m turtle_traj.demo

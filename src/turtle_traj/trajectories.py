@@ -252,7 +252,8 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
         (Field('text', 'what to write', type=STRING, default='', positional=True),
          Field('height', 'height of capitals', parameter='default_text_height', fits=True),
          *_PEN, *_SHAPE_SPEEDS),
-        ('write',), Example((1.5, 5.0, 0.0), {'text': 'Hello ROS', 'height': 1.0})),
+        ('write',), Example((1.5, 5.0, 0.0), {'text': 'Hello ROS', 'height': 1.0,
+                                     'pen_color': 'white'})),
     Trajectory(
         'svg', 'draw_svg', 'turtle_traj_interfaces/srv/DrawSvg', planning.sketch_svg,
         "draw SVG paths: a file in the node's svg_dir, or path data (--d)",
@@ -261,7 +262,8 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          Field('path_data', 'SVG path data instead of a file ("M 0 0 C 1 2 3 2 4 0")',
                type=STRING, default='', flag='d'),
          _size('larger side', 'default_svg_size'), *_PEN, *_SHAPE_SPEEDS),
-        ('draw', 'svg'), Example((1.0, 2.5, 0.0), {'file': 'turtle.svg', 'size': 9.0})),
+        ('draw', 'svg'), Example((1.0, 2.5, 0.0), {'file': 'turtle.svg', 'size': 9.0,
+                                          'pen_color': 'white'})),
     Trajectory(
         'go_to', 'go_to', 'turtle_traj_interfaces/srv/GoTo', planning.sketch_go_to,
         'drive to a point (turn, drive straight, optionally turn to a heading)',
