@@ -56,6 +56,8 @@ def plan(name: str, start: Pose2D = START, **given):
     ('rose', {'petals': 6}, 'no rose r = sin(k t) has 6 petals'),
     ('lissajous', {'phase': math.nan}, 'phase must be a finite number'),
     ('heart', {'size': 12.0}, 'the largest that fits from here is'),
+    ('heart', {'size': math.nan}, 'size must be a finite number'),
+    ('rose', {'size': -2.0}, 'size must be at least'),
 ])
 def test_bad_drawings_are_refused_with_the_reason(name, given, reason):
     with pytest.raises(PlanError) as refusal:
@@ -200,3 +202,14 @@ def test_the_follower_waits_for_the_pen_before_each_curve():
     assert follower.update(at_stroke, config).linear > 0.0
     plain = PathFollower(path)  # not managing the pen: drives at once
     assert plain.update(Pose2D(1.0, 1.0, 0.0), config).linear > 0.0
+
+
+def test_the_menu_asks_for_text_and_sends_enter_as_nothing():
+    from turtle_traj.menu import CHOICES, Live, ask_field
+
+    write = next(t for t in CHOICES.values() if t.name == 'text')
+    field = next(f for f in write.fields if f.name == 'text')
+    live = Live({}, DEFAULT_SETTINGS, None)
+    assert ask_field(write, field, {}, live, lambda _: ' Hello ROS ', print) == 'Hello ROS'
+    assert ask_field(write, field, {}, live, lambda _: '', print) is None
+    assert write.request_values({'text': None})['text'] == ''  # refused by the node: empty

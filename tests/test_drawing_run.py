@@ -17,6 +17,7 @@ from turtle_traj.trajectories import BY_NAME
 
 PEN = DEFAULT_SETTINGS.pen
 INK_CLEARANCE_M = 0.06  # pen-up points this far from any stroke: 3 px of pen and 1 px spare
+NOTHING_DRAWN = (255, 255, 255)  # what turtlesim's colour sensor reads off the trails
 
 
 def _planned(traj, name: str, given: dict):
@@ -142,3 +143,53 @@ def test_the_draw_action_writes_text_and_reports_the_pen_up_distance(traj):
     assert outcome.pen_up_length == pytest.approx(plan.path.pen_up_length)
     assert outcome.pen_up_unordered == pytest.approx(plan.pen_up_unordered)
     assert outcome.pen_up_length > 0.4  # from one T to the other, past the space
+
+
+def test_a_node_ended_mid_drawing_leaves_the_pen_down(ros_context, tmp_path):
+    """The node program ends while the pen is up: the turtle, driven on, draws again."""
+    import subprocess
+    import sys
+
+    from geometry_msgs.msg import Twist, Vector3
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.node import Node
+    from turtlesim.msg import Color, Pose
+
+    from tests.ros_helpers import program, terminate
+    from turtle_traj.runtime import spin_until
+    from turtle_traj.wire import TURTLE_TOPIC_QOS
+
+    observer = Node('pen_observer', context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(observer)
+    colors: list[tuple[int, int, int]] = []
+    poses: list[Pose] = []
+    observer.create_subscription(Color, 'turtle1/color_sensor',
+                                 lambda c: colors.append((c.r, c.g, c.b)), TURTLE_TOPIC_QOS)
+    observer.create_subscription(Pose, 'turtle1/pose', poses.append, TURTLE_TOPIC_QOS)
+    command = observer.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
+    client = observer.create_client(DrawText, '/turtle_traj/draw_text')
+    pen = (PEN.r, PEN.g, PEN.b)
+    try:
+        with program('turtle_traj.sim', cwd=tmp_path):
+            node = subprocess.Popen([sys.executable, '-m', 'turtle_traj'],
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            try:
+                assert spin_until(executor, client.service_is_ready, timeout_s=20.0)
+                client.call_async(DrawText.Request(text='I   I', height=0.4))
+                assert spin_until(executor, lambda: pen in colors, timeout_s=20.0)  # drawing
+                assert spin_until(  # then driving on with the pen up, over nothing drawn
+                    executor, lambda: poses[-1].linear_velocity > 0.2
+                    and colors[-1] == NOTHING_DRAWN, timeout_s=20.0)
+                stderr = terminate(node)
+            finally:
+                node.kill()
+            assert node.returncode == 0, stderr
+            count = len(colors)
+            for _ in range(20):
+                command.publish(Twist(linear=Vector3(x=1.0)))
+                spin_until(executor, lambda: False, timeout_s=0.02)
+            assert colors[count:].count(pen) > 5  # the turtle draws again, in turtlesim's pen
+    finally:
+        executor.shutdown()
+        observer.destroy_node()
