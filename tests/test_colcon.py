@@ -51,6 +51,9 @@ def test_the_executables_package_xml_and_launch_file_are_installed(install):
     assert {path.name for path in lib.iterdir() if os.access(path, os.X_OK)} >= EXECUTABLES
     share = install / 'turtle_traj' / 'share' / 'turtle_traj'
     assert (share / 'package.xml').is_file()
+    # the SVG files draw_svg reads by default (the svg_dir parameter) come along
+    assert list(install.glob('turtle_traj/lib/python3*/site-packages/turtle_traj/drawings/'
+                             'turtle.svg'))
     assert (share / 'launch' / 'turtle_traj.launch.py').is_file()
 
 

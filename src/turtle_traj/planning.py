@@ -420,15 +420,12 @@ def sketch_lissajous(request: Any, start: Pose2D, settings: Settings) -> Sketch:
 # -- drawings: strokes joined by pen-up moves ----------------------------------------------------
 
 def _pen(request: Any, settings: Settings) -> PenStyle:
+    """The request's pen; its empty colour or zero width: the node's pen parameters."""
     color = request.pen_color.strip()
-    if color:
-        problem = pen_color_problem(color)
-        if problem is not None:
-            raise PlanError(problem)
-    default = settings.pen
-    if not color:
-        return replace(default, width=request.pen_width or default.width)
-    return pen_style(color, request.pen_width or default.width)
+    if color and (problem := pen_color_problem(color)):
+        raise PlanError(problem)
+    width = request.pen_width or settings.pen.width
+    return pen_style(color, width) if color else replace(settings.pen, width=width)
 
 
 def _drawing_sketch(what: str, strokes: Callable[[float], list[np.ndarray]], size: float,
@@ -454,10 +451,6 @@ def _drawing_sketch(what: str, strokes: Callable[[float], list[np.ndarray]], siz
 
 def sketch_text(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     height = _non_negative('height', request.height, settings.defaults.text_height, 'm')
-    try:
-        text.text_strokes(request.text, 1.0)
-    except ShapeError as error:
-        raise PlanError(str(error)) from None
     return _drawing_sketch(f'text {request.text!r} {height:g} m high',
                            lambda size: text.text_strokes(request.text, size), height,
                            'm (height)', request, start, settings)
@@ -465,17 +458,13 @@ def sketch_text(request: Any, start: Pose2D, settings: Settings) -> Sketch:
 
 def sketch_svg(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     size = _non_negative('size', request.size, settings.defaults.svg_size, 'm')
-    try:
-        if request.path_data.strip() and request.file:
-            raise ShapeError('give path_data or a file, not both')
-        if request.path_data.strip():
-            parsed, what = svg.parse_path_data(request.path_data), 'SVG path'
-        else:
-            parsed = svg.parse_file(pathlib.Path(settings.svg_dir), request.file)
-            what = request.file
-        x_min, y_min, x_max, y_max = svg.bounding_box(parsed)
-    except ShapeError as error:
-        raise PlanError(str(error)) from None
+    if request.path_data.strip() and request.file:
+        raise PlanError('give path_data or a file, not both')
+    if request.path_data.strip():
+        parsed, what = svg.parse_path_data(request.path_data), 'SVG path'
+    else:
+        parsed, what = svg.parse_file(pathlib.Path(settings.svg_dir), request.file), request.file
+    x_min, y_min, x_max, y_max = svg.bounding_box(parsed)
     extent = max(x_max - x_min, y_max - y_min)
     if extent <= 0:
         raise PlanError(f'the {what} has no extent: nothing to draw')

@@ -35,7 +35,7 @@ from turtle_traj.control.latency import LatencyPredictor
 from turtle_traj.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.node import parameters
-from turtle_traj.planning import PlanError
+from turtle_traj.planning import Plan, PlanError
 from turtle_traj.services import DRAW_ACTION, GOAL_REJECTED, service_type
 from turtle_traj.settings import PenStyle
 from turtle_traj.trajectories import BY_NAME, TRAJECTORIES, Trajectory
@@ -271,7 +271,8 @@ class TrajectoryNode(Node):
                     f'running and turtle_name right?')
         return None
 
-    def _pen_refusal(self, trajectory: Trajectory, plan) -> str | None:
+    def _pen_refusal(self, trajectory: Trajectory, plan: Plan) -> str | None:
+        """Why a drawing cannot run here: turtlesim's set_pen is not there to lift the pen."""
         if plan.pen is not None and not self._set_pen.service_is_ready():
             return (f'{trajectory.name} refused: it lifts the pen between strokes, and the '
                     f'simulator service {self._set_pen.srv_name} is not available')
