@@ -97,8 +97,9 @@ def test_curves_are_drawn_as_planned(traj, name, given):
         distance_to_polyline(poses, plan.path.points()).max(), abs=1e-9)
     assert response.max_deviation < 0.003
     assert response.final_error < 0.001
-    # the whole curve is driven: every planned point is passed within 3 mm
+    # the whole curve is driven: every planned point is passed within 3 mm, and inked
     assert distance_to_polyline(plan.path.points(), poses).max() < 0.003
+    assert _ink(traj, _along(plan.path.points())).mean() > 0.97
 
 
 def _stopped_while_the_pen_is_up(traj, end_run) -> None:
