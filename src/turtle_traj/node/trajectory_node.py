@@ -14,6 +14,7 @@ import time
 from collections.abc import Callable
 from functools import partial
 
+import numpy as np
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Path as PathMsg
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
@@ -46,6 +47,7 @@ _WATCHDOG_PERIOD_S = 0.05
 _FEEDBACK_PERIOD_S = 0.1  # node clock: 10 Hz
 _RESET_TIMEOUT_S = 5.0
 _POLL_PERIOD_S = 0.005
+_PLAN_POINTS = 20_000  # most points published on ~/plan
 _SET_PEN_TIMEOUT_S = 2.0  # wall clock: a simulator that does not answer set_pen has vanished
 
 
@@ -374,8 +376,10 @@ class TrajectoryNode(Node):
         msg.header.frame_id = PLAN_FRAME_ID
         msg.header.stamp = self.get_clock().now().to_msg()
         points = path.points()
-        stride = max(1, len(points) // 2000)
-        for x, y in points[::stride]:
+        # Every point up to _PLAN_POINTS (a Lissajous curve has 12 000); beyond, evenly
+        # thinned, its last point kept.
+        stride = math.ceil(len(points) / _PLAN_POINTS)
+        for x, y in points[np.unique(np.r_[np.arange(0, len(points), stride), len(points) - 1])]:
             stamped = PoseStamped()
             stamped.header = msg.header
             stamped.pose.position.x, stamped.pose.position.y = float(x), float(y)
