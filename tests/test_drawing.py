@@ -51,6 +51,8 @@ def plan(name: str, start: Pose2D = START, **given):
     ('svg', {'file': 'nope.svg'}, 'there are: turtle.svg, wave.svg'),
     ('svg', {'file': 'wave.svg', 'size': math.inf}, 'size must be a finite number'),
     ('svg', {'file': 'wave.svg', 'size': 20.0}, 'the largest that fits from here is'),
+    ('svg', {'path_data': ' '.join(f'M {i} 0 v 1' for i in range(501)), 'size': 3.0},
+     'has 501 strokes; at most 500'),
     ('star', {'size': 1.0, 'inner_radius': 1.5}, 'must be smaller than the outer radius'),
     ('star', {'tips': 2}, 'tips must be 3 to 100'),
     ('rose', {'petals': 6}, 'no rose r = sin(k t) has 6 petals'),

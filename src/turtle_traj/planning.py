@@ -29,6 +29,7 @@ MAX_FREQUENCY = 20.0  # cycles per metre: beyond this the wave is finer than the
 MAX_POINTS = 10_000
 MIN_SIZE = 0.001  # m (or turns, cycles/m): anything smaller is noise, not a request
 MAX_TIPS = 100  # star points
+MAX_STROKES = 500  # of a drawing: ordering them takes under half a second at this count
 MAX_PETALS = 100
 MAX_FREQUENCY_RATIO = 50  # Lissajous a and b
 STAR_INNER_RATIO = 0.382  # a regular five-pointed star's inner / outer radius
@@ -436,6 +437,8 @@ def _drawing_sketch(what: str, strokes: Callable[[float], list[np.ndarray]], siz
     unordered = [shapes.anchored(stroke, start) for stroke in strokes(reference)]
     if not unordered:
         raise PlanError(f'the {what} has nothing to draw')
+    if len(unordered) > MAX_STROKES:
+        raise PlanError(f'the {what} has {len(unordered)} strokes; at most {MAX_STROKES}')
     here = (start.x, start.y)
     order = drawing.order_strokes(unordered, here)
     corner = min(settings.defaults.corner_angle, DRAWING_CORNER_ANGLE_RAD)
