@@ -194,3 +194,25 @@ def test_a_node_ended_mid_drawing_leaves_the_pen_down(ros_context, tmp_path):
     finally:
         executor.shutdown()
         observer.destroy_node()
+
+
+def test_the_pen_parameters_are_checked_and_drawings_use_them(traj):
+    from rcl_interfaces.msg import Parameter as ParameterMsg
+    from rcl_interfaces.msg import ParameterType, ParameterValue
+    from rcl_interfaces.srv import SetParameters
+
+    def set_color(text: str):
+        value = ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=text)
+        request = SetParameters.Request(parameters=[ParameterMsg(name='pen_color', value=value)])
+        return traj.call(SetParameters, '/turtle_traj/set_parameters', request).results[0]
+
+    refused = set_color('blurple')
+    assert not refused.successful
+    assert "pen_color 'blurple' is not a colour" in refused.reason
+    assert set_color('#00ff00').successful
+    request, plan = _planned(traj, 'text', {'text': 'L', 'height': 0.5})
+    assert traj.call(DrawText, 'draw_text', request).success
+    strokes = drawing.drawn_strokes(plan.path)
+    assert _ink(traj, np.concatenate([_along(s) for s in strokes]), (0, 255, 0)).mean() > 0.97
+    pen = _turtle_pen(traj)  # left down in the node's (new) pen
+    assert (pen.on, pen.r, pen.g, pen.b) == (True, 0, 255, 0)
