@@ -67,6 +67,15 @@ def test_bad_arguments_exit_with_usage(capsys):
     assert "invalid choice: 'blob'" in capsys.readouterr().err
 
 
+def test_output_into_a_pipe_closed_early_ends_quietly(running_system):
+    process = subprocess.Popen([sys.executable, '-m', 'turtle_traj.cli', 'params'],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    process.stdout.close()  # the reader leaves before anything is written, as `| head` may
+    stderr = process.stderr.read().decode()
+    assert process.wait(timeout=30) == 141
+    assert stderr == ''
+
+
 def test_no_node_answers_within_seconds(capsys):
     assert cli.main(['--node', '/nobody_here', '--wait', '1', 'draw', 'square']) == 2
     assert 'no trajectory node answers on /nobody_here/draw ' in capsys.readouterr().err

@@ -8,6 +8,7 @@ trajectory runs as a goal of the node's draw action.
 from __future__ import annotations
 
 import argparse
+import os
 import signal
 import sys
 from collections.abc import Sequence
@@ -151,6 +152,16 @@ def _read_points(path: Path) -> list[tuple[float, float]]:
 
 
 def main(args: Sequence[str] | None = None) -> int:
+    """The command line; output piped into a reader that leaves early (`| head`) ends it
+    quietly, as other command-line tools end."""
+    try:
+        return _main(args)
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # nothing more to say
+        return 141  # 128 + SIGPIPE, what a shell reports for such a pipeline
+
+
+def _main(args: Sequence[str] | None) -> int:
     parser = build_parser()
     options = parser.parse_args(args)
     trajectory = getattr(options, 'trajectory', None)
