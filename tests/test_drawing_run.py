@@ -1,6 +1,5 @@
 """Drawings driven end to end in our simulator (lock-step): the poses against the geometry, the
-canvas against the pen, and the pen left down after a stop or an abort."""
-
+canvas against the pen, and the pen left down after a stop, an abort or the node's end."""
 
 import numpy as np
 import pytest
