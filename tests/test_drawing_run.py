@@ -149,6 +149,7 @@ def test_a_node_ended_mid_drawing_leaves_the_pen_down(ros_context, tmp_path):
     """The node program ends while the pen is up: the turtle, driven on, draws again."""
     import subprocess
     import sys
+    import time
 
     from geometry_msgs.msg import Twist, Vector3
     from rclpy.executors import SingleThreadedExecutor
@@ -176,8 +177,15 @@ def test_a_node_ended_mid_drawing_leaves_the_pen_down(ros_context, tmp_path):
                                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
             try:
                 assert spin_until(executor, client.service_is_ready, timeout_s=20.0)
-                client.call_async(DrawText.Request(text='I   I', height=0.4))
-                assert spin_until(executor, lambda: pen in colors, timeout_s=20.0)  # drawing
+                deadline = time.monotonic() + 40.0
+                while pen not in colors:  # a node still discovering the simulator refuses
+                    call = client.call_async(DrawText.Request(text='I   I', height=0.4))
+                    spin_until(executor, lambda call=call: call.done() or pen in colors,
+                               timeout_s=20.0)
+                    if pen not in colors:
+                        assert call.done() and not call.result().success, 'neither drew nor said'
+                        assert time.monotonic() < deadline, call.result().message
+                        spin_until(executor, lambda: False, timeout_s=0.2)
                 assert spin_until(  # then driving on with the pen up, over nothing drawn
                     executor, lambda: poses[-1].linear_velocity > 0.2
                     and colors[-1] == NOTHING_DRAWN, timeout_s=20.0)
