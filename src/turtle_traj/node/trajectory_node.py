@@ -422,11 +422,12 @@ class TrajectoryNode(Node):
         return response
 
     def _connected(self) -> bool:
-        """A fresh pose is in and the simulator acknowledged a stop command (it hears us).
+        """A fresh pose is in, the simulator acknowledged a stop command (it hears us) and its
+        set_pen is found (drawings need it).
 
         Sends that stop (harmless: no trajectory runs) while no acknowledgement is in.
         """
-        if self._refusal() is not None:
+        if self._refusal() is not None or not self._set_pen.service_is_ready():
             return False
         if self._cmd_vel.wait_for_all_acked(Duration()):
             return True
