@@ -73,3 +73,20 @@ def traj(ros_context, tmp_path):
         yield harness
     finally:
         harness.close()
+
+
+@pytest.fixture(scope='module')
+def running_system(tmp_path_factory):
+    """`python -m turtle_traj --with-sim` at 2x real time, in this test session's domain.
+
+    Wall-clock time, as users run it: slow enough that a loaded machine cannot make the node
+    fall many simulator steps behind.
+    """
+    from tests.ros_helpers import program
+    from turtle_traj.client import TrajClient
+
+    with program('turtle_traj', '--with-sim', '--time-scale', '2',
+                 cwd=tmp_path_factory.mktemp('system')) as process:
+        with TrajClient(connect_timeout_s=30.0) as client:  # answers once poses reach the node
+            assert client.call('reset').success
+        yield process
