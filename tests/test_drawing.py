@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from turtle_traj.control.follower import PathFollower
 from turtle_traj.geometry import drawing, svg, text
 from turtle_traj.geometry.path import Curve, Pose2D, Turn, distance_to_polyline
+from turtle_traj.geometry.shapes import ShapeError
 from turtle_traj.planning import PlanError
 from turtle_traj.settings import DEFAULT_SETTINGS
 from turtle_traj.trajectories import BY_NAME
@@ -39,6 +40,7 @@ def plan(name: str, start: Pose2D = START, **given):
      'the largest that fits from here is 1.36 m (height)'),
     ('text', {'text': 'Hi', 'height': 1e308}, 'the largest that fits from here is'),
     ('text', {'text': 'Hi', 'pen_color': 'blurple'}, "pen_color 'blurple' is not a colour"),
+    ('text', {'text': 'x' * 201}, 'the text has 201 characters; at most 200'),
     ('svg', {}, 'give path_data or a file'),
     ('svg', {'file': 'turtle.svg', 'path_data': 'M 0 0 L 1 1'}, 'not both'),
     ('svg', {'path_data': 'M 0 0 L 1 x'}, "unexpected 'x' at character 11"),
@@ -46,6 +48,9 @@ def plan(name: str, start: Pose2D = START, **given):
     ('svg', {'path_data': 'M 0 0 C 1 1 2 2'}, 'the C command at character 7 takes 6 numbers'),
     ('svg', {'path_data': 'M 0 0 Z 4'}, 'the Z command at character 7 takes no numbers'),
     ('svg', {'path_data': 'M 1 1 L 1 1'}, 'has no extent'),
+    ('svg', {'path_data': 'M 0 0 L 1e400 1'}, 'the number 1e400 at character 9 is not finite'),
+    ('svg', {'path_data': 'M 0 0' + ' L 1 1' * 40_000}, 'at most 200000'),
+    ('svg', {'path_data': 'M 0,0 l 1,1 ,, q'}, 'the q command at character 16 takes 4 numbers'),
     ('svg', {'file': '../drawings/../../x.svg'}, 'outside the SVG folder'),
     ('svg', {'file': '/etc/passwd'}, 'must be relative to the SVG folder'),
     ('svg', {'file': 'nope.svg'}, 'there are: turtle.svg, wave.svg'),
@@ -71,9 +76,9 @@ def test_a_malformed_svg_file_is_refused(tmp_path):
     (tmp_path / 'broken.svg').write_text('<svg><path d="M 0 0 L')
     (tmp_path / 'words.svg').write_text('<svg xmlns="http://www.w3.org/2000/svg"><text>hi'
                                         '</text></svg>')
-    with pytest.raises(Exception, match='broken.svg is not a readable SVG document'):
+    with pytest.raises(ShapeError, match='broken.svg is not a readable SVG document'):
         svg.parse_file(tmp_path, 'broken.svg')
-    with pytest.raises(Exception, match='words.svg has no shapes to draw'):
+    with pytest.raises(ShapeError, match='words.svg has no shapes to draw'):
         svg.parse_file(tmp_path, 'words.svg')
 
 

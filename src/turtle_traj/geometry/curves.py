@@ -17,8 +17,9 @@ import numpy as np
 SAMPLE_SPACING_M = 0.005
 MIN_SAMPLES = 64
 MAX_SAMPLES = 200_000  # a curve longer than 1 km is sampled more coarsely
-DENSE_SPACING_M = 0.001  # evaluated this finely before resampling (interpolation error 4 um
-MAX_DENSE_SAMPLES = 400_000  # at a 3 cm radius)
+# Evaluated this finely before resampling: the interpolation error is 4 um at a 3 cm radius.
+DENSE_SPACING_M = 0.001
+MAX_DENSE_SAMPLES = 400_000
 
 
 def _sampled(curve, parameter_end: float) -> np.ndarray:

@@ -19,18 +19,24 @@ import svgelements
 from turtle_traj.geometry.shapes import ShapeError
 
 _ARITY = {'m': 2, 'l': 2, 't': 2, 'h': 1, 'v': 1, 'c': 6, 's': 4, 'q': 4, 'a': 7, 'z': 0}
-_TOKEN = re.compile(r'\s*,?\s*(?:(?P<command>[MmLlHhVvCcSsQqTtAaZz])|'
-                    r'(?P<number>[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?))')
+_TOKEN = re.compile(r'(?P<command>[MmLlHhVvCcSsQqTtAaZz])|'
+                    r'(?P<number>[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)')
+_SEPARATORS = re.compile(r'[\s,]*')
 MAX_SAMPLES_PER_SEGMENT = 4096
-MAX_FILE_BYTES = 1_000_000
+MAX_INPUT_CHARACTERS = 200_000  # path data or file: far more than a turtle can draw
+LISTED_FILES = 20  # a refusal for a missing file names at most this many that exist
 
 
 def check_path_data(data: str) -> None:
     """ShapeError naming the first problem of SVG path data (svgelements' own errors do not):
-    an unexpected character, a command with the wrong count of numbers, no moveto first."""
+    an unexpected character, a number that is not finite, a command with the wrong count of
+    numbers, no moveto first, too long a text."""
     if not data.strip():
         raise ShapeError('the SVG path data is empty')
-    position, command, start, numbers = 0, None, 0, 0
+    if len(data) > MAX_INPUT_CHARACTERS:
+        raise ShapeError(f'the SVG path data has {len(data)} characters; at most '
+                         f'{MAX_INPUT_CHARACTERS}')
+    command, start, numbers = None, 0, 0
 
     def close_command() -> None:
         arity = _ARITY[command.lower()]
@@ -38,23 +44,27 @@ def check_path_data(data: str) -> None:
             wanted = f'{arity} numbers (or a multiple)' if arity else 'no numbers'
             raise ShapeError(f'SVG path data: the {command} command at character {start + 1} '
                              f'takes {wanted}, got {numbers}')
-    while data[position:].strip():
+    position = _SEPARATORS.match(data).end()
+    while position < len(data):
         match = _TOKEN.match(data, position)
         if match is None:
-            bad = position + len(data[position:]) - len(data[position:].lstrip(' \t\r\n,'))
-            raise ShapeError(f'SVG path data: unexpected {data[bad]!r} at character {bad + 1}')
+            raise ShapeError(f'SVG path data: unexpected {data[position]!r} at character '
+                             f'{position + 1}')
         if match.group('command'):
             if command is None and match.group('command') not in 'Mm':
                 raise ShapeError('SVG path data must start with a moveto (M or m), not '
                                  f'{match.group("command")!r}')
             if command is not None:
                 close_command()
-            command, start, numbers = match.group('command'), match.start('command'), 0
+            command, start, numbers = match.group('command'), position, 0
         elif command is None:
             raise ShapeError('SVG path data must start with a moveto (M or m), not a number')
+        elif not math.isfinite(float(match.group('number'))):
+            raise ShapeError(f'SVG path data: the number {match.group("number")} at character '
+                             f'{position + 1} is not finite')
         else:
             numbers += 1
-        position = match.end()
+        position = _SEPARATORS.match(data, match.end()).end()
     close_command()
 
 
@@ -107,7 +117,7 @@ def parse_file(root: Path, name: str) -> svgelements.Path:
     """Every shape of the SVG file `name` under `root` (transforms applied), as one path.
 
     Refuses names outside `root` (absolute, or escaping with ..), missing files (listing the
-    ones there are), files over MAX_FILE_BYTES and documents with nothing to draw.
+    ones there are), files over MAX_INPUT_CHARACTERS bytes and documents with nothing to draw.
     """
     root = root.resolve()
     if not name:
@@ -120,17 +130,19 @@ def parse_file(root: Path, name: str) -> svgelements.Path:
     if not target.is_file():
         available = sorted(str(p.relative_to(root)) for p in root.rglob('*.svg')) \
             if root.is_dir() else []
-        raise ShapeError(f'no SVG file {name!r} in {root}; there are: '
-                         f'{", ".join(available) or "none"}')
-    if target.stat().st_size > MAX_FILE_BYTES:
-        raise ShapeError(f'{name} is larger than {MAX_FILE_BYTES // 1000} kB')
+        listed = ', '.join(available[:LISTED_FILES]) or 'none'
+        more = f' and {len(available) - LISTED_FILES} more' if len(available) > LISTED_FILES \
+            else ''
+        raise ShapeError(f'no SVG file {name!r} in {root}; there are: {listed}{more}')
+    if target.stat().st_size > MAX_INPUT_CHARACTERS:
+        raise ShapeError(f'{name} is larger than {MAX_INPUT_CHARACTERS // 1000} kB')
     try:
         document = svgelements.SVG.parse(io.StringIO(target.read_text()))
     except Exception as error:  # noqa: BLE001 - svgelements raises XML and value errors alike
         raise ShapeError(f'{name} is not a readable SVG document: {error}') from None
     path = svgelements.Path()
     for element in document.elements():
-        if isinstance(element, svgelements.Shape) and not isinstance(element, svgelements.Text):
+        if isinstance(element, svgelements.Shape):  # (text is not a shape)
             shape = svgelements.Path(element)
             if len(shape):
                 path += shape
@@ -144,5 +156,5 @@ def bounding_box(path: svgelements.Path) -> tuple[float, float, float, float]:
     """x_min, y_min, x_max, y_max in the path's units (y down), or ShapeError if empty."""
     box = path.bbox()
     if box is None or not np.isfinite(box).all():
-        raise ShapeError('the SVG has nothing to draw')
+        raise ShapeError('the SVG has nothing to draw, or coordinates that are not finite')
     return box
