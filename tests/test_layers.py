@@ -20,7 +20,8 @@ LAYERS = [
     # 1: what simulator and controller agree on over the wire
     ['wire', 'services'],
     # 2: the ROS shell: nodes, their parameters, executors and the program runner
-    ['sim.node', 'node.parameters', 'node.trajectory_node', 'lockstep', 'runtime'],
+    ['node.async_service', 'sim.node', 'node.parameters', 'node.trajectory_node', 'lockstep',
+     'runtime'],
     # 3: nodes put together, and the script-side client
     ['system', 'sim.main', 'node.main', 'client'],
     # 4: what people run

@@ -36,6 +36,7 @@ class LatencyPredictor:
     def __init__(self, period_s: float) -> None:
         self.period_s = period_s
         self._sent: deque[Command] = deque(maxlen=_HISTORY)
+        self._sent_echoes: deque[tuple[float, float]] = deque(maxlen=_HISTORY)  # _as_echoed
         self.in_flight = 0  # commands sent after the one the last pose showed in effect
         self._seen_in_effect = False
         self._recent: deque[int] = deque(maxlen=_SPREAD_WINDOW)
@@ -44,6 +45,7 @@ class LatencyPredictor:
     def sent(self, command: Command) -> None:
         """Record a command as it is published."""
         self._sent.append(command)
+        self._sent_echoes.append(_as_echoed(command))
 
     def observe(self, linear_echo: float, angular_echo: float) -> int:
         """Update the count of commands in flight from a pose's velocity echo; return it.
@@ -54,8 +56,8 @@ class LatencyPredictor:
         command (a stale one, the 1 s timeout) and the last count stands.
         """
         echo = (linear_echo, angular_echo)
-        matches = [back for back, command in enumerate(reversed(self._sent))
-                   if _as_echoed(command) == echo]
+        matches = [back for back, sent in enumerate(reversed(self._sent_echoes))
+                   if sent == echo]
         if matches:
             # Between two poses one command is sent and one takes effect: the count holds.
             self.in_flight = min(matches, key=lambda back: abs(back - self.in_flight))

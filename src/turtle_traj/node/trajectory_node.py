@@ -36,6 +36,7 @@ from turtle_traj.control.latency import LatencyPredictor
 from turtle_traj.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.node import parameters
+from turtle_traj.node.async_service import create_async_service
 from turtle_traj.planning import Plan, PlanError
 from turtle_traj.services import DRAW_ACTION, GOAL_REJECTED, service_type
 from turtle_traj.settings import PenStyle
@@ -106,13 +107,13 @@ class TrajectoryNode(Node):
         # Handlers await the end of a trajectory, so they must not block the timer's group.
         group = ReentrantCallbackGroup()
         for trajectory in TRAJECTORIES:
-            self.create_service(service_type(trajectory), f'~/{trajectory.service}',
-                                partial(self._execute, trajectory), callback_group=group)
+            create_async_service(self, service_type(trajectory), f'~/{trajectory.service}',
+                                 partial(self._execute, trajectory), callback_group=group)
         ActionServer(self, Draw, f'~/{DRAW_ACTION}', self._execute_goal,
                      goal_callback=self._on_goal, cancel_callback=self._on_cancel,
                      callback_group=group)
         self.create_service(Trigger, '~/stop', self._handle_stop, callback_group=group)
-        self.create_service(Trigger, '~/reset', self._handle_reset, callback_group=group)
+        create_async_service(self, Trigger, '~/reset', self._handle_reset, callback_group=group)
         self.stop_service = self.resolve_service_name('~/stop')
         self._sim_reset = self.create_client(Empty, 'reset', callback_group=group)
         # Drawings lift the pen between strokes; the pen call on its way, and when it went.

@@ -183,11 +183,10 @@ class SimNode(Node):
             if queue:
                 self._apply_cmd_vel(name, queue.popleft(), now)
         report = self.world.step(now)
-        if self._clock_publisher is not None:
-            stamp = ClockMsg()
-            stamp.clock.sec, nanoseconds = divmod(round(self.world.time_s * 1e9), 10**9)
-            stamp.clock.nanosec = nanoseconds
-            self._clock_publisher.publish(stamp)
+        # Nodes in a lock-step process get the time from the executor directly; /clock is
+        # for observers (other programs), so nothing is sent while none listens.
+        if self._clock_publisher is not None and self._clock_publisher.get_subscription_count():
+            self._clock_publisher.publish(self.clock_message())
         for event in report.rotation_events:
             self._on_rotation_event(event)
         for _turtle, x, flipped_y in report.wall_hits:
@@ -198,13 +197,21 @@ class SimNode(Node):
         for segment in report.segments:
             self.canvas.draw(segment)
 
+    def clock_message(self) -> ClockMsg:
+        """The simulated time now, as /clock carries it."""
+        stamp = ClockMsg()
+        stamp.clock.sec, nanoseconds = divmod(round(self.world.time_s * 1e9), 10**9)
+        stamp.clock.nanosec = nanoseconds
+        return stamp
+
     def _publish_state(self, turtle: Turtle) -> None:
         endpoints = self._endpoints[turtle.name]
         endpoints.pose.publish(Pose(
             x=turtle.x, y=turtle.y, theta=turtle.theta,
             linear_velocity=turtle.linear_speed, angular_velocity=turtle.omega))
-        r, g, b = self.canvas.color_under(turtle)
-        endpoints.color.publish(Color(r=r, g=g, b=b))
+        if endpoints.color.get_subscription_count():  # read by nobody: not worth a message
+            r, g, b = self.canvas.color_under(turtle)
+            endpoints.color.publish(Color(r=r, g=g, b=b))
 
     def render(self) -> Image.Image:
         """The window as turtlesim would show it now."""
