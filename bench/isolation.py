@@ -7,7 +7,8 @@ above the 1..101 that test sessions claim, so a benchmark never talks to a runni
 import os
 import tempfile
 
-DOMAIN_IDS = {'sim': 230, 'accuracy': 231, 'latency': 232, 'soak': 229, 'cli': 228}
+DOMAIN_IDS = {'sim': 230, 'accuracy': 231, 'latency': 232, 'soak': 229, 'cli': 228,
+              'speed': 227}
 
 
 def isolate(benchmark: str) -> None:

@@ -15,7 +15,8 @@ LAYERS = [
     # trajectories, the settings table, the simulator's physics and its options
     ['geometry.angles', 'geometry.path', 'geometry.shapes', 'geometry.curves',
      'geometry.drawing', 'geometry.svg', 'geometry.text', 'control.commands',
-     'control.latency', 'control.follower', 'control.supervisor', 'planning', 'trajectories',
+     'control.latency', 'control.follower', 'control.supervisor', 'control.loop', 'planning',
+     'trajectories',
      'settings', 'sim.physics', 'sim.delay', 'sim.canvas', 'sim.gui', 'sim.options'],
     # 1: what simulator and controller agree on over the wire
     ['wire', 'services'],

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from tests.geometry_checks import distance_to_polyline, regular_polygon
-from turtle_traj.control.latency import LatencyPredictor
-from turtle_traj.control.supervisor import SETTLE_PERIODS, RunSupervisor
+from turtle_traj.control.loop import ControlLoop
+from turtle_traj.control.supervisor import SETTLE_PERIODS
 from turtle_traj.geometry.path import Pose2D
 from turtle_traj.planning import Plan
 from turtle_traj.settings import DEFAULT_SETTINGS
@@ -31,36 +31,34 @@ def shape(**fields) -> SimpleNamespace:
 
 
 class Loop:
-    """One trajectory run: the physics, the latency predictor and the supervisor."""
+    """One trajectory run: the physics and the node's control loop, a 16 ms step apart."""
 
     def __init__(self, name: str, request, x: float = 5.5, y: float = 5.5,
                  theta: float = 0.0) -> None:
         self.world = World()
         self.turtle = self.world.spawn(x, y, theta, 'turtle1')
-        self.latency = LatencyPredictor(STEP_S)
-        start = Pose2D(x, y, theta)
-        plan = BY_NAME[name].plan(request, start, SETTINGS)
-        self.run = RunSupervisor(plan, start=start, arena=ARENA, started_s=0.0,
-                                 latency=self.latency)
+        self.control = ControlLoop(STEP_S)
+        self.control.observe(Pose2D(x, y, theta), 0.0, 0.0)
+        plan = BY_NAME[name].plan(request, Pose2D(x, y, theta), SETTINGS)
+        self.run = self.control.start(plan, arena=ARENA, now_s=0.0)
+        self.latency = self.control.latency
 
     def drive(self, disturb=None, max_steps: int = 20_000) -> list[Pose2D]:
         """Step until the supervisor decides; the poses the turtle reported."""
-        turtle, run = self.turtle, self.run
+        turtle, control = self.turtle, self.control
         poses = []
         for step in range(max_steps):
             if disturb is not None:
                 disturb(step, turtle)
             pose = Pose2D(turtle.x, turtle.y, turtle.theta)
             poses.append(pose)
-            run.observe(pose)
             # the velocity echo as turtlesim's Pose carries it: float32
-            self.latency.observe(float(np.float32(turtle.linear_speed)),
-                                 float(np.float32(turtle.omega)))
-            standing = turtle.linear_speed == 0.0 and turtle.omega == 0.0
-            command = run.command(pose, standing, SETTINGS.control, ARENA, step * STEP_S)
-            if run.ending is not None:
+            control.observe(pose, float(np.float32(turtle.linear_speed)),
+                            float(np.float32(turtle.omega)))
+            command = control.command(SETTINGS.control, ARENA, step * STEP_S)
+            if self.run.ending is not None:
                 return poses
-            self.latency.sent(command)
+            control.sent(command)
             self.world.command('turtle1', command.linear, 0.0, command.angular)
             self.world.step()
         raise AssertionError('the run never ended')

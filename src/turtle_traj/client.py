@@ -18,7 +18,7 @@ from rcl_interfaces.msg import Parameter as ParameterMsg
 from rcl_interfaces.srv import GetParameters
 from rclpy.action import ActionClient
 from rclpy.context import Context
-from rclpy.executors import SingleThreadedExecutor
+from rclpy.experimental import EventsExecutor
 from rclpy.parameter import Parameter, get_parameter_value, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.task import Future
@@ -96,7 +96,7 @@ class TrajClient:
         self._context = Context()
         rclpy.init(context=self._context)
         self._node = rclpy.create_node(f'turtle_traj_cli_{os.getpid()}', context=self._context)
-        self._executor = SingleThreadedExecutor(context=self._context)
+        self._executor = EventsExecutor(context=self._context)
         self._executor.add_node(self._node)
         self._action: ActionClient | None = None
         self._probe_client = None

@@ -9,7 +9,8 @@ import time
 from collections.abc import Callable, Sequence
 
 import rclpy
-from rclpy.executors import Executor, ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import Executor, ExternalShutdownException
+from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
@@ -23,7 +24,7 @@ def run_nodes(
     *,
     args: Sequence[str] | None = None,
     on_exit: Callable[[], None] | None = None,
-    executor_type: Callable[[], Executor] = SingleThreadedExecutor,
+    executor_type: Callable[[], Executor] = EventsExecutor,
 ) -> int:
     """Create nodes, spin them in one executor until asked to stop, then tidy up.
 
@@ -35,7 +36,10 @@ def run_nodes(
     :param create_nodes: builds the nodes once rclpy is initialised; gets `stop`.
     :param args: command-line arguments for rclpy (``--ros-args`` remappings and parameters).
     :param on_exit: runs after spinning stopped and before the nodes are destroyed.
-    :param executor_type: makes the executor (after rclpy is initialised).
+    :param executor_type: makes the executor (after rclpy is initialised). rclpy's
+        EventsExecutor (experimental, C++) by default: it wakes only for what happened, where
+        the SingleThreadedExecutor rebuilds its wait set over every endpoint on each pass, which
+        cost the trajectory node a fifth of a core doing nothing (bench/speed_bench.py).
     :return: the process exit code: 0 after a stop, 1 when something else shut the ROS
         context down.
     """

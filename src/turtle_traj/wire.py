@@ -6,9 +6,9 @@ from the simulator's node (which would load the whole simulator into the control
 
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from turtle_traj.sim.physics import SPAWN_XY_M, WORLD_SIZE_M
+from turtle_traj.sim.physics import SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 
-__all__ = ['SPAWN_XY_M', 'TURTLE_TOPIC_QOS', 'WORLD_SIZE_M']
+__all__ = ['SPAWN_XY_M', 'STEP_S', 'TURTLE_TOPIC_QOS', 'WORLD_SIZE_M']
 
 # turtlesim's per-turtle topic QoS (qos.hpp in turtlesim 1.8).
 TURTLE_TOPIC_QOS = QoSProfile(

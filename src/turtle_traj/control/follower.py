@@ -15,8 +15,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.latency import LatencyPredictor
 from turtle_traj.geometry.angles import wrap_angle
@@ -108,27 +106,34 @@ class _CurveTracker:
         self.end_tolerance = end_tolerance
         self.segment = 0
         self.fraction = 0.0  # of the curve's length, up to where the turtle is (one lap)
+        # Plain floats: a projection looks at a few segments, too few for numpy to pay.
+        self._xs, self._ys = curve.points[:, 0].tolist(), curve.points[:, 1].tolist()
+
+    def _candidates(self) -> list[int] | range:
+        """The segments searched: a window around the last match (wrapping on a loop)."""
+        count = len(self._xs) - 1
+        first, last = self.segment - _WINDOW_BEHIND, self.segment + _WINDOW_AHEAD
+        if self.curve.repeat:
+            return [index % count for index in range(first, last + 1)]
+        return range(min(max(first, 0), count - 1), min(max(last, 0), count - 1) + 1)
 
     def _project(self, pose: Pose2D) -> tuple[int, float, float]:
         """Nearest segment near the last one: index, fraction along it, signed offset."""
-        points, count = self.curve.points, len(self.curve.points) - 1
-        offsets = np.arange(-_WINDOW_BEHIND, _WINDOW_AHEAD + 1) + self.segment
-        if self.curve.repeat:
-            candidates = offsets % count
-        else:
-            candidates = np.unique(np.clip(offsets, 0, count - 1))
-        a, b = points[candidates], points[candidates + 1]
-        along = b - a
-        relative = np.array([pose.x, pose.y]) - a
-        squared = np.maximum(np.einsum('ij,ij->i', along, along), 1e-18)
-        fraction = np.clip(np.einsum('ij,ij->i', relative, along) / squared, 0.0, 1.0)
-        nearest = a + along * fraction[:, None]
-        distance = np.hypot(*(np.array([pose.x, pose.y]) - nearest).T)
-        best = int(np.argmin(distance))
-        index = int(candidates[best])
-        cross = along[best, 0] * relative[best, 1] - along[best, 1] * relative[best, 0]
-        offset = cross / math.sqrt(squared[best])
-        return index, float(fraction[best]), float(offset)
+        xs, ys, px, py = self._xs, self._ys, pose.x, pose.y
+        best = None
+        for index in self._candidates():
+            ax, ay = xs[index], ys[index]
+            dx, dy = xs[index + 1] - ax, ys[index + 1] - ay
+            rx, ry = px - ax, py - ay
+            squared = dx * dx + dy * dy
+            squared = 1e-18 if squared < 1e-18 else squared
+            fraction = (rx * dx + ry * dy) / squared
+            fraction = 0.0 if fraction < 0.0 else 1.0 if fraction > 1.0 else fraction
+            distance = math.hypot(px - (ax + dx * fraction), py - (ay + dy * fraction))
+            if best is None or distance < best[0]:
+                best = (distance, index, fraction, (dx * ry - dy * rx) / math.sqrt(squared))
+        _, index, fraction, offset = best
+        return index, fraction, offset
 
     def _remaining(self, pose: Pose2D, segment: int, fraction: float) -> float:
         """Distance left to the end (inf on a repeating curve), signed: negative past it."""

@@ -34,9 +34,9 @@ class ControlLoop:
         """A pose as turtlesim reports it, with the velocities in effect at its step."""
         self.pose = pose
         self.standing = linear_echo == 0.0 and angular_echo == 0.0
-        self.latency.observe(linear_echo, angular_echo)
         if self.run is not None:
             self.run.observe(pose)
+        self.latency.observe(linear_echo, angular_echo)
 
     def forget_pose(self) -> None:
         """The turtle is gone (a reset): no pose until the next one is observed."""

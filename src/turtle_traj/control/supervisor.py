@@ -11,13 +11,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.follower import ControlConfig, PathFollower
 from turtle_traj.control.latency import LatencyPredictor
 from turtle_traj.geometry.angles import wrap_angle
-from turtle_traj.geometry.path import Pose2D, distance_to_polyline
+from turtle_traj.geometry.path import NearestOnPolyline, Pose2D
 from turtle_traj.geometry.shapes import Arena
 from turtle_traj.planning import Plan
 
@@ -66,8 +64,7 @@ class RunSupervisor:
         self._settled_periods = 0
         self._pose = start
         self._path_done_s: float | None = None  # when the follower reached the path's end
-        points = plan.path.points()
-        self._drawn = points if len(points) > 1 else np.repeat(points, 2, axis=0)
+        self._drawn = NearestOnPolyline(plan.path.points())
         self.distance = 0.0  # driven so far, pose to pose
         self.deviation = 0.0  # distance from the path as drawn, at the last pose
         self.max_deviation = 0.0
@@ -87,7 +84,7 @@ class RunSupervisor:
 
     def distance_from_path(self, pose: Pose2D) -> float:
         """Distance from the planned path as drawn (every leg; a turn is its point)."""
-        return float(distance_to_polyline(np.array([[pose.x, pose.y]]), self._drawn)[0])
+        return self._drawn.distance(pose.x, pose.y)
 
     def observe(self, pose: Pose2D) -> None:
         """A new pose: measured against the path; a jump from the last one aborts the run."""

@@ -180,3 +180,22 @@ def distance_to_polyline(points: np.ndarray, vertices: np.ndarray) -> np.ndarray
     t = np.clip(np.einsum('pkj,kj->pk', ap, ab) / lengths, 0.0, 1.0)
     nearest = a[None] + t[..., None] * ab[None]
     return np.min(np.linalg.norm(points[:, None, :] - nearest, axis=2), axis=1)
+
+
+class NearestOnPolyline:
+    """Distances of single points to a fixed polyline (K, 2), its segments prepared once."""
+
+    def __init__(self, vertices: np.ndarray) -> None:
+        vertices = np.asarray(vertices, dtype=float)
+        if len(vertices) == 1:
+            vertices = np.repeat(vertices, 2, axis=0)  # one point: a segment of no length
+        self._starts = vertices[:-1]
+        self._edges = np.diff(vertices, axis=0)
+        self._squared = np.maximum(np.einsum('kj,kj->k', self._edges, self._edges), 1e-18)
+
+    def distance(self, x: float, y: float) -> float:
+        """Distance of (x, y) to the nearest segment."""
+        offsets = np.array([x, y]) - self._starts
+        along = np.clip(np.einsum('kj,kj->k', offsets, self._edges) / self._squared, 0.0, 1.0)
+        gaps = offsets - along[:, None] * self._edges
+        return float(np.sqrt(np.min(np.einsum('kj,kj->k', gaps, gaps))))

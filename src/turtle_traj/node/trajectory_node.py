@@ -32,7 +32,7 @@ from turtlesim.msg import Pose
 from turtlesim.srv import SetPen
 
 from turtle_traj.control.commands import STOP, Command
-from turtle_traj.control.latency import LatencyPredictor
+from turtle_traj.control.loop import ControlLoop
 from turtle_traj.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.node import parameters
@@ -41,7 +41,7 @@ from turtle_traj.planning import Plan, PlanError
 from turtle_traj.services import DRAW_ACTION, GOAL_REJECTED, service_type
 from turtle_traj.settings import PenStyle
 from turtle_traj.trajectories import BY_NAME, TRAJECTORIES, Trajectory
-from turtle_traj.wire import TURTLE_TOPIC_QOS
+from turtle_traj.wire import STEP_S, TURTLE_TOPIC_QOS
 
 PLAN_FRAME_ID = 'world'
 _WATCHDOG_PERIOD_S = 0.05
@@ -75,28 +75,24 @@ class TrajectoryNode(Node):
 
     def __init__(self, node_name: str = 'turtle_traj', **kwargs) -> None:
         super().__init__(node_name, **kwargs)
-        self._pose: Pose2D | None = None
+        # Pose in, command out: the run, the last pose and the commands still on their way.
+        self._loop = ControlLoop(STEP_S)
         # The validator goes first so that overrides given at start-up are checked too; a new
         # arena must contain the turtle.
         self.add_on_set_parameters_callback(
-            lambda params: parameters.validate(self, params, self._pose))
+            lambda params: parameters.validate(self, params, self._loop.pose))
         parameters.declare(self)
         self.settings = parameters.read_settings(self)
         self.add_post_set_parameters_callback(self._on_parameters_set)
         turtle = self.get_parameter('turtle_name').value
 
-        self._pose_msg: Pose | None = None
         self._pose_wall_s = -math.inf
         self._pose_time: Time | None = None
-        # The run and the future its service handler awaits. One executor thread calls
-        # everything here, and a handler checks `_run` and claims it without an `await` in
-        # between, so two requests can never both start a run.
-        self._run: RunSupervisor | None = None
+        # The future the run's service handler awaits. One executor thread calls everything
+        # here, and a handler checks `_run` and claims it without an `await` in between, so
+        # two requests can never both start a run.
         self._run_done: Future | None = None
         self._goal_runs: dict[bytes, RunSupervisor] = {}  # draw goals running, by goal id
-        # Every command this node sends and every echo it hears, across trajectories: how much
-        # the latency varies is a property of the link, known before the next trajectory starts.
-        self._latency = LatencyPredictor(self.settings.control.period_s)
 
         self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
         self.create_subscription(Pose, f'{turtle}/pose', self._on_pose, TURTLE_TOPIC_QOS)
@@ -136,12 +132,9 @@ class TrajectoryNode(Node):
         self.settings = parameters.read_settings(self)
 
     def _on_pose(self, msg: Pose) -> None:
-        self._pose = Pose2D(msg.x, msg.y, msg.theta)
-        if self._run is not None:
-            self._run.observe(self._pose)
-            self._finish_if_ended()
-        self._pose_msg = msg
-        self._latency.observe(msg.linear_velocity, msg.angular_velocity)
+        self._loop.observe(Pose2D(msg.x, msg.y, msg.theta), msg.linear_velocity,
+                           msg.angular_velocity)
+        self._finish_if_ended()  # a jump ends the run
         self._pose_wall_s = time.monotonic()
         self._pose_time = self.get_clock().now()
 
@@ -157,7 +150,11 @@ class TrajectoryNode(Node):
     @property
     def pose(self) -> Pose2D | None:
         """The driven turtle's latest pose (None before the first, or after a reset)."""
-        return self._pose
+        return self._loop.pose
+
+    @property
+    def _run(self) -> RunSupervisor | None:
+        return self._loop.run
 
     @property
     def busy(self) -> bool:
@@ -171,13 +168,11 @@ class TrajectoryNode(Node):
     # -- control -----------------------------------------------------------------------------
 
     def _on_control_timer(self) -> None:
-        run, msg = self._run, self._pose_msg
-        if run is None or msg is None:
+        run = self._run
+        if run is None:
             return
-        standing = msg.linear_velocity == 0.0 and msg.angular_velocity == 0.0
-        command = run.command(self._pose, standing, self.settings.control, self.settings.arena,
-                              self._now_s())
-        if run.ending is None:
+        command = self._loop.command(self.settings.control, self.settings.arena, self._now_s())
+        if command is not None:
             self._publish(command)
             if run.follower.pen_wanted is not None and self._pen_call is None:
                 self._call_set_pen(run.plan.pen, down=run.follower.pen_wanted, run=run)
@@ -224,7 +219,7 @@ class TrajectoryNode(Node):
         self._publish(STOP)
 
     def _publish(self, command: Command) -> None:
-        self._latency.sent(command)
+        self._loop.sent(command)
         twist = Twist()
         twist.linear.x, twist.angular.z = command.linear, command.angular
         self._cmd_vel.publish(twist)
@@ -239,9 +234,10 @@ class TrajectoryNode(Node):
         run, done = self._run, self._run_done
         if run is None or run.ending is None:
             return
-        self._run = self._run_done = None
+        self._loop.take_run()
+        self._run_done = None
         self._publish(STOP)
-        outcome = run.outcome(self._pose, self._now_s())
+        outcome = run.outcome(self._loop.pose, self._now_s())
         summary = (f'{outcome.message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
                    f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m, '
                    f'heading error {outcome.final_heading_error:.4f} rad)')
@@ -265,8 +261,8 @@ class TrajectoryNode(Node):
             return (f'busy: {self._run.name} is running; wait for it or call '
                     f'{self.stop_service} (std_srvs/srv/Trigger) to stop it')
         silence = self._pose_silence_s()
-        if self._pose is None or silence > self.settings.pose_timeout_s:
-            heard = 'never' if self._pose is None else f'not for {silence:.1f} s'
+        if self._loop.pose is None or silence > self.settings.pose_timeout_s:
+            heard = 'never' if self._loop.pose is None else f'not for {silence:.1f} s'
             return (f'no pose on {self.pose_topic} ({heard}): is the simulator running and '
                     f'turtle_name right?')
         if self._cmd_vel.get_subscription_count() == 0:
@@ -286,15 +282,14 @@ class TrajectoryNode(Node):
         refusal = self._refusal()
         if refusal is None:
             try:
-                plan = trajectory.plan(request, self._pose, self.settings)
+                plan = trajectory.plan(request, self._loop.pose, self.settings)
                 refusal = self._pen_refusal(trajectory, plan)
             except PlanError as error:
                 refusal = f'{trajectory.name} refused: {error}'
         if refusal is not None:
             self.get_logger().warning(refusal)
             return refusal
-        self._run = RunSupervisor(plan, start=self._pose, arena=self.settings.arena,
-                                  started_s=self._now_s(), latency=self._latency)
+        self._loop.start(plan, arena=self.settings.arena, now_s=self._now_s())
         self._run_done = done = Future()
         path = plan.path
         self._publish_plan(path)
@@ -307,7 +302,7 @@ class TrajectoryNode(Node):
         """A trajectory service: refuse, or drive to the end; the response is filled either way."""
         started = self._begin(trajectory, request)
         if isinstance(started, str):
-            return fill_response(response, Outcome(False, started, self._pose))
+            return fill_response(response, Outcome(False, started, self._loop.pose))
         return fill_response(response, await started)
 
     # -- the draw action ---------------------------------------------------------------------
@@ -322,7 +317,7 @@ class TrajectoryNode(Node):
         elif reason is None:
             try:
                 reason = self._pen_refusal(trajectory,
-                                           trajectory.plan(goal, self._pose, self.settings))
+                                           trajectory.plan(goal, self._loop.pose, self.settings))
             except PlanError as error:
                 reason = f'{trajectory.name} refused: {error}'
         if reason is None:
@@ -343,11 +338,11 @@ class TrajectoryNode(Node):
         if goal_handle.is_cancel_requested:  # cancelled before it started
             goal_handle.canceled()
             return fill_response(Draw.Result(), Outcome(False, 'cancelled before it started',
-                                                         self._pose))
+                                                         self._loop.pose))
         started = self._begin(BY_NAME[goal.trajectory], goal)
         if isinstance(started, str):  # something started in between
             goal_handle.abort()
-            return fill_response(Draw.Result(), Outcome(False, started, self._pose))
+            return fill_response(Draw.Result(), Outcome(False, started, self._loop.pose))
         run, goal_id = self._run, bytes(goal_handle.goal_id.uuid)
         self._goal_runs[goal_id] = run
         feedback = self.create_timer(_FEEDBACK_PERIOD_S,
@@ -366,7 +361,7 @@ class TrajectoryNode(Node):
         return fill_response(Draw.Result(), outcome)
 
     def _feedback(self, run: RunSupervisor) -> Draw.Feedback:
-        pose = self._pose or Pose2D(math.nan, math.nan, math.nan)
+        pose = self._loop.pose or Pose2D(math.nan, math.nan, math.nan)
         return Draw.Feedback(
             progress=run.follower.progress(run.plan.control(self.settings.control)),
             distance=run.distance, elapsed=self._now_s() - run.started_s,
@@ -415,7 +410,8 @@ class TrajectoryNode(Node):
             return response
         # The simulator made a new turtle: forget the old one's pose and wait until the new
         # one's topics are connected, so that a trajectory requested next starts at once.
-        self._pose = self._pose_msg = self._pose_time = None
+        self._loop.forget_pose()
+        self._pose_time = None
         if await self._wait_until(self._connected, _RESET_TIMEOUT_S):
             response.success, response.message = True, 'simulator reset; ready'
         else:

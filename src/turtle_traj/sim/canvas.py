@@ -70,7 +70,7 @@ class Canvas:
                          min(math.ceil(max(y0, y1) + reach), CANVAS_SIZE_PX - 1) + 1)
         if not len(columns) or not len(rows):
             return  # wholly off the canvas
-        cx, cy = np.meshgrid(columns + 0.5, rows + 0.5)
+        cx, cy = (columns + 0.5)[None, :], (rows + 0.5)[:, None]  # pixel centres, broadcast
         length = math.hypot(x1 - x0, y1 - y0)
         ux, uy = ((x1 - x0) / length, (y1 - y0) / length) if length > 0.0 else (1.0, 0.0)
         along = (cx - x0) * ux + (cy - y0) * uy

@@ -7,7 +7,6 @@ import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.utilities import remove_ros_args
@@ -81,15 +80,10 @@ def main(args: Sequence[str] | None = None) -> int:
         return nodes
 
     try:
-        # rclpy's EventsExecutor (experimental, C++) wakes only for what happened, where the
-        # SingleThreadedExecutor rebuilds its wait set over every endpoint on each pass: the
-        # simulator alone then needs a third less CPU idle and half as much while it is
-        # driven (bench/sim_bench.py). What the simulator relies on (timer, subscriptions,
-        # services, parameters, rotate_absolute with its awaited future and cancel, SIGTERM)
-        # is tested through this program in tests/test_sim_node.py. The trajectory node keeps
-        # the SingleThreadedExecutor: its async service handlers await client futures.
+        # What the simulator relies on of the EventsExecutor (timer, subscriptions, services,
+        # parameters, rotate_absolute with its awaited future and cancel, SIGTERM) is tested
+        # through this program in tests/test_sim_node.py.
         return run_nodes(create_nodes, args=argv,
-                         on_exit=lambda: save_snapshot(nodes[0], options.snapshot),
-                         executor_type=EventsExecutor)
+                         on_exit=lambda: save_snapshot(nodes[0], options.snapshot))
     except GuiUnavailable as error:
         return fail(f'--gui: {error}')

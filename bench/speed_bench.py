@@ -1,0 +1,258 @@
+"""Lock-step speed and the node program's CPU, this checkout side by side with an older commit.
+
+Run: .venv/bin/python bench/speed_bench.py [--against REV] [--rounds N] [--skip-demo]
+
+REV (default 9873574, the commit before lock-step moved to the EventsExecutor) is checked out
+in a temporary git worktree; every figure is measured in a fresh process for each tree in turn
+(old, new, old, new, ...), with that tree's `src` first on PYTHONPATH and this venv's ROS and
+interface packages, and the medians are printed with their ratio.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from isolation import isolate
+
+ROOT = Path(__file__).resolve().parents[1]
+SIM_SECONDS = 8.0  # simulated time per real-time-factor figure
+
+
+# -- measurements, each run in a process of its own (`--measure NAME`) -----------------------
+
+def _lockstep_system(turtles: int):
+    """Simulator, client and one trajectory node per turtle, each driving a circle forever."""
+    import rclpy
+    from rclpy.parameter import Parameter
+    from turtle_traj_interfaces.srv import DrawShape
+    from turtlesim.srv import Spawn
+
+    from turtle_traj.node.trajectory_node import TrajectoryNode
+    from turtle_traj.system import SIM_TIME, InProcessSystem
+
+    rclpy.init()
+    system = InProcessSystem(output_dir=Path(tempfile.mkdtemp()))
+    nodes = [system.node]
+    for index in range(1, turtles):
+        x, y = 1.5 + (index % 4) * 2.5, 1.5 + (index // 4) * 2.5
+        name = system.call(Spawn, '/spawn', Spawn.Request(x=x, y=y, name=f'turtle{index + 1}'))
+        node = TrajectoryNode(f'turtle_traj{index + 1}', parameter_overrides=[
+            SIM_TIME, Parameter('turtle_name', value=name.name)])
+        system.add_node(node)
+        nodes.append(node)
+    if not system.spin_until(lambda: all(node.ready for node in nodes), timeout_s=10.0):
+        raise RuntimeError('the trajectory nodes did not get ready')
+    for node in nodes:
+        system.start(DrawShape, f'/{node.get_name()}/draw_circle',
+                     DrawShape.Request(size=0.5, forever=True))
+    if not system.spin_until(lambda: all(node.busy for node in nodes), timeout_s=5.0):
+        raise RuntimeError('the circles did not start')
+    system.spin_sim_seconds(1.0)  # every node under way
+    return system
+
+
+def measure_real_time_factor(turtles: int) -> dict:
+    system = _lockstep_system(turtles)
+    start_wall, start_sim = time.perf_counter(), system.sim_time_s
+    system.spin_sim_seconds(SIM_SECONDS)
+    wall = time.perf_counter() - start_wall
+    return {'factor': (system.sim_time_s - start_sim) / wall}
+
+
+def measure_breakdown() -> dict:
+    """Per 16 ms step, one turtle driving: executor passes, messages, where the time goes."""
+    from rclpy.publisher import Publisher
+
+    from turtle_traj.node.trajectory_node import TrajectoryNode
+    from turtle_traj.sim.node import SimNode
+
+    ours = [0.0]
+    published = [0]
+
+    def timed(function):
+        def wrapper(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                ours[0] += time.perf_counter() - start
+        return wrapper
+
+    # Our callbacks (the simulator's step includes the publishing it does).
+    for cls, name in ((SimNode, 'step'), (SimNode, 'on_cmd_vel'),
+                      (TrajectoryNode, '_on_pose'), (TrajectoryNode, '_on_control_timer')):
+        setattr(cls, name, timed(getattr(cls, name)))
+    publish = Publisher.publish
+
+    def counting_publish(self, msg):
+        published[0] += 1
+        return publish(self, msg)
+    Publisher.publish = counting_publish
+
+    system = _lockstep_system(1)
+    executor = system.executor
+    passes = [0]
+    spin_once = executor.spin_once
+
+    def counting_spin_once(*args, **kwargs):
+        passes[0] += 1
+        return spin_once(*args, **kwargs)
+    executor.spin_once = counting_spin_once
+    ours[0], published[0] = 0.0, 0
+    steps, start = executor.steps, time.perf_counter()
+    system.spin_sim_seconds(SIM_SECONDS)
+    wall, steps = time.perf_counter() - start, executor.steps - steps
+    return {'passes': passes[0] / steps, 'messages': published[0] / steps,
+            'step_ms': 1e3 * wall / steps, 'ours_ms': 1e3 * ours[0] / steps}
+
+
+def _cpu_s(pid: int) -> float:
+    fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
+
+
+def _share(pid: int, seconds: float) -> float:
+    cpu, wall = _cpu_s(pid), time.monotonic()
+    time.sleep(seconds)
+    return (_cpu_s(pid) - cpu) / (time.monotonic() - wall)
+
+
+def measure_node_cpu(seconds: float) -> dict:
+    """`python -m turtle_traj` at real time beside our simulator program: idle, then driving."""
+    from turtle_traj.client import TrajClient
+    from turtle_traj.services import make_goal
+    from turtle_traj.trajectories import BY_NAME
+
+    quiet = {'stdout': subprocess.DEVNULL, 'stderr': subprocess.DEVNULL}
+    sim = subprocess.Popen([sys.executable, '-m', 'turtle_traj.sim'], **quiet)
+    node = subprocess.Popen([sys.executable, '-m', 'turtle_traj'], **quiet)
+    try:
+        with TrajClient(connect_timeout_s=30.0) as client:
+            deadline = time.monotonic() + 30.0
+            while not client.call('reset').success:  # once the node has the simulator
+                if time.monotonic() > deadline:
+                    raise RuntimeError('the trajectory node never got the simulator')
+                time.sleep(0.2)
+        time.sleep(1.0)
+        idle = _share(node.pid, seconds)
+        client_cpu = {}
+        with TrajClient(connect_timeout_s=30.0) as client:
+            goal = make_goal(BY_NAME['circle'], {'size': 1.5, 'forever': True})
+            started = time.monotonic()
+            me = os.getpid()
+            mine = _cpu_s(me)
+
+            def on_feedback(_feedback) -> None:
+                if 'driving' not in client_cpu and time.monotonic() - started > 1.0:
+                    client_cpu['driving'] = _share(node.pid, seconds)
+            client.draw(goal, on_feedback=on_feedback, timeout_s=seconds + 3.0)
+            client_cpu['client'] = (_cpu_s(me) - mine) / (time.monotonic() - started)
+        return {'idle': idle, 'driving': client_cpu['driving'], 'client': client_cpu['client']}
+    finally:
+        for process in (node, sim):
+            process.terminate()
+            process.wait(timeout=15)
+
+
+def measure_demo() -> dict:
+    with tempfile.TemporaryDirectory() as folder:
+        start = time.perf_counter()
+        subprocess.run([sys.executable, '-m', 'turtle_traj.demo', '--output-dir', folder],
+                       check=True, capture_output=True)
+        return {'wall_s': time.perf_counter() - start}
+
+
+MEASURES = {
+    'rtf1': lambda: measure_real_time_factor(1),
+    'rtf2': lambda: measure_real_time_factor(2),
+    'rtf10': lambda: measure_real_time_factor(10),
+    'breakdown': measure_breakdown,
+    'cpu': lambda: measure_node_cpu(20.0),
+    'demo': measure_demo,
+}
+
+
+# -- the side-by-side driver -------------------------------------------------------------------
+
+def _run(tree: Path, measure: str) -> dict:
+    env = {**os.environ, 'PYTHONPATH': os.pathsep.join([str(tree / 'src'), str(Path(__file__)
+                                                                                .parent)])}
+    done = subprocess.run([sys.executable, __file__, '--measure', measure], env=env,
+                          capture_output=True, text=True, timeout=900, cwd=tree)
+    if done.returncode != 0:
+        raise RuntimeError(f'{measure} in {tree} failed:\n{done.stderr[-3000:]}')
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def _worktree(rev: str) -> Path:
+    folder = Path(tempfile.mkdtemp(prefix='turtle_traj_bench_')) / 'old'
+    subprocess.run(['git', '-C', str(ROOT), 'worktree', 'add', '--detach', str(folder), rev],
+                   check=True, capture_output=True)
+    return folder
+
+
+def _side_by_side(old: Path, measure: str, rounds: int) -> tuple[dict, dict]:
+    results: dict[str, list[dict]] = {'old': [], 'new': []}
+    for _ in range(rounds):
+        results['old'].append(_run(old, measure))
+        results['new'].append(_run(ROOT, measure))
+    return tuple({key: statistics.median(r[key] for r in results[side])
+                  for key in results[side][0]} for side in ('old', 'new'))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--against', default='9873574', help='the old commit (default 9873574)')
+    parser.add_argument('--rounds', type=int, default=3, help='runs of each figure per tree')
+    parser.add_argument('--skip-demo', action='store_true', help='leave out make demo')
+    parser.add_argument('--measure', choices=sorted(MEASURES), help=argparse.SUPPRESS)
+    options = parser.parse_args()
+    isolate('speed')
+    if options.measure:
+        print(json.dumps(MEASURES[options.measure]()))
+        return
+    old = _worktree(options.against)
+    try:
+        print(f'turtle_traj speed benchmark: {options.against} (old) against this checkout '
+              f'(new), median of {options.rounds} runs each, alternating')
+        for turtles in (1, 2, 10):
+            before, after = _side_by_side(old, f'rtf{turtles}', options.rounds)
+            print(f'  lock-step real-time factor, {turtles:2d} turtle(s), each with its own '
+                  f'trajectory node drawing a circle: old {before["factor"]:6.1f}x, '
+                  f'new {after["factor"]:6.1f}x ({after["factor"] / before["factor"]:.2f}x)')
+        before, after = _side_by_side(old, 'breakdown', options.rounds)
+        print('  per 16 ms step, one turtle driving:')
+        for key, label in (('step_ms', 'wall time, ms'), ('ours_ms', 'in our callbacks, ms'),
+                           ('passes', 'executor passes'), ('messages', 'messages published')):
+            print(f'    {label:24s} old {before[key]:7.3f}   new {after[key]:7.3f}')
+        for side, figures in (('old', before), ('new', after)):
+            rclpy_ms = figures['step_ms'] - figures['ours_ms']
+            print(f'    {side}: {rclpy_ms:.3f} ms of each step in rclpy and the middleware, '
+                  f'{figures["ours_ms"]:.3f} ms in our callbacks')
+        before, after = _side_by_side(old, 'cpu', options.rounds)
+        print('  CPU of the trajectory node program at real time, beside our simulator program '
+              '(20 s windows; share of one core):')
+        for key, label in (('idle', 'idle'), ('driving', 'driving a circle'),
+                           ('client', "the client's own process while it waits on the goal")):
+            print(f'    {label:54s} old {100 * before[key]:5.1f}%   new {100 * after[key]:5.1f}%')
+        if not options.skip_demo:
+            before, after = _side_by_side(old, 'demo', 1)
+            print(f'  make demo (python -m turtle_traj.demo) wall time: old '
+                  f'{before["wall_s"]:.1f} s, new {after["wall_s"]:.1f} s '
+                  f'({before["wall_s"] / after["wall_s"]:.1f}x faster)')
+    finally:
+        subprocess.run(['git', '-C', str(ROOT), 'worktree', 'remove', '--force', str(old)],
+                       capture_output=True)
+
+
+if __name__ == '__main__':
+    sys.path.insert(0, str(Path(__file__).parent))
+    main()
