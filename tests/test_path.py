@@ -45,3 +45,21 @@ def test_a_curve_knows_its_length_and_curvature():
     arc = Curve(np.column_stack((np.cos(angles), np.sin(angles))))
     assert arc.length == pytest.approx(math.pi, rel=1e-4)
     assert np.median(arc.curvatures) == pytest.approx(1.0, rel=1e-3)
+
+
+@pytest.mark.parametrize('seed', range(5))
+def test_nearest_on_polyline_agrees_with_the_brute_force_distance(seed):
+    """Blocks pruned by their boxes never hide the nearest segment (independent check)."""
+    from tests.geometry_checks import distance_to_polyline
+    from turtle_traj.geometry.path import NearestOnPolyline
+
+    rng = np.random.default_rng(seed)
+    # a long wandering polyline (many blocks), a short one (one block), a single point
+    for vertices in (np.cumsum(rng.normal(0.0, 0.05, (3000, 2)), axis=0) + 5.0,
+                     rng.uniform(0.0, 11.0, (7, 2)), rng.uniform(0.0, 11.0, (1, 2))):
+        nearest = NearestOnPolyline(vertices)
+        points = rng.uniform(-1.0, 12.0, (200, 2))
+        drawn = vertices if len(vertices) > 1 else np.repeat(vertices, 2, axis=0)
+        expected = distance_to_polyline(points, drawn)
+        measured = [nearest.distance(x, y) for x, y in points]
+        assert np.allclose(measured, expected, rtol=0.0, atol=1e-12)

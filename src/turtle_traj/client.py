@@ -18,7 +18,6 @@ from rcl_interfaces.msg import Parameter as ParameterMsg
 from rcl_interfaces.srv import GetParameters
 from rclpy.action import ActionClient
 from rclpy.context import Context
-from rclpy.experimental import EventsExecutor
 from rclpy.parameter import Parameter, get_parameter_value, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.task import Future
@@ -27,6 +26,7 @@ from turtle_traj_interfaces.srv import SaveImage
 from turtlesim.msg import Pose
 
 from turtle_traj.geometry.path import Pose2D
+from turtle_traj.runtime import events_executor
 from turtle_traj.services import (
     DRAW_ACTION,
     DRAW_ACTION_TYPE,
@@ -96,7 +96,7 @@ class TrajClient:
         self._context = Context()
         rclpy.init(context=self._context)
         self._node = rclpy.create_node(f'turtle_traj_cli_{os.getpid()}', context=self._context)
-        self._executor = EventsExecutor(context=self._context)
+        self._executor = events_executor(context=self._context)
         self._executor.add_node(self._node)
         self._action: ActionClient | None = None
         self._probe_client = None

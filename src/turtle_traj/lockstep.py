@@ -22,11 +22,12 @@ from typing import TYPE_CHECKING
 
 from rclpy.context import Context
 from rclpy.duration import Duration
-from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.publisher import Publisher
 from rclpy.task import Future
 from rclpy.time_source import TimeSource
+
+from turtle_traj.runtime import events_executor
 
 if TYPE_CHECKING:
     from turtle_traj.sim.node import SimNode
@@ -47,7 +48,7 @@ class LockstepExecutor:
     """
 
     def __init__(self, simulator: SimNode, *, context: Context | None = None) -> None:
-        self._events = EventsExecutor(context=context)
+        self._events = events_executor(context=context)
         self._simulator = simulator
         self._nodes: list[Node] = []
         self._undelivered_since: float | None = None

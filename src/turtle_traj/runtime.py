@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
 import signal
 import sys
 import threading
@@ -9,6 +11,7 @@ import time
 from collections.abc import Callable, Sequence
 
 import rclpy
+from rclpy.context import Context
 from rclpy.executors import Executor, ExternalShutdownException
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
@@ -19,12 +22,25 @@ _SIGNAL_LATENCY_S = 0.1
 _STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
+def events_executor(context: Context | None = None) -> Executor:
+    """rclpy's EventsExecutor, also where sys.stderr has no file descriptor.
+
+    Its factory enables faulthandler on sys.stderr, which fails where that is not a real file
+    (pytest's capsys, a notebook); the real standard error then takes the crash reports.
+    """
+    try:
+        return EventsExecutor(context=context)
+    except io.UnsupportedOperation:
+        with contextlib.redirect_stderr(sys.__stderr__):
+            return EventsExecutor(context=context)
+
+
 def run_nodes(
     create_nodes: Callable[[Callable[[], None]], Sequence[Node]],
     *,
     args: Sequence[str] | None = None,
     on_exit: Callable[[], None] | None = None,
-    executor_type: Callable[[], Executor] = EventsExecutor,
+    executor_type: Callable[[], Executor] = lambda: events_executor(),
 ) -> int:
     """Create nodes, spin them in one executor until asked to stop, then tidy up.
 

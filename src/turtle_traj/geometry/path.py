@@ -183,7 +183,14 @@ def distance_to_polyline(points: np.ndarray, vertices: np.ndarray) -> np.ndarray
 
 
 class NearestOnPolyline:
-    """Distances of single points to a fixed polyline (K, 2), its segments prepared once."""
+    """Distances of single points to a fixed polyline (K, 2), its segments prepared once.
+
+    Exact, and quick for long polylines (a drawing has thousands of segments, and the distance
+    is asked for at every pose): the segments are grouped in blocks with a bounding box each,
+    and a block is searched only while its box is nearer than the nearest segment found.
+    """
+
+    _BLOCK = 64
 
     def __init__(self, vertices: np.ndarray) -> None:
         vertices = np.asarray(vertices, dtype=float)
@@ -192,10 +199,31 @@ class NearestOnPolyline:
         self._starts = vertices[:-1]
         self._edges = np.diff(vertices, axis=0)
         self._squared = np.maximum(np.einsum('kj,kj->k', self._edges, self._edges), 1e-18)
+        count = len(self._starts)
+        self._blocks = [(first, min(first + self._BLOCK, count))
+                        for first in range(0, count, self._BLOCK)]
+        self._low = np.array([vertices[a:b + 1].min(axis=0)
+                              for a, b in self._blocks])
+        self._high = np.array([vertices[a:b + 1].max(axis=0) for a, b in self._blocks])
+
+    def _within(self, x: float, y: float, first: int, stop: int) -> float:
+        offsets = np.array([x, y]) - self._starts[first:stop]
+        edges = self._edges[first:stop]
+        along = np.clip(np.einsum('kj,kj->k', offsets, edges) / self._squared[first:stop],
+                        0.0, 1.0)
+        gaps = offsets - along[:, None] * edges
+        return float(np.sqrt(np.min(np.einsum('kj,kj->k', gaps, gaps))))
 
     def distance(self, x: float, y: float) -> float:
         """Distance of (x, y) to the nearest segment."""
-        offsets = np.array([x, y]) - self._starts
-        along = np.clip(np.einsum('kj,kj->k', offsets, self._edges) / self._squared, 0.0, 1.0)
-        gaps = offsets - along[:, None] * self._edges
-        return float(np.sqrt(np.min(np.einsum('kj,kj->k', gaps, gaps))))
+        if len(self._blocks) == 1:
+            return self._within(x, y, 0, len(self._starts))
+        point = np.array([x, y])
+        outside = np.maximum(np.maximum(self._low - point, point - self._high), 0.0)
+        bounds = np.hypot(outside[:, 0], outside[:, 1])
+        nearest = math.inf
+        for block in np.argsort(bounds, kind='stable').tolist():
+            if not bounds[block] < nearest:
+                break  # this box, and every later one, is no nearer than what was found
+            nearest = min(nearest, self._within(x, y, *self._blocks[block]))
+        return nearest

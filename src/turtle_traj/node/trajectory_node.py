@@ -432,7 +432,12 @@ class TrajectoryNode(Node):
         return False
 
     async def _wait_until(self, condition, timeout_s: float) -> bool:
-        """Await `condition()` (polled on the steady clock) for at most `timeout_s`."""
+        """Await `condition()` for at most `timeout_s` of wall time.
+
+        Polled on the node clock, so that on simulated time it is seen at the step it comes
+        true, and on the steady clock, so that a clock that stands still (a vanished /clock
+        source) still times out.
+        """
         waited = Future()
         deadline = time.monotonic() + timeout_s
 
@@ -443,10 +448,12 @@ class TrajectoryNode(Node):
             if met or time.monotonic() > deadline:
                 waited.set_result(met)
 
-        timer = self.create_timer(_POLL_PERIOD_S, poll,
-                                  clock=Clock(clock_type=ClockType.STEADY_TIME))
+        timers = [self.create_timer(_POLL_PERIOD_S, poll),
+                  self.create_timer(_POLL_PERIOD_S, poll,
+                                    clock=Clock(clock_type=ClockType.STEADY_TIME))]
         try:
             poll()
             return await waited
         finally:
-            self.destroy_timer(timer)
+            for timer in timers:
+                self.destroy_timer(timer)
