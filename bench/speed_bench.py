@@ -114,19 +114,10 @@ def measure_breakdown() -> dict:
             'step_ms': 1e3 * wall / steps, 'ours_ms': 1e3 * ours[0] / steps}
 
 
-def _cpu_s(pid: int) -> float:
-    fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
-
-
-def _share(pid: int, seconds: float) -> float:
-    cpu, wall = _cpu_s(pid), time.monotonic()
-    time.sleep(seconds)
-    return (_cpu_s(pid) - cpu) / (time.monotonic() - wall)
-
-
 def measure_node_cpu(seconds: float) -> dict:
     """`python -m turtle_traj` at real time beside our simulator program: idle, then driving."""
+    from sim_bench import _cpu_share as _share
+    from sim_bench import _process_cpu_s as _cpu_s
     from turtle_traj.client import TrajClient
     from turtle_traj.services import make_goal
     from turtle_traj.trajectories import BY_NAME

@@ -133,3 +133,35 @@ def test_a_coroutine_service_answers_when_it_returns(ros_context, executor_kind)
         executor.shutdown()
         server.destroy_node()
         caller.destroy_node()
+
+
+def test_a_spin_with_a_task_awaiting_sleeps_instead_of_spinning(ros_context):
+    """runtime.run_nodes spins with spin_until_future_complete(Future(), timeout): while a
+    coroutine service handler awaits (a trajectory running), the process must stay idle."""
+    import os
+    import time
+
+    executor = EventsExecutor(context=ros_context)
+    server = Node('server', context=ros_context)
+    release = Future()
+
+    async def handler(request, response):
+        await release
+        return response
+    create_async_service(server, Trigger, 'held', handler)
+    client = server.create_client(Trigger, 'held')
+    executor.add_node(server)
+    try:
+        assert client.wait_for_service(timeout_sec=5.0)
+        client.call_async(Trigger.Request())
+        executor.spin_until_future_complete(Future(), timeout_sec=0.2)  # the handler awaits
+        used, start = os.times(), time.monotonic()
+        while time.monotonic() - start < 1.0:
+            executor.spin_until_future_complete(Future(), timeout_sec=0.1)
+        now = os.times()
+        cpu_s = (now.user - used.user) + (now.system - used.system)
+        assert cpu_s < 0.3, f'{cpu_s:.2f} s of CPU in 1 s: the executor spins'
+    finally:
+        release.set_result(None)
+        executor.shutdown()
+        server.destroy_node()

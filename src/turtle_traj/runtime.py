@@ -16,6 +16,7 @@ from rclpy.executors import Executor, ExternalShutdownException
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
+from rclpy.task import Future
 
 # How long the executor may wait before Python gets to run a pending signal handler.
 _SIGNAL_LATENCY_S = 0.1
@@ -73,7 +74,12 @@ def run_nodes(
         for node in nodes:
             executor.add_node(node)
         while rclpy.ok() and not stop.is_set():
-            executor.spin_once(timeout_sec=_SIGNAL_LATENCY_S)
+            # Not spin_once: the EventsExecutor (rclpy 7.1.6) runs every task still awaiting
+            # something at the start of each spin_once, so a loop of them never sleeps while a
+            # service handler awaits its trajectory (a whole core). A future that never
+            # completes (a new one each time: each call leaves a callback on it) lets it
+            # run whatever comes for the whole timeout instead.
+            executor.spin_until_future_complete(Future(), timeout_sec=_SIGNAL_LATENCY_S)
         if not stop.is_set():
             raise ExternalShutdownException
     except ExternalShutdownException:
