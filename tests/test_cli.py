@@ -107,22 +107,27 @@ def test_the_readmes_python_example_says_when_no_node_runs():
                                   'ROS_DOMAIN_ID right)?')
 
 
+# Discovery of the node's parameter services can take seconds on a loaded machine; these tests
+# are about what the answers say.
+WAIT = ['--wait', '30']
+
+
 def test_params_reads_one_converts_to_the_declared_type_and_names_unknown_ones(
         running_system, capsys):
-    assert cli.main(['params']) == 0
+    assert cli.main([*WAIT, 'params']) == 0
     shown = capsys.readouterr().out
     assert 'linear_speed: 1.0' in shown and 'turtle_name: turtle1' in shown
-    assert cli.main(['params', 'linear_speed', '2']) == 0  # an integer literal, to a double
-    assert cli.main(['params', 'linear_speed']) == 0
+    assert cli.main([*WAIT, 'params', 'linear_speed', '2']) == 0  # an integer literal, to a double
+    assert cli.main([*WAIT, 'params', 'linear_speed']) == 0
     assert capsys.readouterr().out.endswith('linear_speed: 2.0\n')
-    assert cli.main(['params', 'position_tolerance', '1e-3']) == 0  # a number, not a string
-    assert cli.main(['params', 'linear_speed', '100']) == 1
+    assert cli.main([*WAIT, 'params', 'position_tolerance', '1e-3']) == 0  # a number, not a string
+    assert cli.main([*WAIT, 'params', 'linear_speed', '100']) == 1
     assert 'out of range' in capsys.readouterr().err  # the range message shows
-    assert cli.main(['params', 'linear_speed', 'fast']) == 1
+    assert cli.main([*WAIT, 'params', 'linear_speed', 'fast']) == 1
     assert "linear_speed: expects a number, got 'fast'" in capsys.readouterr().err
-    assert cli.main(['params', 'blob', '3']) == 2
+    assert cli.main([*WAIT, 'params', 'blob', '3']) == 2
     assert 'has no parameter blob; it has: angular_deceleration' in capsys.readouterr().err
-    assert cli.main(['params', 'arena_max_x', '5.0']) == 1  # the turtle stands at x = 5.54
+    assert cli.main([*WAIT, 'params', 'arena_max_x', '5.0']) == 1  # the turtle stands at x = 5.54
     assert 'outside the room this arena leaves' in capsys.readouterr().err
     with TrajClient() as client:
         assert client.parameters(['position_tolerance']) == {'position_tolerance': 0.001}
