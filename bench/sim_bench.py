@@ -73,6 +73,15 @@ def _cpu_share(pid: int, seconds: float) -> float:
     return (_process_cpu_s(pid) - start_cpu) / (time.monotonic() - start_wall)
 
 
+def wait_until_connected(client: TrajClient, timeout_s: float = 30.0) -> None:
+    """Ask the trajectory node to reset until it succeeds: then it has the simulator's poses."""
+    deadline = time.monotonic() + timeout_s
+    while not client.call('reset').success:
+        if time.monotonic() > deadline:
+            raise RuntimeError('the trajectory node never got the simulator')
+        time.sleep(0.2)
+
+
 def simulator_program_cpu(seconds: float = 10.0) -> tuple[float, float]:
     """Share of one core used by `python -m turtle_traj.sim` with one turtle at real time:
     idle (nothing connected), then while our trajectory node (its own process) drives a
@@ -85,11 +94,7 @@ def simulator_program_cpu(seconds: float = 10.0) -> tuple[float, float]:
         idle = _cpu_share(sim.pid, seconds)
         node = subprocess.Popen([sys.executable, '-m', 'turtle_traj'], **quiet)
         with TrajClient(connect_timeout_s=20.0) as client:
-            deadline = time.monotonic() + 30.0
-            while not client.call('reset').success:  # succeeds once the node has poses
-                if time.monotonic() > deadline:
-                    raise RuntimeError('the trajectory node never got the simulator')
-                time.sleep(0.2)
+            wait_until_connected(client)
             driving, shares = threading.Event(), []
 
             def measure() -> None:

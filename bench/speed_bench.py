@@ -118,6 +118,7 @@ def measure_node_cpu(seconds: float) -> dict:
     """`python -m turtle_traj` at real time beside our simulator program: idle, then driving."""
     from sim_bench import _cpu_share as _share
     from sim_bench import _process_cpu_s as _cpu_s
+    from sim_bench import wait_until_connected
     from turtle_traj.client import TrajClient
     from turtle_traj.services import make_goal
     from turtle_traj.trajectories import BY_NAME
@@ -127,11 +128,7 @@ def measure_node_cpu(seconds: float) -> dict:
     node = subprocess.Popen([sys.executable, '-m', 'turtle_traj'], **quiet)
     try:
         with TrajClient(connect_timeout_s=30.0) as client:
-            deadline = time.monotonic() + 30.0
-            while not client.call('reset').success:  # once the node has the simulator
-                if time.monotonic() > deadline:
-                    raise RuntimeError('the trajectory node never got the simulator')
-                time.sleep(0.2)
+            wait_until_connected(client)
         time.sleep(1.0)
         idle = _share(node.pid, seconds)
         client_cpu = {}
