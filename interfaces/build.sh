@@ -31,20 +31,32 @@ installed_elsewhere() {
 }
 
 export CMAKE_PREFIX_PATH="$venv${CMAKE_PREFIX_PATH:+:$CMAKE_PREFIX_PATH}"
+export AMENT_PREFIX_PATH="$venv${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}"
 export PATH="$venv/bin:$PATH"
+
+build_package() {
+  local package=$1 log="$build_root.$1.log"
+  cmake -S "$here/$package" -B "$build_root/$package" -Wno-dev \
+    -DCMAKE_INSTALL_PREFIX="$venv" -DBUILD_TESTING=OFF \
+    -DPython3_EXECUTABLE="$python" -DCMAKE_BUILD_TYPE=Release > "$log" 2>&1 \
+    && cmake --build "$build_root/$package" -j "$(nproc)" >> "$log" 2>&1 \
+    && cmake --install "$build_root/$package" >> "$log" 2>&1 \
+    || { echo "interfaces: building $package failed; the end of $log:" >&2
+         tail -n 40 "$log" >&2; return 1; }
+}
+
+# The two packages are independent: build them side by side (most of the time goes into
+# rosidl's single-threaded Python generators, so two builds fill two cores better than one).
+pids=()
 for package in turtlesim turtle_traj_interfaces; do
   if [ "$package" = turtlesim ] && installed_elsewhere turtlesim; then
     echo "interfaces: using the installed turtlesim package, not building ours"
     continue
   fi
   echo "interfaces: building $package"
-  export AMENT_PREFIX_PATH="$venv${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}"
-  cmake -S "$here/$package" -B "$build_root/$package" -Wno-dev \
-    -DCMAKE_INSTALL_PREFIX="$venv" -DBUILD_TESTING=OFF \
-    -DPython3_EXECUTABLE="$python" -DCMAKE_BUILD_TYPE=Release > "$build_root.$package.log" 2>&1 \
-    || { tail -n 40 "$build_root.$package.log" >&2; exit 1; }
-  cmake --build "$build_root/$package" -j "$(nproc)" >> "$build_root.$package.log" 2>&1 \
-    || { tail -n 40 "$build_root.$package.log" >&2; exit 1; }
-  cmake --install "$build_root/$package" >> "$build_root.$package.log" 2>&1 \
-    || { tail -n 40 "$build_root.$package.log" >&2; exit 1; }
+  build_package "$package" &
+  pids+=($!)
 done
+status=0
+for pid in "${pids[@]}"; do wait "$pid" || status=1; done
+exit $status
