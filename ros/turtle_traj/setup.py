@@ -19,7 +19,7 @@ setup(
     version=VERSION,
     packages=find_packages('src'),
     package_dir={'': 'src'},
-    package_data={'turtle_traj': ['drawings/*.svg']},
+    package_data={'turtle_traj': ['drawings/*.svg', 'fastdds.xml']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/turtle_traj']),
         ('share/turtle_traj', ['package.xml']),

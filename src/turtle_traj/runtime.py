@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
 import signal
 import sys
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, MutableMapping, Sequence
+from pathlib import Path
 
 import rclpy
 from rclpy.context import Context
@@ -21,6 +23,18 @@ from rclpy.task import Future
 # How long the executor may wait before Python gets to run a pending signal handler.
 _SIGNAL_LATENCY_S = 0.1
 _STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
+_FASTDDS_PROFILE = Path(__file__).with_name('fastdds.xml')
+_PROFILE_VARIABLES = ('FASTRTPS_DEFAULT_PROFILES_FILE', 'FASTDDS_DEFAULT_PROFILES_FILE')
+
+
+def use_our_fastdds_profile(environ: MutableMapping[str, str] = os.environ) -> bool:
+    """Point Fast DDS at fastdds.xml (quick re-announcement) unless the user chose a profile
+    file or another middleware; call before rclpy.init. Returns whether it did."""
+    middleware = environ.get('RMW_IMPLEMENTATION', 'rmw_fastrtps_cpp')
+    if middleware != 'rmw_fastrtps_cpp' or any(environ.get(v) for v in _PROFILE_VARIABLES):
+        return False
+    environ['FASTRTPS_DEFAULT_PROFILES_FILE'] = str(_FASTDDS_PROFILE)
+    return True
 
 
 def events_executor(context: Context | None = None) -> Executor:
@@ -60,6 +74,7 @@ def run_nodes(
     :return: the process exit code: 0 after a stop, 1 when something else shut the ROS
         context down.
     """
+    use_our_fastdds_profile()
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     # The handlers only set a flag the loop checks: an exception raised from a handler could
     # land inside rclpy's C++ bindings and come out as an unrelated RuntimeError.
