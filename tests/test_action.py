@@ -1,4 +1,4 @@
-"""The draw action (`/turtle_traj/draw`): feedback, cancel, rejection, one run at a time."""
+"""The draw action (`/turtle_traj/draw`): feedback, cancel, refusal, one run at a time."""
 
 import math
 
@@ -86,20 +86,31 @@ def test_one_run_at_a_time_across_the_action_and_the_services(traj, draw):
 
     running = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=1.0))
     assert traj.spin_until(lambda: traj.node.busy)
-    assert not send(traj, draw, trajectory='rotate', angle=1.0).accepted
+    refused = result_of(traj, send(traj, draw, trajectory='rotate', angle=1.0))
+    assert refused.status == GoalStatus.STATUS_ABORTED
+    assert refused.result.message.startswith('busy: square is running')
     assert traj.spin_until(running.done) and running.result().success
 
 
-@pytest.mark.parametrize('fields', [
-    dict(trajectory='blob'),
-    dict(trajectory='draw_square'),
-    dict(trajectory='square', size=math.nan),
-    dict(trajectory='go_to', x=50.0, y=5.0),
-    dict(trajectory='follow_path'),
-    dict(trajectory='circle', turns=2.0, forever=True),
+@pytest.mark.parametrize('fields, reason', [
+    (dict(trajectory='blob'), "unknown trajectory 'blob'; known: square"),
+    (dict(trajectory='draw_square'), "unknown trajectory 'draw_square'"),
+    (dict(trajectory='square', size=math.nan), 'size must be a finite number, got nan'),
+    (dict(trajectory='go_to', x=50.0, y=5.0), 'goal (50, 5) is outside the arena'),
+    (dict(trajectory='follow_path'), 'points is empty'),
+    (dict(trajectory='circle', turns=2.0, forever=True),
+     'turns 2 and forever contradict each other'),
 ])
-def test_invalid_goals_are_rejected_and_the_node_still_works(traj, draw, fields):
-    assert not send(traj, draw, **fields).accepted
+def test_a_goal_that_cannot_run_ends_aborted_with_the_reason_in_its_result(traj, draw, fields,
+                                                                            reason):
+    # A plain action client, as any ROS user has one: the reason is in the result, and no
+    # log topic is read for it.
+    assert all(sub.topic_name != '/rosout' for sub in traj.client.subscriptions)
+    handle = send(traj, draw, **fields)
+    assert handle.accepted
+    refused = result_of(traj, handle, timeout_s=5.0)
+    assert refused.status == GoalStatus.STATUS_ABORTED
+    assert not refused.result.success and reason in refused.result.message
     again = send(traj, draw, trajectory='rotate', angle=0.5)
     assert again.accepted
     assert result_of(traj, again).status == GoalStatus.STATUS_SUCCEEDED

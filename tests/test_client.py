@@ -1,8 +1,12 @@
-"""The script-side client against a node that dies: it says so within seconds."""
+"""The script-side client: a node that dies is noticed within seconds; a goal whose answer is
+lost runs once."""
 
 import time
 
 import pytest
+from action_msgs.msg import GoalStatus
+from rclpy.action import ActionClient
+from rclpy.task import Future
 
 from tests.ros_helpers import program
 from turtle_traj.client import FEEDBACK_SILENCE_S, PROBE_TIMEOUT_S, TrajClient, TrajClientError
@@ -28,3 +32,30 @@ def test_a_node_killed_mid_goal_is_noticed_within_seconds(tmp_path):
         noticed_after = time.monotonic() - killed_at[0]
     # Not the 20 s it takes DDS to drop a dead participant, nor any run timeout.
     assert noticed_after < FEEDBACK_SILENCE_S + PROBE_TIMEOUT_S + 3.0
+
+
+def test_a_lost_goal_answer_ends_as_one_run_reported_truthfully(running_system, monkeypatch):
+    """The node accepts the goal but its answer never arrives: the client asks again under the
+    same goal id, which the node already has, and follows that one run to its result."""
+    requests = []
+    send_goal_async = ActionClient.send_goal_async
+
+    def first_answer_lost(self, goal, feedback_callback=None, goal_uuid=None):
+        answered = send_goal_async(self, goal, feedback_callback, goal_uuid)
+        requests.append(bytes(goal_uuid.uuid))
+        return Future() if len(requests) == 1 else answered  # the first answer is dropped
+    monkeypatch.setattr(ActionClient, 'send_goal_async', first_answer_lost)
+    progress = []
+    with TrajClient(connect_timeout_s=30.0) as client:
+        outcome = client.draw(make_goal(BY_NAME['square'], {'size': 1.0}),
+                              on_feedback=lambda feedback: progress.append(feedback.progress),
+                              timeout_s=60.0)
+        assert len(requests) == 2 and requests[0] == requests[1]  # one goal id, sent twice
+        assert outcome.status == GoalStatus.STATUS_SUCCEEDED
+        assert outcome.result.message == 'square done'
+        assert outcome.result.path_length == pytest.approx(4.0, abs=0.01)
+        # one run: its progress rose once to the end; a second square would be refused as busy
+        assert progress == sorted(progress) and progress[-1] > 0.95
+        monkeypatch.undo()
+        again = client.draw(make_goal(BY_NAME['rotate'], {'angle': 0.5}), timeout_s=60.0)
+        assert again.status == GoalStatus.STATUS_SUCCEEDED, again.result.message

@@ -8,15 +8,17 @@ from __future__ import annotations
 import math
 import os
 import time
+import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import rclpy
 from action_msgs.msg import GoalStatus
-from rcl_interfaces.msg import Log, ParameterType, ParameterValue
 from rcl_interfaces.msg import Parameter as ParameterMsg
+from rcl_interfaces.msg import ParameterType, ParameterValue
 from rcl_interfaces.srv import GetParameters
 from rclpy.action import ActionClient
+from rclpy.action.client import ClientGoalHandle
 from rclpy.context import Context
 from rclpy.parameter import Parameter, get_parameter_value, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
@@ -24,13 +26,13 @@ from rclpy.task import Future
 from rclpy.wait_for_message import wait_for_message
 from turtle_traj_interfaces.srv import SaveImage
 from turtlesim.msg import Pose
+from unique_identifier_msgs.msg import UUID
 
 from turtle_traj.geometry.path import Pose2D
 from turtle_traj.runtime import events_executor
 from turtle_traj.services import (
     DRAW_ACTION,
     DRAW_ACTION_TYPE,
-    GOAL_REJECTED,
     SERVICE_TYPES,
     interface,
 )
@@ -45,7 +47,8 @@ class Interrupted(TrajClientError):
 
 
 class GoalRejected(TrajClientError):
-    """The node rejected the goal; the message is the reason it logged."""
+    """The action server rejected the goal (a trajectory node never does: it accepts every goal
+    and ends one that cannot run as ABORTED, with the reason in its result)."""
 
 
 _START_ONE = ('start one with `python -m turtle_traj --with-sim` (or `turtle-traj up`), and '
@@ -66,6 +69,12 @@ class DrawOutcome:
     result: object
     status: int
     cancelled: str = ''
+
+
+def _known_goal(action: ActionClient, goal_id: UUID) -> ClientGoalHandle:
+    """A handle for a goal the server has under this id, though its answer never came."""
+    accepted = interface(DRAW_ACTION_TYPE).Impl.SendGoalService.Response(accepted=True)
+    return ClientGoalHandle(action, goal_id, accepted)
 
 
 def _typed_value(declared: int, text: str) -> ParameterValue:
@@ -100,7 +109,6 @@ class TrajClient:
         self._executor.add_node(self._node)
         self._action: ActionClient | None = None
         self._probe_client = None
-        self._reasons: list[str] | None = None
 
     def __enter__(self) -> TrajClient:
         return self
@@ -153,7 +161,6 @@ class TrajClient:
             node gone mid-run (noticed within about `FEEDBACK_SILENCE_S + PROBE_TIMEOUT_S`).
         """
         action = self._draw_action()
-        reasons = self._rejection_reasons()
         try:
             found = self._discovered(action.server_is_ready)
         except KeyboardInterrupt:
@@ -168,23 +175,39 @@ class TrajClient:
             heard[0] = time.monotonic()
             if on_feedback is not None:
                 on_feedback(message.feedback)
+        goal_id = UUID(uuid=list(uuid.uuid4().bytes))
         sent: list[Future] = []
         try:
-            handle = self._answer(lambda: action.send_goal_async(goal, feedback_callback=feedback),
-                                  'the draw action', sent)
+            handle = self._answer(
+                lambda: action.send_goal_async(goal, feedback_callback=feedback,
+                                               goal_uuid=goal_id), 'the draw action', sent)
+            handle = self._goal_handle(action, goal_id, handle, repeated=len(sent) > 1)
             if not handle.accepted:
-                raise GoalRejected(self._rejection_reason(reasons))
+                raise GoalRejected(f'{self.node_name} rejected the goal')
             result = self._follow(goal.trajectory, handle, heard, timeout_s)
         except KeyboardInterrupt:
-            return self._cancel(sent, INTERRUPTED)
+            return self._cancel(action, goal_id, sent, INTERRUPTED)
         except TimeoutError:
-            return self._cancel(sent, f'not done within {timeout_s:g} s')
+            return self._cancel(action, goal_id, sent, f'not done within {timeout_s:g} s')
+        if result.status == GoalStatus.STATUS_UNKNOWN:  # a repeat rejected by a foreign server
+            raise GoalRejected(f'{self.node_name} does not know the goal it was sent')
         return DrawOutcome(result.result, result.status)
+
+    @staticmethod
+    def _goal_handle(action: ActionClient, goal_id: UUID, answer: ClientGoalHandle,
+                     repeated: bool) -> ClientGoalHandle:
+        """The handle of the goal sent. A repeated request carries the same goal id, and an
+        action server rejects an id it already has: the first request got through and its
+        answer was lost, so the goal runs and is followed by its id."""
+        if answer.accepted or not repeated:
+            return answer
+        return _known_goal(action, goal_id)
 
     def _answer(self, send: Callable[[], Future], what: str, sent: list[Future] | None = None):
         """The first answer to a request, sent again while none comes: DDS loses a request or
-        its response when the endpoints have been discovered but are not matched yet, and a
-        node that lost either has done nothing.
+        its response when the endpoints have been discovered but are not matched yet. A request
+        sent again must be harmless if the first got through: the same goal id, a cancel or a
+        result request.
 
         :param sent: where the futures of the requests sent are kept, for the caller.
         """
@@ -233,14 +256,20 @@ class TrajClient:
                     f'command timeout); {_START_ONE}')
         return result.result()
 
-    def _cancel(self, sent: list[Future], why: str) -> DrawOutcome:
-        """Cancel a goal sent (once the node has answered it) and wait for its end."""
+    def _cancel(self, action: ActionClient, goal_id: UUID, sent: list[Future],
+                why: str) -> DrawOutcome:
+        """Cancel the goal sent and wait for its end; a goal never answered is cancelled by its
+        id all the same, in case the request got through."""
         deadline = time.monotonic() + ANSWER_WAIT_S
         while not any(future.done() for future in sent) and time.monotonic() < deadline:
             self._executor.spin_once(timeout_sec=0.05)
-        handle = next((future.result() for future in sent if future.done()), None)
-        if handle is None or not handle.accepted:
-            raise Interrupted(f'{why} before the node accepted the goal: nothing runs')
+        answers = [future.result() for future in sent if future.done()]
+        if not answers:
+            _known_goal(action, goal_id).cancel_goal_async()
+            raise Interrupted(f'{why} before the node answered the goal: it was cancelled')
+        handle = self._goal_handle(action, goal_id, answers[0], repeated=len(sent) > 1)
+        if not handle.accepted:
+            raise Interrupted(f'{why}; the goal had been rejected: nothing runs')
         self._answer(handle.cancel_goal_async, 'the cancel request')
         result = self._answer(handle.get_result_async, 'the cancelled goal')
         return DrawOutcome(result.result, result.status, cancelled=why)
@@ -256,25 +285,6 @@ class TrajClient:
             self._probe_client = self._node.create_client(
                 GetParameters, f'{self.node_name}/get_parameters')
         return self._probe_client
-
-    def _rejection_reasons(self) -> list[str]:
-        """Collects, from /rosout, the reasons the node logs when it rejects a goal."""
-        if self._reasons is None:
-            self._reasons = []
-            logger = self.node_name.lstrip('/').replace('/', '.')
-
-            def heard(entry: Log) -> None:
-                if entry.name == logger and entry.msg.startswith(GOAL_REJECTED):
-                    self._reasons.append(entry.msg.removeprefix(GOAL_REJECTED))
-            self._node.create_subscription(Log, '/rosout', heard, 100)
-        self._reasons.clear()
-        return self._reasons
-
-    def _rejection_reason(self, reasons: list[str]) -> str:
-        deadline = time.monotonic() + 1.0  # the log line travels on its own topic
-        while not reasons and time.monotonic() < deadline:
-            self._executor.spin_once(timeout_sec=0.05)
-        return reasons[-1] if reasons else "the node's log says why"
 
     def _discovered(self, ready: Callable[[], bool]) -> bool:
         """Wait up to `connect_timeout_s` for `ready()`, looking every 10 ms (rclpy's own

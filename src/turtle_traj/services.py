@@ -45,8 +45,6 @@ def make_goal(trajectory: Trajectory, given: Mapping[str, Any]):
 
 
 DRAW_ACTION, DRAW_ACTION_TYPE = 'draw', 'turtle_traj_interfaces/action/Draw'
-# A rejected goal carries no reason; the node logs it (and so publishes it on /rosout) thus.
-GOAL_REJECTED = 'draw goal rejected: '
 COMMAND_SERVICES = {'stop': 'std_srvs/srv/Trigger', 'reset': 'std_srvs/srv/Trigger'}
 SERVICE_TYPES: dict[str, type] = {
     **{trajectory.service: service_type(trajectory) for trajectory in TRAJECTORIES},

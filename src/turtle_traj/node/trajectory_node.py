@@ -17,7 +17,7 @@ from functools import partial
 import numpy as np
 from geometry_msgs.msg import PoseStamped, Twist
 from nav_msgs.msg import Path as PathMsg
-from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.action import ActionServer, CancelResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
@@ -38,7 +38,7 @@ from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.node import parameters
 from turtle_traj.node.async_service import create_async_service
 from turtle_traj.planning import Plan, PlanError
-from turtle_traj.services import DRAW_ACTION, GOAL_REJECTED, service_type
+from turtle_traj.services import DRAW_ACTION, service_type
 from turtle_traj.settings import PenStyle
 from turtle_traj.trajectories import BY_NAME, TRAJECTORIES, Trajectory
 from turtle_traj.wire import STEP_S, TURTLE_TOPIC_QOS
@@ -105,8 +105,12 @@ class TrajectoryNode(Node):
         for trajectory in TRAJECTORIES:
             create_async_service(self, service_type(trajectory), f'~/{trajectory.service}',
                                  partial(self._execute, trajectory), callback_group=group)
+        # Every goal is accepted (rclpy's default goal callback): one that cannot run ends
+        # ABORTED with the reason in its result, which any action client can read; a goal id
+        # the server already knows is rejected by rclpy, which makes a client's repeat of an
+        # unanswered request harmless (client.py).
         ActionServer(self, Draw, f'~/{DRAW_ACTION}', self._execute_goal,
-                     goal_callback=self._on_goal, cancel_callback=self._on_cancel,
+                     cancel_callback=self._on_cancel,
                      callback_group=group)
         self.create_service(Trigger, '~/stop', self._handle_stop, callback_group=group)
         create_async_service(self, Trigger, '~/reset', self._handle_reset, callback_group=group)
@@ -307,24 +311,6 @@ class TrajectoryNode(Node):
 
     # -- the draw action ---------------------------------------------------------------------
 
-    def _on_goal(self, goal: Draw.Goal) -> GoalResponse:
-        """Reject at once what would be refused (busy, unknown trajectory, bad numbers)."""
-        trajectory = BY_NAME.get(goal.trajectory)
-        reason = self._refusal()
-        if trajectory is None:
-            reason = (f'unknown trajectory {goal.trajectory!r}; known: '
-                      f'{", ".join(BY_NAME)}')
-        elif reason is None:
-            try:
-                reason = self._pen_refusal(trajectory,
-                                           trajectory.plan(goal, self._loop.pose, self.settings))
-            except PlanError as error:
-                reason = f'{trajectory.name} refused: {error}'
-        if reason is None:
-            return GoalResponse.ACCEPT
-        self.get_logger().warning(GOAL_REJECTED + reason)
-        return GoalResponse.REJECT
-
     def _on_cancel(self, goal_handle: ServerGoalHandle) -> CancelResponse:
         """Stop this goal's run at once (not another's); the goal then ends CANCELED."""
         run = self._goal_runs.get(bytes(goal_handle.goal_id.uuid))
@@ -339,8 +325,10 @@ class TrajectoryNode(Node):
             goal_handle.canceled()
             return fill_response(Draw.Result(), Outcome(False, 'cancelled before it started',
                                                          self._loop.pose))
-        started = self._begin(BY_NAME[goal.trajectory], goal)
-        if isinstance(started, str):  # something started in between
+        trajectory = BY_NAME.get(goal.trajectory)
+        started = self._begin(trajectory, goal) if trajectory is not None else (
+            f'unknown trajectory {goal.trajectory!r}; known: {", ".join(BY_NAME)}')
+        if isinstance(started, str):  # refused: busy, bad numbers, no simulator
             goal_handle.abort()
             return fill_response(Draw.Result(), Outcome(False, started, self._loop.pose))
         run, goal_id = self._run, bytes(goal_handle.goal_id.uuid)
