@@ -120,7 +120,7 @@ def main() -> None:
             plan = trajectory.plan(request, start, settings)
             response = run_example(system, trajectory)
             assert response.success, response.message
-            bound = plan.lower_bound_s(settings)
+            bound = plan.lower_bound_s(settings.control)
             extra = ''
             if trajectory.name == 'circle':
                 radius = request.size

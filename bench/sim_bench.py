@@ -23,9 +23,9 @@ from isolation import isolate
 from turtle_traj.client import TrajClient
 from turtle_traj.services import make_goal
 from turtle_traj.sim.node import SimNode
-from turtle_traj.sim.physics import STEP_S
 from turtle_traj.system import InProcessSystem
 from turtle_traj.trajectories import BY_NAME
+from turtle_traj.turtlesim_contract import STEP_S
 
 
 def _spin_for(executor: SingleThreadedExecutor, seconds: float) -> None:

@@ -30,8 +30,8 @@ from isolation import isolate
 from turtle_traj import runtime
 from turtle_traj.node.trajectory_node import TrajectoryNode
 from turtle_traj.services import make_request, service_type
-from turtle_traj.sim.physics import SPAWN_XY_M
 from turtle_traj.trajectories import TRAJECTORIES
+from turtle_traj.turtlesim_contract import SPAWN_XY_M
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 CHECKPOINTS = (1, 50, 250, 500)

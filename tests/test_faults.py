@@ -12,7 +12,7 @@ from std_srvs.srv import Empty, Trigger
 from turtle_traj_interfaces.srv import DrawShape, GoTo, Move
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
 
-from turtle_traj.sim.physics import SPAWN_XY_M
+from turtle_traj.turtlesim_contract import SPAWN_XY_M
 
 
 def _running(traj, service_type, name, request):

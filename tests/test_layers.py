@@ -9,27 +9,47 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / 'src' / 'turtle_traj'
 
-# Lowest first. A module may import modules of its own layer or of a lower one.
+# Lowest first. A module imports only modules of lower layers (none of its own layer), so each
+# line below is a set of modules independent of each other.
 LAYERS = [
-    # 0: the pure core: geometry, control and its run supervisor, planning, the registry of
-    # trajectories, the settings table, the simulator's physics and its options
-    ['geometry.angles', 'geometry.path', 'geometry.shapes', 'geometry.curves',
-     'geometry.drawing', 'geometry.svg', 'geometry.text', 'control.commands',
-     'control.latency', 'control.follower', 'control.supervisor', 'control.loop', 'planning',
-     'trajectories',
-     'settings', 'sim.physics', 'sim.delay', 'sim.canvas', 'sim.gui', 'sim.options'],
-    # 1: what simulator and controller agree on over the wire
-    ['wire', 'services'],
-    # 2: the ROS shell: nodes, their parameters, executors and the program runner
-    ['node.async_service', 'sim.node', 'node.parameters', 'node.trajectory_node', 'lockstep',
-     'runtime'],
-    # 3: nodes put together, and the script-side client
-    ['system', 'sim.main', 'node.main', 'client'],
-    # 4: what people run
-    ['console', 'menu', 'cli', 'demo', '__main__', 'sim.__main__'],
+    # turtlesim's contract and plane geometry
+    ['turtlesim_contract', 'geometry.angles', 'geometry.curves'],
+    ['geometry.path'],
+    ['geometry.shapes', 'geometry.drawing'],
+    ['geometry.svg', 'geometry.text'],
+    # the simulator's pure core (the controller never imports it: see below)
+    ['sim.physics', 'sim.delay', 'sim.options', 'sim.gui'],
+    ['sim.canvas'],
+    # control: a plan in, commands out
+    ['control.commands', 'control.config'],
+    ['control.latency', 'control.plan'],
+    ['control.follower'],
+    ['control.supervisor'],
+    ['control.loop'],
+    # planning: the parameter table, then requests to plans
+    ['settings'],
+    ['planning'],
+    # the registry of trajectory kinds
+    ['trajectories'],
+    # the ROS shell: QoS, interface names, the program runner, nodes, executors
+    ['wire', 'services', 'runtime', 'node.async_service'],
+    ['node.parameters', 'sim.node'],
+    ['node.trajectory_node', 'lockstep'],
+    # nodes put together, and the script-side client
+    ['system', 'sim.main', 'client'],
+    ['node.with_sim'],
+    ['node.main'],
+    # what people run
+    ['console'],
+    ['menu'],
+    ['cli', 'demo'],
+    ['__main__', 'sim.__main__'],
 ]
+PURE = [module for layer in LAYERS[:LAYERS.index(['trajectories']) + 1] for module in layer]
+CONTROLLER = [module for layer in LAYERS[LAYERS.index(['control.commands', 'control.config']):
+                                         LAYERS.index(['trajectories']) + 1]
+              for module in layer] + ['node.parameters', 'node.trajectory_node']
 LAYER_OF = {module: index for index, modules in enumerate(LAYERS) for module in modules}
-PURE = LAYERS[0]
 
 
 def _module_name(path: Path) -> str:
@@ -63,9 +83,16 @@ def test_every_module_has_a_layer():
 
 @pytest.mark.parametrize('module', sorted(MODULES))
 def test_imports_point_downwards(module):
-    upwards = {imported for imported in _imports(MODULES[module])
-               if LAYER_OF.get(imported, -1) > LAYER_OF[module]}
-    assert not upwards, f'{module} (layer {LAYER_OF[module]}) imports higher layers: {upwards}'
+    not_below = {imported for imported in _imports(MODULES[module])
+                 if LAYER_OF.get(imported, -1) >= LAYER_OF[module]}
+    assert not not_below, (f'{module} (layer {LAYER_OF[module]}) imports its own layer or '
+                           f'higher ones: {not_below}')
+
+
+@pytest.mark.parametrize('module', CONTROLLER)
+def test_the_controller_imports_nothing_of_the_simulator(module):
+    assert not {imported for imported in _imports(MODULES[module])
+                if imported.startswith('sim.')}
 
 
 def test_no_import_cycles():
@@ -97,11 +124,11 @@ def test_the_pure_core_loads_no_ros():
     assert loaded == ''
 
 
-def test_the_controller_does_not_load_the_simulator():
-    # (Pillow it may load: it reads pen colour names.)
-    code = ('import sys\nimport turtle_traj.node.trajectory_node\n'
+def test_the_node_program_loads_no_simulator_without_with_sim():
+    # (its command-line options it parses, from sim.options)
+    code = ('import sys\nimport turtle_traj.node.main\n'
             'print(",".join(sorted(m for m in sys.modules '
-            'if m.startswith("turtle_traj.sim.") and m != "turtle_traj.sim.physics")))')
+            'if m.startswith("turtle_traj.sim.") and m != "turtle_traj.sim.options")))')
     loaded = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
                             check=True).stdout.strip()
     assert loaded == ''

@@ -9,7 +9,7 @@ from turtle_traj.geometry.path import Pose2D
 from turtle_traj.planning import PlanError
 from turtle_traj.settings import DEFAULT_SETTINGS, DEFAULTS, SPECS, arena_problem
 from turtle_traj.trajectories import BY_NAME, POINTS, TRAJECTORIES
-from turtle_traj.wire import SPAWN_XY_M, WORLD_SIZE_M
+from turtle_traj.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
 
 SPAWN = Pose2D(SPAWN_XY_M, SPAWN_XY_M, 0.0)
 # Room from the spawn point to the right and top edges, after the default 0.3 m wall margin.
@@ -41,7 +41,7 @@ def test_every_example_plans_inside_the_arena_from_its_start(trajectory):
     result = plan(trajectory.name, start, **example.given)
     assert result.trajectory == trajectory.name
     assert result.path.legs
-    assert result.lower_bound_s(DEFAULT_SETTINGS) > 0.0
+    assert result.lower_bound_s(DEFAULT_SETTINGS.control) > 0.0
     points = result.path.points()
     assert DEFAULT_SETTINGS.arena.contains(points[1:]) or len(points) == 1
 

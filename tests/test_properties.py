@@ -16,8 +16,8 @@ from turtle_traj.geometry.path import Pose2D
 from turtle_traj.geometry.shapes import Arena
 from turtle_traj.planning import PlanError
 from turtle_traj.settings import DEFAULT_SETTINGS
-from turtle_traj.sim.physics import WORLD_SIZE_M
 from turtle_traj.trajectories import BY_NAME
+from turtle_traj.turtlesim_contract import WORLD_SIZE_M
 
 ARENA = Arena(0.0, 0.0, WORLD_SIZE_M, WORLD_SIZE_M, 0.3)
 SHAPES = [name for name, trajectory in BY_NAME.items() if trajectory.command[0] == 'draw']

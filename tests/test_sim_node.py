@@ -24,7 +24,7 @@ from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelativ
 from tests.ros_helpers import program, terminate
 from turtle_traj.runtime import spin_until
 from turtle_traj.sim.canvas import to_pixel
-from turtle_traj.sim.physics import SPAWN_XY_M, STEP_S, WORLD_SIZE_M
+from turtle_traj.turtlesim_contract import SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 

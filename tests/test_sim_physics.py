@@ -6,16 +6,13 @@ import pytest
 
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.physics import (
-    DEFAULT_PEN,
-    SPAWN_XY_M,
-    STEP_S,
-    WORLD_SIZE_M,
     GoalStatus,
     NonFiniteCommand,
     SimulationError,
     World,
     normalize_angle,
 )
+from turtle_traj.turtlesim_contract import DEFAULT_PEN, SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 
 
 @pytest.mark.parametrize(('angle', 'expected'), [
@@ -223,7 +220,7 @@ def _pen_colour_samples(heading: float, speed: float = 1.0) -> tuple[int, int]:
         if (turtle.x, turtle.y) == before:
             return hits, samples
         samples += 1
-        hits += canvas.color_under(turtle) == DEFAULT_PEN[:3]
+        hits += canvas.color_under(turtle) == (DEFAULT_PEN.r, DEFAULT_PEN.g, DEFAULT_PEN.b)
         for segment in report.segments:
             canvas.draw(segment)
 

@@ -12,12 +12,13 @@ import pytest
 
 from tests.geometry_checks import distance_to_polyline, regular_polygon
 from turtle_traj.control.loop import ControlLoop
+from turtle_traj.control.plan import Plan
 from turtle_traj.control.supervisor import SETTLE_PERIODS
 from turtle_traj.geometry.path import Pose2D
-from turtle_traj.planning import Plan
 from turtle_traj.settings import DEFAULT_SETTINGS
-from turtle_traj.sim.physics import STEP_S, World
+from turtle_traj.sim.physics import World
 from turtle_traj.trajectories import BY_NAME
+from turtle_traj.turtlesim_contract import STEP_S
 
 SETTINGS = DEFAULT_SETTINGS
 ARENA = SETTINGS.arena
@@ -139,7 +140,8 @@ def test_the_plans_speeds_override_the_nodes_live_ones():
     assert plan.control(SETTINGS.control).linear_speed == 2.5
     assert plan.control(SETTINGS.control).angular_speed == SETTINGS.control.angular_speed
     default = Plan('move', plan.path)
-    assert default.lower_bound_s(SETTINGS) == pytest.approx(1.0 / SETTINGS.control.linear_speed)
+    assert default.lower_bound_s(SETTINGS.control) == pytest.approx(
+        1.0 / SETTINGS.control.linear_speed)
 
 
 # -- the figures of the report, against an independent measurement of the poses ------------

@@ -9,7 +9,7 @@ import time
 from tests.ros_helpers import Terminal
 from turtle_traj import cli
 from turtle_traj.client import TrajClient
-from turtle_traj.wire import SPAWN_XY_M, WORLD_SIZE_M
+from turtle_traj.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
 
 
 def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monkeypatch,

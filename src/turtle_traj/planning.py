@@ -17,11 +17,12 @@ from typing import Any
 
 import numpy as np
 
-from turtle_traj.control.follower import ControlConfig
+from turtle_traj.control.plan import Plan
 from turtle_traj.geometry import curves, drawing, shapes, svg, text
 from turtle_traj.geometry.path import Path, Pose2D, legs_from_polyline
 from turtle_traj.geometry.shapes import Arena, ShapeError
-from turtle_traj.settings import SPEC, PenStyle, Settings, pen_color_problem, pen_style
+from turtle_traj.settings import SPEC, Settings, pen_color_problem, pen_style
+from turtle_traj.turtlesim_contract import PenStyle
 
 POLYGON_SIDES = {'square': 4, 'triangle': 3, 'hexagon': 6}
 MAX_SIDES = 360
@@ -58,29 +59,6 @@ class Sketch:
     end_tolerance: float | None = None
     pen: PenStyle | None = None  # drawings: the pen to draw with (None: leave it alone)
     pen_up_unordered: float = 0.0  # drawings: pen-up distance in the strokes' given order
-
-
-@dataclass(frozen=True)
-class Plan:
-    """A checked path plus its per-run speed overrides and end tolerance."""
-
-    trajectory: str
-    path: Path
-    linear_speed: float | None = None  # None: the node's parameter, read live
-    angular_speed: float | None = None
-    end_tolerance: float | None = None
-    pen: PenStyle | None = None  # a drawing's pen: the node sets it, and restores its own after
-    pen_up_unordered: float = 0.0  # pen-up distance had the strokes not been reordered [m]
-
-    def control(self, config: ControlConfig) -> ControlConfig:
-        """The node's control config with this run's speeds."""
-        return replace(config, linear_speed=self.linear_speed or config.linear_speed,
-                       angular_speed=self.angular_speed or config.angular_speed)
-
-    def lower_bound_s(self, settings: Settings) -> float:
-        """Kinematic lower bound of the run's duration at its top speeds."""
-        config = self.control(settings.control)
-        return self.path.lower_bound_s(config.linear_speed, config.angular_speed)
 
 
 SketchFunction = Callable[[Any, Pose2D, Settings], Sketch]

@@ -10,10 +10,10 @@ from importlib.resources import files
 
 from PIL import ImageColor
 
-from turtle_traj.control.follower import ControlConfig
+from turtle_traj.control.config import ControlConfig
 from turtle_traj.geometry.path import Pose2D
 from turtle_traj.geometry.shapes import Arena
-from turtle_traj.sim.physics import WORLD_SIZE_M
+from turtle_traj.turtlesim_contract import DEFAULT_PEN, WORLD_SIZE_M, PenStyle
 
 
 @dataclass(frozen=True)
@@ -75,11 +75,11 @@ SPECS = (
          'm', 0.01, 50.0),
     Spec('default_svg_size', 4.0, 'Larger side of an SVG drawing when size is 0', 'm',
          0.01, 50.0),
-    Spec('pen_color', '#b3b8ff', "Pen colour of drawings (text, SVG) when a request gives "
-         "none, and the colour the pen is left with: a name (red) or #rrggbb; turtlesim's own "
-         'is #b3b8ff'),
-    Spec('pen_width', 3, 'Pen width of drawings when a request leaves it 0 (turtlesim: 3)',
-         'px', 1, 255),
+    Spec('pen_color', DEFAULT_PEN.hex, 'Pen colour of drawings (text, SVG) when a request '
+         'gives none, and the colour the pen is left with: a name (red) or #rrggbb; '
+         f"turtlesim's own is {DEFAULT_PEN.hex}"),
+    Spec('pen_width', DEFAULT_PEN.width, 'Pen width of drawings when a request leaves it 0 '
+         f'(turtlesim: {DEFAULT_PEN.width})', 'px', 1, 255),
     Spec('svg_dir', str(files('turtle_traj') / 'drawings'), 'Folder the draw_svg service reads '
          'files from (requests name them relative to it)', read_only=True),
 )
@@ -105,16 +105,6 @@ class ShapeDefaults:
     svg_size: float
     goal_tolerance: float
     corner_angle: float
-
-
-@dataclass(frozen=True)
-class PenStyle:
-    """The pen turtlesim's set_pen sets: colour and width (turtlesim cannot be asked for it)."""
-
-    r: int
-    g: int
-    b: int
-    width: int
 
 
 def pen_color_problem(text: str) -> str | None:

@@ -13,32 +13,15 @@ control period, so the turtle stops on the end point. A turtle facing more than
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 from turtle_traj.control.commands import STOP, Command
+from turtle_traj.control.config import ControlConfig
 from turtle_traj.control.latency import LatencyPredictor
 from turtle_traj.geometry.angles import wrap_angle
 from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn
 
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
-
-
-@dataclass(frozen=True)
-class ControlConfig:
-    """Controller tuning, built from the node's parameters (`settings.SPECS` has units and
-    defaults)."""
-
-    linear_speed: float  # top speed
-    angular_speed: float  # top turn rate
-    heading_gain: float  # turn rate per radian of heading error
-    cross_track_gain: float  # how hard curves pull the turtle back onto the path
-    deceleration: float  # braking towards the end of a curve
-    angular_deceleration: float  # braking towards the end of a turn
-    position_tolerance: float  # end of a curve reached (corners, line ends)
-    heading_tolerance: float  # end of a turn reached
-    turn_first_angle: float  # heading error beyond which the turtle turns in place
-    period_s: float  # control period
 
 
 def _braking_speed(remaining: float, deceleration: float, period_s: float,

@@ -9,12 +9,12 @@ known before the next trajectory starts.
 from __future__ import annotations
 
 from turtle_traj.control.commands import Command
-from turtle_traj.control.follower import ControlConfig
+from turtle_traj.control.config import ControlConfig
 from turtle_traj.control.latency import LatencyPredictor
+from turtle_traj.control.plan import Plan
 from turtle_traj.control.supervisor import RunSupervisor
 from turtle_traj.geometry.path import Pose2D
 from turtle_traj.geometry.shapes import Arena
-from turtle_traj.planning import Plan
 
 
 class ControlLoop:

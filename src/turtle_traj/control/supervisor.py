@@ -12,12 +12,13 @@ import math
 from dataclasses import dataclass
 
 from turtle_traj.control.commands import STOP, Command
-from turtle_traj.control.follower import ControlConfig, PathFollower
+from turtle_traj.control.config import ControlConfig
+from turtle_traj.control.follower import PathFollower
 from turtle_traj.control.latency import LatencyPredictor
+from turtle_traj.control.plan import Plan
 from turtle_traj.geometry.angles import wrap_angle
 from turtle_traj.geometry.path import NearestOnPolyline, Pose2D
 from turtle_traj.geometry.shapes import Arena
-from turtle_traj.planning import Plan
 
 SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
 # Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.

@@ -13,10 +13,7 @@ from rclpy.utilities import remove_ros_args
 
 from turtle_traj.node.trajectory_node import TrajectoryNode
 from turtle_traj.runtime import fail, run_nodes
-from turtle_traj.sim import main as sim_main
-from turtle_traj.sim.gui import GuiUnavailable
-from turtle_traj.sim.node import SimNode
-from turtle_traj.sim.options import SimOptions, add_sim_options, options_from
+from turtle_traj.sim.options import SimOptions, SimUnavailable, add_sim_options, options_from
 
 
 @dataclass(frozen=True)
@@ -55,23 +52,25 @@ def run(options: Options) -> int:
     if (problem := options.problem()) is not None:
         return fail(problem)
     sim_time = options.sim is not None and options.sim.time_scale is not None
-    sims: list[SimNode] = []
+    beside = None
+    if options.sim is not None:  # the simulator is loaded only when asked for
+        from turtle_traj.node.with_sim import SimBeside
+        beside = SimBeside(options.sim)
     controllers: list[TrajectoryNode] = []
 
     def create_nodes(stop: Callable[[], None]) -> list[Node]:
-        if options.sim is not None:
-            sims.append(sim_main.create_sim(options.sim, stop))
+        nodes: list[Node] = [beside.create(stop)] if beside is not None else []
         controllers.append(TrajectoryNode(
             parameter_overrides=[Parameter('use_sim_time', value=True)] if sim_time else []))
-        return [*sims, *controllers]
+        return [*nodes, *controllers]
 
     def on_exit() -> None:
         for controller in controllers:
             controller.shutdown_turtle()
-        for sim in sims:
-            sim_main.save_snapshot(sim, options.sim.snapshot)
+        if beside is not None:
+            beside.save_snapshot()
 
     try:
         return run_nodes(create_nodes, args=options.ros_args or None, on_exit=on_exit)
-    except GuiUnavailable as error:
-        return fail(f'--gui: {error}')
+    except SimUnavailable as error:
+        return fail(str(error))

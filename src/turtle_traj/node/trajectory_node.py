@@ -33,15 +33,16 @@ from turtlesim.srv import SetPen
 
 from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.loop import ControlLoop
+from turtle_traj.control.plan import Plan
 from turtle_traj.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.geometry.path import Path, Pose2D
 from turtle_traj.node import parameters
 from turtle_traj.node.async_service import create_async_service
-from turtle_traj.planning import Plan, PlanError
+from turtle_traj.planning import PlanError
 from turtle_traj.services import DRAW_ACTION, service_type
-from turtle_traj.settings import PenStyle
 from turtle_traj.trajectories import BY_NAME, TRAJECTORIES, Trajectory
-from turtle_traj.wire import STEP_S, TURTLE_TOPIC_QOS
+from turtle_traj.turtlesim_contract import STEP_S, PenStyle
+from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 PLAN_FRAME_ID = 'world'
 _WATCHDOG_PERIOD_S = 0.05
@@ -299,7 +300,7 @@ class TrajectoryNode(Node):
         self._publish_plan(path)
         self.get_logger().info(
             f'{trajectory.name}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} '
-            f'deg of turns in place, at least {plan.lower_bound_s(self.settings):.1f} s')
+            f'deg of turns in place, at least {plan.lower_bound_s(self.settings.control):.1f} s')
         return done
 
     async def _execute(self, trajectory: Trajectory, request, response):

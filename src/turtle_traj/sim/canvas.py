@@ -9,13 +9,8 @@ from functools import cache
 import numpy as np
 from PIL import Image, ImageDraw
 
-from turtle_traj.sim.physics import (
-    CANVAS_SIZE_PX,
-    PIXELS_PER_METER,
-    WORLD_SIZE_M,
-    Segment,
-    Turtle,
-)
+from turtle_traj.sim.physics import Segment, Turtle
+from turtle_traj.turtlesim_contract import CANVAS_SIZE_PX, PIXELS_PER_METER, WORLD_SIZE_M
 
 _ICON_SIZE_PX = 45
 _TRANSPARENT_WHITE = (255, 255, 255, 0)

@@ -26,8 +26,6 @@ from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelativ
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.physics import (
-    SPAWN_XY_M,
-    STEP_S,
     GoalStatus,
     NonFiniteCommand,
     RotationEvent,
@@ -35,6 +33,7 @@ from turtle_traj.sim.physics import (
     Turtle,
     World,
 )
+from turtle_traj.turtlesim_contract import SPAWN_XY_M, STEP_S
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 _FIRST_TURTLE = 'turtle1'

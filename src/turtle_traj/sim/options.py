@@ -7,6 +7,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 
+class SimUnavailable(RuntimeError):
+    """The simulator cannot start as asked (its window cannot open); the message says why."""
+
+
 def add_sim_options(parser: argparse.ArgumentParser, prefix: str = '') -> None:
     """The simulator options people give wherever it runs (here, and beside the node)."""
     parser.add_argument('--time-scale', type=float, default=None, metavar='FACTOR',

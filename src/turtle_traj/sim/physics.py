@@ -17,15 +17,16 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from enum import Enum
 
-PIXELS_PER_METER = 45.0
-CANVAS_SIZE_PX = 500
-WORLD_SIZE_M = (CANVAS_SIZE_PX - 1) / PIXELS_PER_METER
-SPAWN_XY_M = 5.544444561004639  # float32 of WORLD_SIZE_M / 2, as real turtlesim publishes it
-STEP_S = 0.016
-COMMAND_TIMEOUT_S = 1.0
+from turtle_traj.turtlesim_contract import (
+    COMMAND_TIMEOUT_S,
+    DEFAULT_PEN,
+    SPAWN_XY_M,
+    STEP_S,
+    WORLD_SIZE_M,
+)
+
 ROTATION_SPEED_RAD_S = 1.0
 ROTATION_TOLERANCE_RAD = 0.02
-DEFAULT_PEN = (179, 184, 255, 3)
 _PI = 3.14159265  # turtlesim's own value of pi in its angle normalisation
 
 
@@ -53,10 +54,10 @@ class NonFiniteCommand(SimulationError):
 class Pen:
     """Trail pen: opaque colour, width in pixels, on or off."""
 
-    r: int = DEFAULT_PEN[0]
-    g: int = DEFAULT_PEN[1]
-    b: int = DEFAULT_PEN[2]
-    width_px: int = DEFAULT_PEN[3]
+    r: int = DEFAULT_PEN.r
+    g: int = DEFAULT_PEN.g
+    b: int = DEFAULT_PEN.b
+    width_px: int = DEFAULT_PEN.width
     on: bool = True
 
 
