@@ -16,10 +16,11 @@ from geometry_msgs.msg import Twist
 from rclpy.node import Node
 
 from isolation import isolate
+from turtle_traj import planning
 from turtle_traj.demo import prepare, run_example
 from turtle_traj.geometry import drawing
 from turtle_traj.geometry.path import Pose2D, distance_to_polyline
-from turtle_traj.planning import POLYGON_SIDES
+from turtle_traj.limits import POLYGON_SIDES
 from turtle_traj.services import make_request
 from turtle_traj.system import InProcessSystem
 from turtle_traj.trajectories import TRAJECTORIES
@@ -117,7 +118,7 @@ def main() -> None:
             example = trajectory.example
             request = make_request(trajectory, example.given)
             start = Pose2D(*example.start)
-            plan = trajectory.plan(request, start, settings)
+            plan = planning.plan(trajectory.name, request, start, settings)
             response = run_example(system, trajectory)
             assert response.success, response.message
             bound = plan.lower_bound_s(settings.control)

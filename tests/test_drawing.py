@@ -11,6 +11,7 @@ import svgelements
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from turtle_traj import planning
 from turtle_traj.control.follower import PathFollower
 from turtle_traj.geometry import drawing, svg, text
 from turtle_traj.geometry.path import Curve, Pose2D, Turn, distance_to_polyline
@@ -27,7 +28,7 @@ def request(name: str, **given) -> SimpleNamespace:
 
 
 def plan(name: str, start: Pose2D = START, **given):
-    return BY_NAME[name].plan(request(name, **given), start, DEFAULT_SETTINGS)
+    return planning.plan(name, request(name, **given), start, DEFAULT_SETTINGS)
 
 
 @pytest.mark.parametrize(('name', 'given', 'reason'), [

@@ -9,6 +9,7 @@ from turtle_traj_interfaces.srv import DrawCurve, DrawSvg, DrawText
 from turtlesim.srv import TeleportAbsolute
 
 from tests.geometry_checks import distance_to_polyline, xy
+from turtle_traj import planning
 from turtle_traj.geometry import drawing
 from turtle_traj.services import make_request
 from turtle_traj.settings import DEFAULT_SETTINGS
@@ -22,7 +23,7 @@ NOTHING_DRAWN = (255, 255, 255)  # what turtlesim's colour sensor reads off the 
 def _planned(traj, name: str, given: dict):
     """The plan the node will make for this request (planning is deterministic)."""
     request = make_request(BY_NAME[name], given)
-    return request, BY_NAME[name].plan(request, traj.node.pose, traj.node.settings)
+    return request, planning.plan(name, request, traj.node.pose, traj.node.settings)
 
 
 def _ink(traj, points: np.ndarray, color=(PEN.r, PEN.g, PEN.b)) -> np.ndarray:

@@ -12,9 +12,9 @@ PACKAGE = Path(__file__).resolve().parents[1] / 'src' / 'turtle_traj'
 # Lowest first. A module imports only modules of lower layers (none of its own layer), so each
 # line below is a set of modules independent of each other.
 LAYERS = [
-    # turtlesim's contract and plane geometry
-    ['turtlesim_contract', 'geometry.angles', 'geometry.curves'],
-    ['geometry.path'],
+    # turtlesim's contract, what requests may ask for, and plane geometry
+    ['turtlesim_contract', 'limits', 'geometry.angles', 'geometry.curves'],
+    ['geometry.path', 'parameter_table'],
     ['geometry.shapes', 'geometry.drawing'],
     ['geometry.svg', 'geometry.text'],
     # the simulator's pure core (the controller never imports it: see below)
@@ -129,6 +129,18 @@ def test_the_node_program_loads_no_simulator_without_with_sim():
     code = ('import sys\nimport turtle_traj.node.main\n'
             'print(",".join(sorted(m for m in sys.modules '
             'if m.startswith("turtle_traj.sim.") and m != "turtle_traj.sim.options")))')
+    loaded = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
+                            check=True).stdout.strip()
+    assert loaded == ''
+
+
+def test_the_command_line_parses_without_loading_ros_numpy_or_the_planner():
+    # `turtle-traj --help` and a mistyped command answer at once: the parser is built from
+    # the registry and the parameter table, which are plain data.
+    code = ('import sys\nimport turtle_traj.cli as cli\ncli.build_parser()\n'
+            'print(",".join(sorted(m for m in sys.modules if m.split(".")[0] in '
+            '{"rclpy", "numpy", "PIL", "svgelements", "HersheyFonts"} '
+            'or m in {"turtle_traj.planning", "turtle_traj.client"})))')
     loaded = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
                             check=True).stdout.strip()
     assert loaded == ''

@@ -5,9 +5,11 @@ from types import SimpleNamespace
 
 import pytest
 
+from turtle_traj import planning
 from turtle_traj.geometry.path import Pose2D
+from turtle_traj.parameter_table import DEFAULTS, PARAMETERS
 from turtle_traj.planning import PlanError
-from turtle_traj.settings import DEFAULT_SETTINGS, DEFAULTS, SPECS, arena_problem
+from turtle_traj.settings import DEFAULT_SETTINGS, arena_problem
 from turtle_traj.trajectories import BY_NAME, POINTS, TRAJECTORIES
 from turtle_traj.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
 
@@ -25,7 +27,7 @@ def request(name: str, **given) -> SimpleNamespace:
 
 
 def plan(name: str, start: Pose2D = SPAWN, **given):
-    return BY_NAME[name].plan(request(name, **given), start, DEFAULT_SETTINGS)
+    return planning.plan(name, request(name, **given), start, DEFAULT_SETTINGS)
 
 
 def test_names_services_and_commands_are_unique():
@@ -62,7 +64,7 @@ def test_defaults_in_degrees_are_sent_in_radians():
 
 
 def test_a_circle_is_one_turn_unless_forever_is_asked_for():
-    one = BY_NAME['circle'].plan(SimpleNamespace(**{**vars(request('circle', size=1.0)),
+    one = planning.plan('circle', SimpleNamespace(**{**vars(request('circle', size=1.0)),
                                                    'turns': 0.0}), SPAWN, DEFAULT_SETTINGS)
     assert not one.path.endless and one.path.length == pytest.approx(2 * math.pi, rel=1e-4)
     assert plan('circle', size=1.0, turns=2.5).path.length == pytest.approx(5 * math.pi, rel=1e-4)
@@ -72,7 +74,7 @@ def test_a_circle_is_one_turn_unless_forever_is_asked_for():
 
 
 def test_every_parameter_backed_field_takes_its_unit_and_range_from_the_table():
-    specs = {spec.name: spec for spec in SPECS}
+    specs = {spec.name: spec for spec in PARAMETERS}
     for trajectory in TRAJECTORIES:
         for item in trajectory.fields:
             if item.parameter:
@@ -116,7 +118,7 @@ def test_bad_requests_are_refused_with_the_reason(name, given, reason):
     ('square', ROOM), ('triangle', ROOM), ('circle', ROOM / 2),
     ('move', ROOM)])
 def test_the_largest_size_is_the_one_that_just_fits(name, largest):
-    found = BY_NAME[name].largest_size(request(name), SPAWN, DEFAULT_SETTINGS)
+    found = planning.largest_size(name, request(name), SPAWN, DEFAULT_SETTINGS)
     assert found == pytest.approx(largest, abs=1e-6)
     plan(name, size=found * 0.999, distance=found * 0.999)  # each reads the field it has
     with pytest.raises(PlanError):
@@ -125,7 +127,7 @@ def test_the_largest_size_is_the_one_that_just_fits(name, largest):
 
 def test_nothing_scales_in_a_rotation_or_a_go_to():
     for name in ('rotate', 'go_to'):
-        assert BY_NAME[name].largest_size(request(name), SPAWN, DEFAULT_SETTINGS) is None
+        assert planning.largest_size(name, request(name), SPAWN, DEFAULT_SETTINGS) is None
 
 
 def test_a_zero_field_stands_for_the_parameter():
@@ -152,3 +154,7 @@ def test_an_arena_must_keep_the_turtle_inside():
     assert arena_problem(smaller) is None
     assert 'the turtle stands at (5.54, 5.54), outside' in arena_problem(smaller, SPAWN)
     assert arena_problem(smaller, Pose2D(4.0, 5.5, 0.0)) is None
+
+
+def test_every_kind_in_the_registry_has_a_sketch_and_nothing_else_has():
+    assert set(planning.SKETCHES) == {trajectory.name for trajectory in TRAJECTORIES}

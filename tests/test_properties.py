@@ -9,6 +9,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from turtle_traj import planning
 from turtle_traj.control.follower import PathFollower
 from turtle_traj.geometry import shapes
 from turtle_traj.geometry.angles import shortest_angular_distance, wrap_angle
@@ -69,7 +70,7 @@ def test_shortest_distance_turns_one_into_the_other(a, b):
 @given(st.sampled_from(SHAPES), shape_requests, starts)
 def test_every_planned_shape_stays_in_the_arena_or_is_refused(name, request, start):
     try:
-        path = BY_NAME[name].plan(request, start, DEFAULT_SETTINGS).path
+        path = planning.plan(name, request, start, DEFAULT_SETTINGS).path
     except PlanError as error:
         assert str(error)
         return
@@ -119,7 +120,7 @@ def test_follower_commands_are_finite_and_within_limits(kind, start, poses, conf
                'rotate': SimpleNamespace(angle=-7.0, speed=0.0)}.get(
         kind, shape(sides=5, size=0.5, turns=1.0))
     try:
-        path = BY_NAME[kind].plan(request, start, DEFAULT_SETTINGS).path
+        path = planning.plan(kind, request, start, DEFAULT_SETTINGS).path
     except PlanError:
         return
     follower = PathFollower(path)
@@ -136,7 +137,7 @@ def test_follower_commands_are_finite_and_within_limits(kind, start, poses, conf
 def test_any_spiral_request_is_planned_with_bounded_work(size, growth, turns, max_radius, start):
     request = shape(size=size, growth=growth, turns=turns, max_radius=max_radius)
     try:
-        path = BY_NAME['spiral'].plan(request, start, DEFAULT_SETTINGS).path
+        path = planning.plan('spiral', request, start, DEFAULT_SETTINGS).path
     except PlanError:
         return
     # 100 turns of the largest radius that fits in the arena, at 2 cm spacing.

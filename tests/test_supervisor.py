@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 
 from tests.geometry_checks import distance_to_polyline, regular_polygon
+from turtle_traj import planning
 from turtle_traj.control.loop import ControlLoop
 from turtle_traj.control.plan import Plan
 from turtle_traj.control.supervisor import SETTLE_PERIODS
 from turtle_traj.geometry.path import Pose2D
 from turtle_traj.settings import DEFAULT_SETTINGS
 from turtle_traj.sim.physics import World
-from turtle_traj.trajectories import BY_NAME
 from turtle_traj.turtlesim_contract import STEP_S
 
 SETTINGS = DEFAULT_SETTINGS
@@ -40,7 +40,7 @@ class Loop:
         self.turtle = self.world.spawn(x, y, theta, 'turtle1')
         self.control = ControlLoop(STEP_S)
         self.control.observe(Pose2D(x, y, theta), 0.0, 0.0)
-        plan = BY_NAME[name].plan(request, Pose2D(x, y, theta), SETTINGS)
+        plan = planning.plan(name, request, Pose2D(x, y, theta), SETTINGS)
         self.run = self.control.start(plan, arena=ARENA, now_s=0.0)
         self.latency = self.control.latency
 
@@ -135,7 +135,7 @@ def test_a_stop_request_ends_only_an_endless_trajectory_successfully(forever, su
 
 
 def test_the_plans_speeds_override_the_nodes_live_ones():
-    plan = BY_NAME['move'].plan(SimpleNamespace(distance=1.0, speed=2.5), Pose2D(5, 5, 0),
+    plan = planning.plan('move', SimpleNamespace(distance=1.0, speed=2.5), Pose2D(5, 5, 0),
                                 SETTINGS)
     assert plan.control(SETTINGS.control).linear_speed == 2.5
     assert plan.control(SETTINGS.control).angular_speed == SETTINGS.control.angular_speed

@@ -13,13 +13,16 @@ import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from turtle_traj.client import INTERRUPTED, GoalRejected, Interrupted, TrajClient, TrajClientError
-from turtle_traj.console import ProgressLine, report
-from turtle_traj.menu import run_menu
-from turtle_traj.services import make_goal
 from turtle_traj.sim.options import add_sim_options, options_from
 from turtle_traj.trajectories import BOOL, INT, POINTS, STRING, TRAJECTORIES, Field, Trajectory
+
+if TYPE_CHECKING:
+    from turtle_traj.client import TrajClient
+
+# rclpy, numpy and the client load only once a command runs: `--help` and a mistyped command
+# answer at once (the registry and the parameter table are plain data).
 
 
 def _point(text: str) -> tuple[float, float]:
@@ -132,6 +135,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def to_goal(options: argparse.Namespace):
     """The draw action's goal for parsed options (None for the other commands)."""
+    from turtle_traj.services import make_goal
     trajectory = getattr(options, 'trajectory', None)
     return None if trajectory is None else make_goal(trajectory, vars(options))
 
@@ -181,6 +185,8 @@ def _main(args: Sequence[str] | None) -> int:
         signal.signal(ending, signal.default_int_handler)
     if options.command in ('menu', 'params'):
         return _run_session(options)
+    from turtle_traj.client import GoalRejected, Interrupted, TrajClient, TrajClientError
+    from turtle_traj.console import report
     try:
         with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
             if options.command == 'save':
@@ -209,6 +215,8 @@ def _main(args: Sequence[str] | None) -> int:
 
 def _draw(client: TrajClient, trajectory: Trajectory, options: argparse.Namespace) -> int:
     """Run one trajectory as a goal of the draw action, with a progress line; Ctrl-C cancels."""
+    from turtle_traj.client import INTERRUPTED
+    from turtle_traj.console import ProgressLine, report
     goal = to_goal(options)
     line = ProgressLine(trajectory.name, endless=goal.forever)
     try:
@@ -225,6 +233,8 @@ def _draw(client: TrajClient, trajectory: Trajectory, options: argparse.Namespac
 
 def _run_session(options: argparse.Namespace) -> int:
     """The menu, or the params subcommand."""
+    from turtle_traj.client import TrajClient, TrajClientError
+    from turtle_traj.menu import run_menu
     try:
         with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
             if options.command == 'menu':

@@ -19,6 +19,7 @@ from typing import Any
 from turtle_traj.client import GoalRejected, TrajClient, TrajClientError
 from turtle_traj.console import ProgressLine, report
 from turtle_traj.geometry.path import Pose2D
+from turtle_traj.planning import largest_size
 from turtle_traj.services import make_goal
 from turtle_traj.settings import Settings, settings_from_values
 from turtle_traj.trajectories import BOOL, INT, POINTS, STRING, TRAJECTORIES, Field, Trajectory
@@ -54,7 +55,7 @@ def field_range(trajectory: Trajectory, item: Field, answers: dict[str, Any],
     low, high = item.bounds(live.settings)
     if item.fits and live.pose is not None:
         request = SimpleNamespace(**trajectory.request_values({**answers, item.name: None}))
-        largest = trajectory.largest_size(request, live.pose, live.settings)
+        largest = largest_size(trajectory.name, request, live.pose, live.settings)
         if largest is not None:
             high = min(high, math.floor(largest * 100) / 100)  # shown rounded: stay inside
     return low, high

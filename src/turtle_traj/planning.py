@@ -13,6 +13,7 @@ import math
 import pathlib
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -21,18 +22,21 @@ from turtle_traj.control.plan import Plan
 from turtle_traj.geometry import curves, drawing, shapes, svg, text
 from turtle_traj.geometry.path import Path, Pose2D, legs_from_polyline
 from turtle_traj.geometry.shapes import Arena, ShapeError
-from turtle_traj.settings import SPEC, Settings, pen_color_problem, pen_style
+from turtle_traj.limits import (
+    MAX_FREQUENCY,
+    MAX_FREQUENCY_RATIO,
+    MAX_PETALS,
+    MAX_POINTS,
+    MAX_SIDES,
+    MAX_STROKES,
+    MAX_TIPS,
+    MIN_SIZE,
+    POLYGON_SIDES,
+)
+from turtle_traj.parameter_table import PARAMETER
+from turtle_traj.settings import Settings, pen_color_problem, pen_style
 from turtle_traj.turtlesim_contract import PenStyle
 
-POLYGON_SIDES = {'square': 4, 'triangle': 3, 'hexagon': 6}
-MAX_SIDES = 360
-MAX_FREQUENCY = 20.0  # cycles per metre: beyond this the wave is finer than the sampling
-MAX_POINTS = 10_000
-MIN_SIZE = 0.001  # m (or turns, cycles/m): anything smaller is noise, not a request
-MAX_TIPS = 100  # star points
-MAX_STROKES = 500  # of a drawing: ordering them takes under half a second at this count
-MAX_PETALS = 100
-MAX_FREQUENCY_RATIO = 50  # Lissajous a and b
 STAR_INNER_RATIO = 0.382  # a regular five-pointed star's inner / outer radius
 SVG_TOLERANCE_M = 0.0005  # SVG curves sampled within this of the true curve, at the size drawn
 # Drawings and curves turn in place at kinks sharper than this (or the corner_angle parameter,
@@ -64,11 +68,11 @@ class Sketch:
 SketchFunction = Callable[[Any, Pose2D, Settings], Sketch]
 
 
-def plan(trajectory: str, sketch: SketchFunction, request: Any, start: Pose2D,
-         settings: Settings) -> Plan:
-    """Validate `request`, build its path and check it against the arena; PlanError if not."""
+def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings) -> Plan:
+    """Validate a request of this kind of trajectory (a registry name), build its path and check
+    it against the arena; PlanError if not."""
     try:
-        drawn = sketch(request, start, settings)
+        drawn = SKETCHES[trajectory](request, start, settings)
         checked = _checked(drawn, settings.arena, start)
         path = drawn.drive(drawn.size) if drawn.drive is not None else checked
     except ShapeError as error:
@@ -79,11 +83,11 @@ def plan(trajectory: str, sketch: SketchFunction, request: Any, start: Pose2D,
                 drawn.pen, drawn.pen_up_unordered)
 
 
-def largest_size(sketch: SketchFunction, request: Any, start: Pose2D,
+def largest_size(trajectory: str, request: Any, start: Pose2D,
                  settings: Settings) -> float | None:
     """Largest size of this request that fits from `start`, or None when nothing scales."""
     try:
-        drawn = sketch(request, start, settings)
+        drawn = SKETCHES[trajectory](request, start, settings)
     except (PlanError, ShapeError):
         return None
     if not drawn.size_unit:
@@ -115,7 +119,7 @@ def _non_negative(name: str, value: float, default: float, unit: str,
 def _speed(name: str, value: float) -> float | None:
     """A speed a request asks for (0 = the node's parameter `name`), validated."""
     require_finite(**{name: value})
-    spec = SPEC[name]
+    spec = PARAMETER[name]
     if value != 0.0 and not spec.low <= value <= spec.high:
         raise PlanError(f'{name} must be 0 (the default) or within {spec.low:g} and '
                         f'{spec.high:g}; got {value:g}')
@@ -457,3 +461,25 @@ def sketch_svg(request: Any, start: Pose2D, settings: Settings) -> Sketch:
         return [(stroke - (x_min, -y_max)) * (scale / extent) for stroke in strokes]
     return _drawing_sketch(f'{what} {size:g} m wide', scaled, size, 'm (larger side)', request,
                            start, settings)
+
+
+# Each kind of trajectory in the registry (`trajectories`), by name, and its sketch.
+SKETCHES: dict[str, SketchFunction] = {
+    **{name: partial(sketch_polygon, sides=sides, name=name)
+       for name, sides in POLYGON_SIDES.items()},
+    'polygon': sketch_polygon,
+    'circle': sketch_circle,
+    'spiral': sketch_spiral,
+    'sine': sketch_sine,
+    'star': sketch_star,
+    'heart': sketch_heart,
+    'lemniscate': sketch_lemniscate,
+    'rose': sketch_rose,
+    'lissajous': sketch_lissajous,
+    'text': sketch_text,
+    'svg': sketch_svg,
+    'go_to': sketch_go_to,
+    'move': sketch_move,
+    'rotate': sketch_rotation,
+    'follow_path': sketch_follow,
+}

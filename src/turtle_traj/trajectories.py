@@ -1,7 +1,8 @@
 """The registry of trajectory kinds: one entry per kind, from which everything else is made.
 
 The node's services, the command line, the menu, the demo and the benchmarks all iterate over
-`TRAJECTORIES`. Adding a trajectory is one entry here plus its geometry and sketch function.
+`TRAJECTORIES`. Adding a trajectory is one entry here plus its geometry and its sketch
+function in `planning.SKETCHES`.
 Pure: service types are named by their ROS type string and resolved by the ROS layers.
 """
 
@@ -10,21 +11,13 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import partial
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from turtle_traj import planning
-from turtle_traj.geometry.path import Pose2D
-from turtle_traj.planning import (
-    MAX_FREQUENCY_RATIO,
-    MAX_PETALS,
-    MAX_POINTS,
-    MAX_SIDES,
-    MAX_TIPS,
-    Plan,
-    SketchFunction,
-)
-from turtle_traj.settings import SPEC, Settings
+from turtle_traj.limits import MAX_FREQUENCY_RATIO, MAX_PETALS, MAX_POINTS, MAX_SIDES, MAX_TIPS
+from turtle_traj.parameter_table import PARAMETER
+
+if TYPE_CHECKING:
+    from turtle_traj.settings import Settings
 
 FLOAT, INT, BOOL, POINTS, STRING = 'float', 'int', 'bool', 'points', 'string'
 
@@ -34,7 +27,7 @@ class Field:
     """One request field as people enter it, on the command line and in the menu.
 
     A field backed by a node `parameter` sends 0 unless given, which the node reads as "use
-    my parameter"; its range and unit are the parameter's (`settings.SPECS`).
+    my parameter"; its range and unit are the parameter's (`parameter_table`).
     """
 
     name: str  # the request's field
@@ -56,7 +49,7 @@ class Field:
 
     def __post_init__(self) -> None:
         if self.parameter:
-            spec = SPEC[self.parameter]
+            spec = PARAMETER[self.parameter]
             object.__setattr__(self, 'unit', self.unit or spec.unit)
             object.__setattr__(self, 'low', spec.low if self.low is None else self.low)
             object.__setattr__(self, 'high', spec.high if self.high is None else self.high)
@@ -88,24 +81,16 @@ class Example:
 
 @dataclass(frozen=True)
 class Trajectory:
-    """One kind of trajectory: its names, its service type, its sketch and its fields."""
+    """One kind of trajectory: its names, its service type and its fields (data only: the
+    planner maps the name to its geometry, `planning.SKETCHES`)."""
 
     name: str  # as an action goal names it ('square')
     service: str  # the node's service ('draw_square')
     service_type: str  # ROS type of the service ('turtle_traj_interfaces/srv/DrawShape')
-    sketch: SketchFunction
     summary: str
     fields: tuple[Field, ...]
     command: tuple[str, ...]  # command-line words ('draw', 'square')
     example: Example
-
-    def plan(self, request: Any, start: Pose2D, settings: Settings) -> Plan:
-        """The checked plan of a request, or PlanError saying why not."""
-        return planning.plan(self.name, self.sketch, request, start, settings)
-
-    def largest_size(self, request: Any, start: Pose2D, settings: Settings) -> float | None:
-        """The largest size field value that fits from `start` (None: nothing scales)."""
-        return planning.largest_size(self.sketch, request, start, settings)
 
     def excluded(self, given: Mapping[str, Any]) -> set[str]:
         """Fields that flags given true exclude (`forever` excludes a circle's `turns`)."""
@@ -152,46 +137,43 @@ _PEN = (Field('pen_color', "pen colour: a name (red) or #rrggbb; default: the no
               default=0, low=0, high=255, menu=False))
 
 
-def _curve(name: str, sketch: SketchFunction, summary: str, fields: tuple[Field, ...],
-           example: Example) -> Trajectory:
+def _curve(name: str, summary: str, fields: tuple[Field, ...], example: Example) -> Trajectory:
     """A parametric curve (DrawCurve): its width (`size`), its own fields and the speeds."""
-    return Trajectory(name, f'draw_{name}', _DRAW_CURVE, sketch, summary,
+    return Trajectory(name, f'draw_{name}', _DRAW_CURVE, summary,
                       (_size('width', 'default_curve_width'), *fields, *_SHAPE_SPEEDS),
                       ('draw', name), example)
 
 
-def _polygon(name: str, sides: int, example: Example) -> Trajectory:
+def _polygon(name: str, example: Example) -> Trajectory:
     return Trajectory(
-        name, f'draw_{name}', _DRAW_SHAPE,
-        partial(planning.sketch_polygon, sides=sides, name=name),
-        f'draw a {name} from where the turtle stands',
+        name, f'draw_{name}', _DRAW_SHAPE, f'draw a {name} from where the turtle stands',
         (_size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
         ('draw', name), example)
 
 
-def _move(name: str, sketch: SketchFunction, summary: str, amount: Field, speed: str,
+def _move(name: str, summary: str, amount: Field, speed: str,
           example: Example) -> Trajectory:
     """A Move request: a signed amount and its top speed (the node's `speed` parameter)."""
     return Trajectory(
-        name, name, 'turtle_traj_interfaces/srv/Move', sketch, summary,
-        (amount, Field('speed', SPEC[speed].description.split(',')[0].lower(), parameter=speed,
-                       menu=False)),
+        name, name, 'turtle_traj_interfaces/srv/Move', summary,
+        (amount, Field('speed', PARAMETER[speed].description.split(',')[0].lower(),
+                       parameter=speed, menu=False)),
         (name,), example)
 
 
 TRAJECTORIES: tuple[Trajectory, ...] = (
-    _polygon('square', 4, Example((4.0, 4.0, 0.0), {'size': 3.0})),
-    _polygon('triangle', 3, Example((3.5, 3.5, 0.0), {'size': 4.0})),
-    _polygon('hexagon', 6, Example((4.5, 2.5, 0.0), {'size': 2.0})),
+    _polygon('square', Example((4.0, 4.0, 0.0), {'size': 3.0})),
+    _polygon('triangle', Example((3.5, 3.5, 0.0), {'size': 4.0})),
+    _polygon('hexagon', Example((4.5, 2.5, 0.0), {'size': 2.0})),
     Trajectory(
-        'polygon', 'draw_polygon', _DRAW_SHAPE, planning.sketch_polygon,
+        'polygon', 'draw_polygon', _DRAW_SHAPE,
         'draw a regular polygon with any number of sides',
         (Field('sides', 'number of sides', type=INT, default=5, low=3, high=MAX_SIDES),
          _size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
         ('draw', 'polygon'),
         Example((4.5, 8.5, 0.0), {'sides': 7, 'size': 2.0, 'clockwise': True})),
     Trajectory(
-        'circle', 'draw_circle', _DRAW_SHAPE, planning.sketch_circle,
+        'circle', 'draw_circle', _DRAW_SHAPE,
         'drive a circle to the left (or right) of the turtle',
         (_size('radius', 'default_radius'), CLOCKWISE,
          Field('forever', 'circle until stopped (Ctrl-C, cancel or the stop service)',
@@ -200,7 +182,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          *_SHAPE_SPEEDS),
         ('draw', 'circle'), Example((5.5, 3.0, 0.0), {'size': 2.5})),
     Trajectory(
-        'spiral', 'draw_spiral', _DRAW_SHAPE, planning.sketch_spiral,
+        'spiral', 'draw_spiral', _DRAW_SHAPE,
         'drive an outward spiral; it ends at max_radius, after its turns, or before the wall',
         (_size('start radius', 'default_spiral_start_radius'),
          Field('growth', 'radius gained per turn', parameter='default_spiral_growth'),
@@ -212,7 +194,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
         ('draw', 'spiral'), Example((5.5, 5.2, 0.0), {'size': 0.3, 'growth': 0.6, 'turns': 6.0,
                                              'linear_speed': 2.0})),
     Trajectory(
-        'sine', 'draw_sine', _DRAW_SHAPE, planning.sketch_sine,
+        'sine', 'draw_sine', _DRAW_SHAPE,
         'drive a sine wave along the heading',
         (Field('size', 'amplitude', parameter='default_sine_amplitude'),
          Field('frequency', 'cycles per metre', parameter='default_sine_frequency'),
@@ -222,7 +204,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
         ('draw', 'sine'),
         Example((1.0, 5.5, 0.0), {'size': 1.5, 'frequency': 0.4, 'length': 9.0})),
     Trajectory(
-        'star', 'draw_star', _DRAW_CURVE, planning.sketch_star,
+        'star', 'draw_star', _DRAW_CURVE,
         'draw a star, upright, from its top tip',
         (_size('outer radius', 'default_radius'),
          Field('tips', 'number of points', type=INT, default=5, low=3, high=MAX_TIPS),
@@ -230,24 +212,24 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
                low=0.0, high=50.0, menu=False),
          *_SHAPE_SPEEDS),
         ('draw', 'star'), Example((5.5, 8.5, 0.0), {'size': 3.0, 'tips': 5})),
-    _curve('heart', planning.sketch_heart, 'draw a heart, upright, from its bottom tip', (),
+    _curve('heart', 'draw a heart, upright, from its bottom tip', (),
            Example((5.5, 1.5, 0.0), {'size': 7.0})),
-    _curve('lemniscate', planning.sketch_lemniscate,
+    _curve('lemniscate',
            'draw the infinity sign (lemniscate of Bernoulli), from its crossing', (),
            Example((5.5, 5.5, 0.0), {'size': 9.0})),
-    _curve('rose', planning.sketch_rose,
+    _curve('rose',
            'draw a rose r = sin(k t), from its centre (size: the circle through its tips)',
            (Field('petals', 'number of petals (odd, or a multiple of 4)', type=INT, default=5,
                   low=1, high=MAX_PETALS),),
            Example((5.5, 5.5, 0.0), {'size': 9.0, 'petals': 5})),
-    _curve('lissajous', planning.sketch_lissajous,
+    _curve('lissajous',
            'draw a Lissajous curve x = sin(a t + phase), y = sin(b t)',
            (Field('a', 'x frequency', type=INT, default=3, low=1, high=MAX_FREQUENCY_RATIO),
             Field('b', 'y frequency', type=INT, default=2, low=1, high=MAX_FREQUENCY_RATIO),
             Field('phase', 'phase of x', 'deg', default=90.0, low=-360.0, high=360.0)),
            Example((9.5, 5.5, 0.0), {'size': 8.0, 'a': 3, 'b': 2, 'phase': 90.0})),
     Trajectory(
-        'text', 'draw_text', 'turtle_traj_interfaces/srv/DrawText', planning.sketch_text,
+        'text', 'draw_text', 'turtle_traj_interfaces/srv/DrawText',
         'write text in a single-stroke font, along the heading from where the turtle stands',
         (Field('text', 'what to write', type=STRING, default='', positional=True),
          Field('height', 'height of capitals', parameter='default_text_height', fits=True),
@@ -255,7 +237,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
         ('write',), Example((1.5, 5.0, 0.0), {'text': 'Hello ROS', 'height': 1.0,
                                      'pen_color': 'white'})),
     Trajectory(
-        'svg', 'draw_svg', 'turtle_traj_interfaces/srv/DrawSvg', planning.sketch_svg,
+        'svg', 'draw_svg', 'turtle_traj_interfaces/srv/DrawSvg',
         "draw SVG paths: a file in the node's svg_dir, or path data (--d)",
         (Field('file', "SVG file, relative to the node's svg_dir (turtle.svg, wave.svg ship "
                'with it)', type=STRING, default='', positional=True),
@@ -265,7 +247,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
         ('draw', 'svg'), Example((1.0, 2.5, 0.0), {'file': 'turtle.svg', 'size': 9.0,
                                           'pen_color': 'white'})),
     Trajectory(
-        'go_to', 'go_to', 'turtle_traj_interfaces/srv/GoTo', planning.sketch_go_to,
+        'go_to', 'go_to', 'turtle_traj_interfaces/srv/GoTo',
         'drive to a point (turn, drive straight, optionally turn to a heading)',
         (Field('x', 'goal x', 'm', default=8.0, positional=True, axis='x'),
          Field('y', 'goal y', 'm', default=8.0, positional=True, axis='y'),
@@ -274,18 +256,18 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          Field('tolerance', 'arrival tolerance', parameter='goal_tolerance', menu=False),
          LINEAR_SPEED),
         ('go-to',), Example((1.5, 1.5, 0.0), {'x': 9.5, 'y': 9.0, 'theta': 180.0})),
-    _move('move', planning.sketch_move, 'drive straight along the heading',
+    _move('move', 'drive straight along the heading',
           Field('distance', 'distance (negative: backwards)', 'm', default=2.0, low=-50.0,
                 high=50.0, positional=True, negate='backward'),
           'linear_speed', Example((2.5, 5.5, 0.0), {'distance': 6.0})),
-    _move('rotate', planning.sketch_rotation,
+    _move('rotate',
           'turn in place (counter-clockwise; negative or --clockwise: clockwise)',
           Field('angle', 'angle (negative: clockwise)', 'deg', default=90.0, low=-36000.0,
                 high=36000.0, positional=True, negate='clockwise'),
           'angular_speed', Example((5.5, 5.5, 0.0), {'angle': -180.0})),
     Trajectory(
         'follow_path', 'follow_path', 'turtle_traj_interfaces/srv/FollowPath',
-        planning.sketch_follow, 'drive through points in order (x,y x,y ...)',
+        'drive through points in order (x,y x,y ...)',
         (Field('points', f'points as x,y pairs (at most {MAX_POINTS})', 'm', type=POINTS,
                default=None, positional=True),
          Field('closed', 'return to the first point', type=BOOL, default=False),

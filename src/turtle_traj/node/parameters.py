@@ -12,12 +12,10 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from turtle_traj.geometry.path import Pose2D
+from turtle_traj.parameter_table import DEFAULTS, PARAMETERS, Spec
 from turtle_traj.settings import (
     ARENA_PARAMETERS,
-    DEFAULTS,
-    SPECS,
     Settings,
-    Spec,
     arena_problem,
     pen_color_problem,
     settings_from_values,
@@ -37,14 +35,14 @@ def descriptor(spec: Spec) -> ParameterDescriptor:
 
 
 def declare(node: Node) -> None:
-    for spec in SPECS:
+    for spec in PARAMETERS:
         node.declare_parameter(spec.name, spec.default, descriptor(spec))
 
 
 def read_settings(node: Node) -> Settings:
     """Settings from the node's current parameters."""
     return settings_from_values({spec.name: node.get_parameter(spec.name).value
-                                 for spec in SPECS})
+                                 for spec in PARAMETERS})
 
 
 def validate(node: Node, parameters: list[Parameter],

@@ -31,6 +31,7 @@ from turtle_traj_interfaces.action import Draw
 from turtlesim.msg import Pose
 from turtlesim.srv import SetPen
 
+from turtle_traj import planning
 from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.loop import ControlLoop
 from turtle_traj.control.plan import Plan
@@ -287,7 +288,7 @@ class TrajectoryNode(Node):
         refusal = self._refusal()
         if refusal is None:
             try:
-                plan = trajectory.plan(request, self._loop.pose, self.settings)
+                plan = planning.plan(trajectory.name, request, self._loop.pose, self.settings)
                 refusal = self._pen_refusal(trajectory, plan)
             except PlanError as error:
                 refusal = f'{trajectory.name} refused: {error}'
