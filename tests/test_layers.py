@@ -113,34 +113,31 @@ def test_no_import_cycles():
         visit(module, [])
 
 
+def _loaded_by(imports: str, matching: str) -> str:
+    """The modules a fresh interpreter has loaded after `imports`, among those `matching` (a
+    Python condition on the module name m), comma-separated."""
+    code = (f'import sys\n{imports}\n'
+            f'print(",".join(sorted(m for m in sys.modules if {matching})))')
+    return subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
+                          check=True).stdout.strip()
+
+
 def test_the_pure_core_loads_no_ros():
-    code = ('import sys\n'
-            + ''.join(f'import turtle_traj.{module}\n' for module in PURE)
-            + 'loaded = sorted(m for m in sys.modules if m.split(".")[0] in '
-              '{"rclpy", "rcl_interfaces", "turtlesim", "geometry_msgs"})\n'
-              'print(",".join(loaded))')
-    loaded = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
-                            check=True).stdout.strip()
-    assert loaded == ''
+    imports = '\n'.join(f'import turtle_traj.{module}' for module in PURE)
+    assert _loaded_by(imports, 'm.split(".")[0] in {"rclpy", "rcl_interfaces", "turtlesim", '
+                               '"geometry_msgs"}') == ''
 
 
 def test_the_node_program_loads_no_simulator_without_with_sim():
     # (its command-line options it parses, from sim.options)
-    code = ('import sys\nimport turtle_traj.node.main\n'
-            'print(",".join(sorted(m for m in sys.modules '
-            'if m.startswith("turtle_traj.sim.") and m != "turtle_traj.sim.options")))')
-    loaded = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
-                            check=True).stdout.strip()
-    assert loaded == ''
+    assert _loaded_by('import turtle_traj.node.main', 'm.startswith("turtle_traj.sim.") and '
+                                                      'm != "turtle_traj.sim.options"') == ''
 
 
 def test_the_command_line_parses_without_loading_ros_numpy_or_the_planner():
     # `turtle-traj --help` and a mistyped command answer at once: the parser is built from
     # the registry and the parameter table, which are plain data.
-    code = ('import sys\nimport turtle_traj.cli as cli\ncli.build_parser()\n'
-            'print(",".join(sorted(m for m in sys.modules if m.split(".")[0] in '
-            '{"rclpy", "numpy", "PIL", "svgelements", "HersheyFonts"} '
-            'or m in {"turtle_traj.planning", "turtle_traj.client"})))')
-    loaded = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
-                            check=True).stdout.strip()
-    assert loaded == ''
+    assert _loaded_by('import turtle_traj.cli as cli\ncli.build_parser()',
+                      'm.split(".")[0] in {"rclpy", "numpy", "PIL", "svgelements", '
+                      '"HersheyFonts"} or m in {"turtle_traj.planning", "turtle_traj.client"}'
+                      ) == ''
