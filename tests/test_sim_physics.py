@@ -6,8 +6,8 @@ import pytest
 
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.physics import (
-    GoalStatus,
     NonFiniteCommand,
+    RotationEnd,
     SimulationError,
     World,
     normalize_angle,
@@ -131,7 +131,7 @@ def test_rotation_goal_matches_the_reference_example():
         if events and events[-1].status is not None:
             break
     final = events[-1]
-    assert final.status is GoalStatus.SUCCEEDED
+    assert final.status is RotationEnd.SUCCEEDED
     feedback = [e for e in events if e.status is None]
     assert len(feedback) == 98
     assert feedback[-1].remaining_rad == pytest.approx(0.018, abs=1e-6)
@@ -148,7 +148,7 @@ def test_command_aborts_rotation_and_cancel_ends_it():
     world.start_rotation('turtle1', 'second', -2.0)
     world.cancel_rotation('turtle1', 'second')
     events = world.step().rotation_events
-    assert [e.status for e in events] == [GoalStatus.CANCELED]
+    assert [e.status for e in events] == [RotationEnd.CANCELED]
     assert world.turtles['turtle1'].omega == 0.0
 
 

@@ -26,8 +26,8 @@ from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelativ
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.physics import (
-    GoalStatus,
     NonFiniteCommand,
+    RotationEnd,
     RotationEvent,
     SimulationError,
     Turtle,
@@ -239,7 +239,7 @@ class SimNode(Node):
         self._command_delay.drop(name)
         self._pending.pop(name, None)
         if turtle.rotation is not None:
-            self._finish_rotation(turtle.rotation.token, GoalStatus.ABORTED,
+            self._finish_rotation(turtle.rotation.token, RotationEnd.ABORTED,
                                   turtle.rotation.delta_rad)
         if not keep_endpoints:
             self._endpoints.pop(name).destroy(self)
@@ -266,7 +266,7 @@ class SimNode(Node):
         if aborted is not None:
             self.get_logger().warning(
                 'Velocity command received during rotation goal. Aborting goal')
-            self._finish_rotation(aborted.token, GoalStatus.ABORTED, aborted.delta_rad)
+            self._finish_rotation(aborted.token, RotationEnd.ABORTED, aborted.delta_rad)
 
     # -- services --------------------------------------------------------------------------
 
@@ -342,13 +342,13 @@ class SimNode(Node):
             replaced = self.world.start_rotation(name, rotation, goal_handle.request.theta)
         except SimulationError as error:
             self.get_logger().error(f'Rotation goal refused: {error}')
-            self._finish_rotation(rotation, GoalStatus.ABORTED, 0.0)
+            self._finish_rotation(rotation, RotationEnd.ABORTED, 0.0)
         else:
             if replaced is not None:
                 self.get_logger().warning(
                     'Rotation goal received before a previous goal finished. '
                     'Aborting previous goal')
-                self._finish_rotation(replaced.token, GoalStatus.ABORTED, replaced.delta_rad)
+                self._finish_rotation(replaced.token, RotationEnd.ABORTED, replaced.delta_rad)
         return await rotation.finished
 
     def accept_cancel(self, name: str, goal_handle) -> CancelResponse:
@@ -363,21 +363,21 @@ class SimNode(Node):
             event.token.handle.publish_feedback(
                 RotateAbsolute.Feedback(remaining=event.remaining_rad))
         else:
-            if event.status is GoalStatus.CANCELED:
+            if event.status is RotationEnd.CANCELED:
                 self.get_logger().info('Rotation goal canceled')
-            elif event.status is GoalStatus.SUCCEEDED:
+            elif event.status is RotationEnd.SUCCEEDED:
                 self.get_logger().info('Rotation goal completed successfully')
             self._finish_rotation(event.token, event.status, event.delta_rad)
 
-    def _finish_rotation(self, rotation: _Rotation, status: GoalStatus, delta_rad: float) -> None:
+    def _finish_rotation(self, rotation: _Rotation, status: RotationEnd, delta_rad: float) -> None:
         handle = rotation.handle
         if rotation.finished.done():
             return
         if not handle.is_active:
             pass  # already ended by rclpy; still release the awaiting execute callback
-        elif status is GoalStatus.SUCCEEDED:
+        elif status is RotationEnd.SUCCEEDED:
             handle.succeed()
-        elif status is GoalStatus.CANCELED and handle.is_cancel_requested:
+        elif status is RotationEnd.CANCELED and handle.is_cancel_requested:
             handle.canceled()
         else:
             handle.abort()

@@ -61,7 +61,7 @@ class Pen:
     on: bool = True
 
 
-class GoalStatus(Enum):
+class RotationEnd(Enum):
     """How a rotation goal ended."""
 
     SUCCEEDED = 'succeeded'
@@ -88,7 +88,7 @@ class RotationEvent:
     token: object
     remaining_rad: float
     delta_rad: float
-    status: GoalStatus | None = None
+    status: RotationEnd | None = None
 
 
 @dataclass
@@ -298,7 +298,7 @@ class World:
             turtle.rotation = None
             turtle.stop()
             report.rotation_events.append(
-                RotationEvent(turtle.name, goal.token, 0.0, goal.delta_rad, GoalStatus.CANCELED))
+                RotationEvent(turtle.name, goal.token, 0.0, goal.delta_rad, RotationEnd.CANCELED))
             return
         target = normalize_angle(goal.target_rad)
         remaining = normalize_angle(target - turtle.theta)
@@ -310,7 +310,7 @@ class World:
             turtle.stop()
             report.rotation_events.append(
                 RotationEvent(turtle.name, goal.token, remaining, goal.delta_rad,
-                              GoalStatus.SUCCEEDED))
+                              RotationEnd.SUCCEEDED))
             return
         turtle.vx = turtle.vy = 0.0
         turtle.omega = -ROTATION_SPEED_RAD_S if remaining < 0 else ROTATION_SPEED_RAD_S
