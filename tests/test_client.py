@@ -36,22 +36,31 @@ def test_a_node_killed_mid_goal_is_noticed_within_seconds(tmp_path):
 
 def test_a_lost_goal_answer_ends_as_one_run_reported_truthfully(running_system, monkeypatch):
     """The node accepts the goal but its answer never arrives: the client asks again under the
-    same goal id, which the node already has, and follows that one run to its result."""
-    requests = []
-    send_goal_async = ActionClient.send_goal_async
+    same goal id, which the node already has, and follows that one run to its result (asking
+    for the result again when that answer is lost too)."""
+    requests, result_requests = [], []
+    send_goal_async, get_result_async = ActionClient.send_goal_async, \
+        ActionClient._get_result_async
 
     def first_answer_lost(self, goal, feedback_callback=None, goal_uuid=None):
         answered = send_goal_async(self, goal, feedback_callback, goal_uuid)
         requests.append(bytes(goal_uuid.uuid))
         return Future() if len(requests) == 1 else answered  # the first answer is dropped
+
+    def first_result_lost(self, goal_handle):
+        answered = get_result_async(self, goal_handle)
+        result_requests.append(answered)
+        return Future() if len(result_requests) == 1 else answered  # and so is the first result
     monkeypatch.setattr(ActionClient, 'send_goal_async', first_answer_lost)
+    monkeypatch.setattr(ActionClient, '_get_result_async', first_result_lost)
     progress = []
     with TrajClient(connect_timeout_s=30.0) as client:
         outcome = client.draw(make_goal(BY_NAME['square'], {'size': 1.0}),
                               on_feedback=lambda feedback: progress.append(feedback.progress),
-                              timeout_s=60.0)
+                              timeout_s=30.0)
         assert len(requests) == 2 and requests[0] == requests[1]  # one goal id, sent twice
-        assert outcome.status == GoalStatus.STATUS_SUCCEEDED
+        assert len(result_requests) >= 2  # the result was asked for again
+        assert outcome.status == GoalStatus.STATUS_SUCCEEDED and not outcome.cancelled
         assert outcome.result.message == 'square done'
         assert outcome.result.path_length == pytest.approx(4.0, abs=0.01)
         # one run: its progress rose once to the end; a second square would be refused as busy

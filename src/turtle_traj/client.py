@@ -236,7 +236,10 @@ class TrajClient:
             now = time.monotonic()
             if timeout_s is not None and now - start > timeout_s:
                 raise TimeoutError
-            if handle.status in _ENDED and now - asked_at > ANSWER_WAIT_S:
+            # A goal followed by its id alone (its answer was lost) never hears its status:
+            # its result is asked for again as well, which the server answers once it ends.
+            ended = handle.status in _ENDED or handle.status == GoalStatus.STATUS_UNKNOWN
+            if ended and now - asked_at > ANSWER_WAIT_S:
                 result, asked_at = handle.get_result_async(), now  # that request was lost
             if not self._draw_action().server_is_ready():
                 raise TrajClientError(f'{self.node_name} left during the {name}: it was shut '

@@ -328,8 +328,11 @@ class TrajectoryNode(Node):
             return fill_response(Draw.Result(), Outcome(False, 'cancelled before it started',
                                                          self._loop.pose))
         trajectory = BY_NAME.get(goal.trajectory)
-        started = self._begin(trajectory, goal) if trajectory is not None else (
-            f'unknown trajectory {goal.trajectory!r}; known: {", ".join(BY_NAME)}')
+        if trajectory is None:
+            started = f'unknown trajectory {goal.trajectory!r}; known: {", ".join(BY_NAME)}'
+            self.get_logger().warning(started)  # as `_begin` logs the other refusals
+        else:
+            started = self._begin(trajectory, goal)
         if isinstance(started, str):  # refused: busy, bad numbers, no simulator
             goal_handle.abort()
             return fill_response(Draw.Result(), Outcome(False, started, self._loop.pose))
