@@ -88,5 +88,8 @@ def running_system(tmp_path_factory):
     with program('turtle_traj', '--with-sim', '--time-scale', '2',
                  cwd=tmp_path_factory.mktemp('system')) as process:
         with TrajClient(connect_timeout_s=30.0) as client:  # answers once poses reach the node
-            assert client.call('reset').success
+            try:
+                assert client.call('reset').success
+            except Exception as error:  # what the program said tells why
+                raise AssertionError(f'{error}; the program said:\n{process.said()}') from error
         yield process

@@ -8,30 +8,54 @@ import select
 import signal
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
 
+class Program(subprocess.Popen):
+    """A program whose standard error is read as it comes (a full pipe would stall it) and
+    kept, so that a failing test can show what the program said."""
+
+    def start_reading(self) -> None:
+        self.lines: list[str] = []
+        self._reader = threading.Thread(target=lambda: self.lines.extend(self.stderr),
+                                        daemon=True)
+        self._reader.start()
+
+    def said(self) -> str:
+        """Everything the program wrote to stderr after it started, so far."""
+        return ''.join(self.lines)
+
+    def wait_and_read(self) -> str:
+        self.wait(timeout=15)
+        self._reader.join(timeout=15)
+        return self.said()
+
+
 @contextmanager
-def program(*args: str, cwd: Path | None = None) -> Iterator[subprocess.Popen]:
+def program(*args: str, cwd: Path | None = None) -> Iterator[Program]:
     """Run `python -m ARGS` until its turtle1 has spawned; always reaped afterwards."""
-    process = subprocess.Popen([sys.executable, '-m', *args], stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True, cwd=cwd)
+    process = Program([sys.executable, '-m', *args], stdout=subprocess.DEVNULL,
+                      stderr=subprocess.PIPE, text=True, cwd=cwd)
     try:
         for line in process.stderr:
             if 'Spawning turtle [turtle1]' in line:
                 break
+        process.start_reading()
         yield process
     finally:
         process.kill()
-        process.communicate(timeout=15)
+        process.wait_and_read()
 
 
 def terminate(process: subprocess.Popen) -> str:
     """Send SIGTERM, wait for the exit and return what the program wrote to stderr."""
     process.terminate()
+    if isinstance(process, Program):
+        return process.wait_and_read()
     return process.communicate(timeout=15)[1]
 
 
