@@ -178,6 +178,8 @@ def test_a_node_ended_mid_drawing_leaves_the_pen_down(ros_context, tmp_path):
                                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
             try:
                 assert spin_until(executor, client.service_is_ready, timeout_s=20.0)
+                # each topic is discovered on its own: hear both before the turtle moves
+                assert spin_until(executor, lambda: bool(poses and colors), timeout_s=20.0)
                 deadline = time.monotonic() + 40.0
                 while pen not in colors:  # a node still discovering the simulator refuses
                     call = client.call_async(DrawText.Request(text='I   I', height=0.4))

@@ -380,6 +380,8 @@ def test_the_simulator_program_serves_on_its_events_executor(ros_context, tmp_pa
         publisher = node.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
         twist = Twist()
         twist.linear.x = 1.0
+        assert spin_until(executor, lambda: publisher.get_subscription_count() > 0,
+                          timeout_s=10.0)
         publisher.publish(twist)  # a subscription
         assert spin_until(executor, lambda: poses[-1].linear_velocity == 1.0, timeout_s=10.0)
 
