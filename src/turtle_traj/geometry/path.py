@@ -190,7 +190,7 @@ class NearestOnPolyline:
     and a block is searched only while its box is nearer than the nearest segment found.
     """
 
-    _BLOCK = 64
+    _BLOCK = 256  # numpy calls cost more than their arithmetic below a few hundred
 
     def __init__(self, vertices: np.ndarray) -> None:
         vertices = np.asarray(vertices, dtype=float)

@@ -99,6 +99,7 @@ class TrajectoryNode(Node):
         self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
         self.create_subscription(Pose, f'{turtle}/pose', self._on_pose, TURTLE_TOPIC_QOS)
         self._cmd_vel = self.create_publisher(Twist, f'{turtle}/cmd_vel', TURTLE_TOPIC_QOS)
+        self._twist = Twist()
         self._plan = self.create_publisher(
             PathMsg, '~/plan', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
 
@@ -226,7 +227,7 @@ class TrajectoryNode(Node):
 
     def _publish(self, command: Command) -> None:
         self._loop.sent(command)
-        twist = Twist()
+        twist = self._twist  # refilled: publish() serializes at once
         twist.linear.x, twist.angular.z = command.linear, command.angular
         self._cmd_vel.publish(twist)
 

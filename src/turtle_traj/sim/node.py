@@ -47,6 +47,9 @@ class _TurtleEndpoints:
         group = node.reentrant_group
         self.pose = node.create_publisher(Pose, f'{name}/pose', TURTLE_TOPIC_QOS)
         self.color = node.create_publisher(Color, f'{name}/color_sensor', TURTLE_TOPIC_QOS)
+        # One message each, refilled every step: publish() serializes at once (no allocation
+        # per step).
+        self.pose_msg, self.color_msg = Pose(), Color()
         self.cmd_vel = node.create_subscription(
             Twist, f'{name}/cmd_vel', lambda msg: node.on_cmd_vel(name, msg), TURTLE_TOPIC_QOS)
         self.services = [
@@ -205,12 +208,14 @@ class SimNode(Node):
 
     def _publish_state(self, turtle: Turtle) -> None:
         endpoints = self._endpoints[turtle.name]
-        endpoints.pose.publish(Pose(
-            x=turtle.x, y=turtle.y, theta=turtle.theta,
-            linear_velocity=turtle.linear_speed, angular_velocity=turtle.omega))
+        pose = endpoints.pose_msg
+        pose.x, pose.y, pose.theta = turtle.x, turtle.y, turtle.theta
+        pose.linear_velocity, pose.angular_velocity = turtle.linear_speed, turtle.omega
+        endpoints.pose.publish(pose)
         if endpoints.color.get_subscription_count():  # read by nobody: not worth a message
-            r, g, b = self.canvas.color_under(turtle)
-            endpoints.color.publish(Color(r=r, g=g, b=b))
+            color = endpoints.color_msg
+            color.r, color.g, color.b = self.canvas.color_under(turtle)
+            endpoints.color.publish(color)
 
     def render(self) -> Image.Image:
         """The window as turtlesim would show it now."""
