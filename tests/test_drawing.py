@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from turtle_traj import planning
 from turtle_traj.control.follower import PathFollower
 from turtle_traj.geometry import drawing, svg, text
-from turtle_traj.geometry.path import Curve, Pose2D, Turn, distance_to_polyline
+from turtle_traj.geometry.path import Polyline, Pose2D, Turn, distance_to_polyline
 from turtle_traj.geometry.shapes import ShapeError
 from turtle_traj.planning import PlanError
 from turtle_traj.settings import DEFAULT_SETTINGS
@@ -142,7 +142,7 @@ def test_wave_svg_is_sampled_within_half_a_millimetre_of_the_true_curve():
 def test_pen_up_moves_join_the_strokes_and_the_strokes_are_drawn_exactly():
     strokes = [np.array([(2.0, 2.0), (3.0, 2.0)]), np.array([(3.0, 3.0), (2.0, 3.5)])]
     path = drawing.drawing_path(Pose2D(1.0, 1.0, 0.0), strokes, corner_angle_rad=0.1)
-    curves = [leg for leg in path.legs if isinstance(leg, Curve)]
+    curves = [leg for leg in path.legs if isinstance(leg, Polyline)]
     assert [leg.pen for leg in curves] == [False, True, False, True]
     assert path.pen_up_length == pytest.approx(math.sqrt(2) + 1.0)
     for drawn, stroke in zip(drawing.drawn_strokes(path), strokes, strict=True):

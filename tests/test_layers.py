@@ -32,8 +32,9 @@ LAYERS = [
     # the registry of trajectory kinds
     ['trajectories'],
     # the ROS shell: QoS, interface names, the program runner, nodes, executors
-    ['wire', 'services', 'runtime', 'node.async_service'],
-    ['node.parameters', 'sim.node'],
+    ['wire', 'services', 'runtime', 'node.async_service', 'node.outcomes', 'node.pen_client',
+     'node.waiting'],
+    ['node.parameters', 'node.draw_action', 'sim.node'],
     ['node.trajectory_node', 'lockstep'],
     # nodes put together, and the script-side client
     ['system', 'sim.main', 'client'],
@@ -48,7 +49,8 @@ LAYERS = [
 PURE = [module for layer in LAYERS[:LAYERS.index(['trajectories']) + 1] for module in layer]
 CONTROLLER = [module for layer in LAYERS[LAYERS.index(['control.commands', 'control.config']):
                                          LAYERS.index(['trajectories']) + 1]
-              for module in layer] + ['node.parameters', 'node.trajectory_node']
+              for module in layer] + ['node.parameters', 'node.trajectory_node', 'node.outcomes',
+                                      'node.pen_client', 'node.waiting', 'node.draw_action']
 LAYER_OF = {module: index for index, modules in enumerate(LAYERS) for module in modules}
 
 

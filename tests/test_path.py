@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn, legs_from_polyline
+from turtle_traj.geometry.path import Path, Polyline, Pose2D, Turn, legs_from_polyline
 
 CORNER = 0.35  # rad
 
@@ -42,7 +42,7 @@ def test_a_paths_length_turning_and_bound_add_up():
 
 def test_a_curve_knows_its_length_and_curvature():
     angles = np.linspace(0.0, math.pi, 200)
-    arc = Curve(np.column_stack((np.cos(angles), np.sin(angles))))
+    arc = Polyline(np.column_stack((np.cos(angles), np.sin(angles))))
     assert arc.length == pytest.approx(math.pi, rel=1e-4)
     assert np.median(arc.curvatures) == pytest.approx(1.0, rel=1e-3)
 

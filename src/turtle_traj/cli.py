@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from turtle_traj.sim.options import add_sim_options, options_from
-from turtle_traj.trajectories import BOOL, INT, POINTS, STRING, TRAJECTORIES, Field, Trajectory
+from turtle_traj.trajectories import BOOL, INT, POINTS, STRING, TRAJECTORIES, Field, TrajectoryKind
 
 if TYPE_CHECKING:
     from turtle_traj.client import TrajClient
@@ -85,7 +85,7 @@ def _add_connection_options(parser: argparse.ArgumentParser, defaults: bool = Fa
 
 
 def _add_trajectory(groups: dict[tuple[str, ...], argparse._SubParsersAction],
-                    trajectory: Trajectory) -> None:
+                    trajectory: TrajectoryKind) -> None:
     *path, word = trajectory.command
     for depth in range(1, len(path) + 1):  # intermediate words: `draw` in `draw square`
         if tuple(path[:depth]) not in groups:
@@ -213,7 +213,7 @@ def _main(args: Sequence[str] | None) -> int:
         return 130
 
 
-def _draw(client: TrajClient, trajectory: Trajectory, options: argparse.Namespace) -> int:
+def _draw(client: TrajClient, trajectory: TrajectoryKind, options: argparse.Namespace) -> int:
     """Run one trajectory as a goal of the draw action, with a progress line; Ctrl-C cancels."""
     from turtle_traj.client import INTERRUPTED
     from turtle_traj.console import ProgressLine, report

@@ -23,7 +23,7 @@ from turtlesim.srv import SetPen, TeleportAbsolute
 
 from turtle_traj.services import make_request, service_type
 from turtle_traj.system import InProcessSystem
-from turtle_traj.trajectories import TRAJECTORIES, Trajectory
+from turtle_traj.trajectories import TRAJECTORIES, TrajectoryKind
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -45,7 +45,7 @@ def prepare(system: InProcessSystem, x: float, y: float, theta: float) -> None:
         raise RuntimeError('the trajectory node did not get ready after the reset')
 
 
-def run_example(system: InProcessSystem, trajectory: Trajectory):
+def run_example(system: InProcessSystem, trajectory: TrajectoryKind):
     """Draw the trajectory's example from its start pose on a clean canvas; its response."""
     example = trajectory.example
     prepare(system, *example.start)

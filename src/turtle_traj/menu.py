@@ -22,10 +22,10 @@ from turtle_traj.geometry.path import Pose2D
 from turtle_traj.planning import largest_size
 from turtle_traj.services import make_goal
 from turtle_traj.settings import Settings, settings_from_values
-from turtle_traj.trajectories import BOOL, INT, POINTS, STRING, TRAJECTORIES, Field, Trajectory
+from turtle_traj.trajectories import BOOL, INT, POINTS, STRING, TRAJECTORIES, Field, TrajectoryKind
 
 RESET_KEY, EXIT_KEY = 'r', '0'
-CHOICES: dict[str, Trajectory] = {str(index): trajectory
+CHOICES: dict[str, TrajectoryKind] = {str(index): trajectory
                                   for index, trajectory in enumerate(TRAJECTORIES, start=1)}
 
 
@@ -49,7 +49,7 @@ def _read(ask: Callable[[str], str], text: str) -> str:
         raise _Leave from None
 
 
-def field_range(trajectory: Trajectory, item: Field, answers: dict[str, Any],
+def field_range(trajectory: TrajectoryKind, item: Field, answers: dict[str, Any],
                 live: Live) -> tuple[float, float]:
     """The values a person may enter now; a size only up to what fits from the turtle's pose."""
     low, high = item.bounds(live.settings)
@@ -76,7 +76,7 @@ def _parse_points(answer: str) -> list[tuple[float, float]]:
     return points
 
 
-def ask_field(trajectory: Trajectory, item: Field, answers: dict[str, Any], live: Live,
+def ask_field(trajectory: TrajectoryKind, item: Field, answers: dict[str, Any], live: Live,
               ask: Callable[[str], str], say: Callable[[str], None]) -> Any:
     """Ask until the answer is valid; Enter returns None (the field's default)."""
     if item.type == BOOL:
@@ -128,7 +128,7 @@ def _say_call(client: TrajClient, service: str, say: Callable[[str], None]) -> N
         say(f'  error: {error}')
 
 
-def _run(client: TrajClient, trajectory: Trajectory, ask: Callable[[str], str],
+def _run(client: TrajClient, trajectory: TrajectoryKind, ask: Callable[[str], str],
          say: Callable[[str], None]) -> None:
     """Ask a trajectory's fields and run it as a draw goal; Ctrl-C while it runs cancels it."""
     live, answers = _live(client), {}

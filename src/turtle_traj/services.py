@@ -12,7 +12,7 @@ from typing import Any
 
 from geometry_msgs.msg import Point
 
-from turtle_traj.trajectories import POINTS, TRAJECTORIES, Trajectory
+from turtle_traj.trajectories import POINTS, TRAJECTORIES, TrajectoryKind
 
 
 def interface(type_name: str) -> type:
@@ -21,11 +21,11 @@ def interface(type_name: str) -> type:
     return getattr(importlib.import_module(f'{package}.{kind}'), name)
 
 
-def service_type(trajectory: Trajectory) -> type:
+def service_type(trajectory: TrajectoryKind) -> type:
     return interface(trajectory.service_type)
 
 
-def _message_values(trajectory: Trajectory, given: Mapping[str, Any]) -> dict[str, Any]:
+def _message_values(trajectory: TrajectoryKind, given: Mapping[str, Any]) -> dict[str, Any]:
     values = trajectory.request_values(given)
     for item in trajectory.fields:
         if item.type == POINTS and item.name in values:
@@ -33,12 +33,12 @@ def _message_values(trajectory: Trajectory, given: Mapping[str, Any]) -> dict[st
     return values
 
 
-def make_request(trajectory: Trajectory, given: Mapping[str, Any]):
-    """The service request for values as entered (see `Trajectory.request_values`)."""
+def make_request(trajectory: TrajectoryKind, given: Mapping[str, Any]):
+    """The service request for values as entered (see `TrajectoryKind.request_values`)."""
     return service_type(trajectory).Request(**_message_values(trajectory, given))
 
 
-def make_goal(trajectory: Trajectory, given: Mapping[str, Any]):
+def make_goal(trajectory: TrajectoryKind, given: Mapping[str, Any]):
     """The draw action's goal for values as entered: the same fields as the service request."""
     return interface(DRAW_ACTION_TYPE).Goal(trajectory=trajectory.name,
                                             **_message_values(trajectory, given))

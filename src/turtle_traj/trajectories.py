@@ -76,11 +76,11 @@ class Example:
     """A request worth showing: the demo draws it, the benchmarks measure it."""
 
     start: tuple[float, float, float]  # where the turtle starts: x, y [m], heading [rad]
-    given: Mapping[str, Any]  # values as entered (see `Trajectory.request_values`)
+    given: Mapping[str, Any]  # values as entered (see `TrajectoryKind.request_values`)
 
 
 @dataclass(frozen=True)
-class Trajectory:
+class TrajectoryKind:
     """One kind of trajectory: its names, its service type and its fields (data only: the
     planner maps the name to its geometry, `planning.SKETCHES`)."""
 
@@ -137,42 +137,42 @@ _PEN = (Field('pen_color', "pen colour: a name (red) or #rrggbb; default: the no
               default=0, low=0, high=255, menu=False))
 
 
-def _curve(name: str, summary: str, fields: tuple[Field, ...], example: Example) -> Trajectory:
+def _curve(name: str, summary: str, fields: tuple[Field, ...], example: Example) -> TrajectoryKind:
     """A parametric curve (DrawCurve): its width (`size`), its own fields and the speeds."""
-    return Trajectory(name, f'draw_{name}', _DRAW_CURVE, summary,
+    return TrajectoryKind(name, f'draw_{name}', _DRAW_CURVE, summary,
                       (_size('width', 'default_curve_width'), *fields, *_SHAPE_SPEEDS),
                       ('draw', name), example)
 
 
-def _polygon(name: str, example: Example) -> Trajectory:
-    return Trajectory(
+def _polygon(name: str, example: Example) -> TrajectoryKind:
+    return TrajectoryKind(
         name, f'draw_{name}', _DRAW_SHAPE, f'draw a {name} from where the turtle stands',
         (_size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
         ('draw', name), example)
 
 
 def _move(name: str, summary: str, amount: Field, speed: str,
-          example: Example) -> Trajectory:
+          example: Example) -> TrajectoryKind:
     """A Move request: a signed amount and its top speed (the node's `speed` parameter)."""
-    return Trajectory(
+    return TrajectoryKind(
         name, name, 'turtle_traj_interfaces/srv/Move', summary,
         (amount, Field('speed', PARAMETER[speed].description.split(',')[0].lower(),
                        parameter=speed, menu=False)),
         (name,), example)
 
 
-TRAJECTORIES: tuple[Trajectory, ...] = (
+TRAJECTORIES: tuple[TrajectoryKind, ...] = (
     _polygon('square', Example((4.0, 4.0, 0.0), {'size': 3.0})),
     _polygon('triangle', Example((3.5, 3.5, 0.0), {'size': 4.0})),
     _polygon('hexagon', Example((4.5, 2.5, 0.0), {'size': 2.0})),
-    Trajectory(
+    TrajectoryKind(
         'polygon', 'draw_polygon', _DRAW_SHAPE,
         'draw a regular polygon with any number of sides',
         (Field('sides', 'number of sides', type=INT, default=5, low=3, high=MAX_SIDES),
          _size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
         ('draw', 'polygon'),
         Example((4.5, 8.5, 0.0), {'sides': 7, 'size': 2.0, 'clockwise': True})),
-    Trajectory(
+    TrajectoryKind(
         'circle', 'draw_circle', _DRAW_SHAPE,
         'drive a circle to the left (or right) of the turtle',
         (_size('radius', 'default_radius'), CLOCKWISE,
@@ -181,7 +181,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          Field('turns', 'number of turns', 'turns', default=1.0, low=0.01, high=100.0),
          *_SHAPE_SPEEDS),
         ('draw', 'circle'), Example((5.5, 3.0, 0.0), {'size': 2.5})),
-    Trajectory(
+    TrajectoryKind(
         'spiral', 'draw_spiral', _DRAW_SHAPE,
         'drive an outward spiral; it ends at max_radius, after its turns, or before the wall',
         (_size('start radius', 'default_spiral_start_radius'),
@@ -193,7 +193,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          CLOCKWISE, *_SHAPE_SPEEDS),
         ('draw', 'spiral'), Example((5.5, 5.2, 0.0), {'size': 0.3, 'growth': 0.6, 'turns': 6.0,
                                              'linear_speed': 2.0})),
-    Trajectory(
+    TrajectoryKind(
         'sine', 'draw_sine', _DRAW_SHAPE,
         'drive a sine wave along the heading',
         (Field('size', 'amplitude', parameter='default_sine_amplitude'),
@@ -203,7 +203,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          *_SHAPE_SPEEDS),
         ('draw', 'sine'),
         Example((1.0, 5.5, 0.0), {'size': 1.5, 'frequency': 0.4, 'length': 9.0})),
-    Trajectory(
+    TrajectoryKind(
         'star', 'draw_star', _DRAW_CURVE,
         'draw a star, upright, from its top tip',
         (_size('outer radius', 'default_radius'),
@@ -228,7 +228,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
             Field('b', 'y frequency', type=INT, default=2, low=1, high=MAX_FREQUENCY_RATIO),
             Field('phase', 'phase of x', 'deg', default=90.0, low=-360.0, high=360.0)),
            Example((9.5, 5.5, 0.0), {'size': 8.0, 'a': 3, 'b': 2, 'phase': 90.0})),
-    Trajectory(
+    TrajectoryKind(
         'text', 'draw_text', 'turtle_traj_interfaces/srv/DrawText',
         'write text in a single-stroke font, along the heading from where the turtle stands',
         (Field('text', 'what to write', type=STRING, default='', positional=True),
@@ -236,7 +236,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          *_PEN, *_SHAPE_SPEEDS),
         ('write',), Example((1.5, 5.0, 0.0), {'text': 'Hello ROS', 'height': 1.0,
                                      'pen_color': 'white'})),
-    Trajectory(
+    TrajectoryKind(
         'svg', 'draw_svg', 'turtle_traj_interfaces/srv/DrawSvg',
         "draw SVG paths: a file in the node's svg_dir, or path data (--d)",
         (Field('file', "SVG file, relative to the node's svg_dir (turtle.svg, wave.svg ship "
@@ -246,7 +246,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
          _size('larger side', 'default_svg_size'), *_PEN, *_SHAPE_SPEEDS),
         ('draw', 'svg'), Example((1.0, 2.5, 0.0), {'file': 'turtle.svg', 'size': 9.0,
                                           'pen_color': 'white'})),
-    Trajectory(
+    TrajectoryKind(
         'go_to', 'go_to', 'turtle_traj_interfaces/srv/GoTo',
         'drive to a point (turn, drive straight, optionally turn to a heading)',
         (Field('x', 'goal x', 'm', default=8.0, positional=True, axis='x'),
@@ -265,7 +265,7 @@ TRAJECTORIES: tuple[Trajectory, ...] = (
           Field('angle', 'angle (negative: clockwise)', 'deg', default=90.0, low=-36000.0,
                 high=36000.0, positional=True, negate='clockwise'),
           'angular_speed', Example((5.5, 5.5, 0.0), {'angle': -180.0})),
-    Trajectory(
+    TrajectoryKind(
         'follow_path', 'follow_path', 'turtle_traj_interfaces/srv/FollowPath',
         'drive through points in order (x,y x,y ...)',
         (Field('points', f'points as x,y pairs (at most {MAX_POINTS})', 'm', type=POINTS,

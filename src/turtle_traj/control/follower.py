@@ -1,11 +1,11 @@
-"""One path follower for every trajectory: in-place turns and continuous curve tracking.
+"""One path follower for every trajectory: in-place turns and continuous polyline tracking.
 
 Pure Python: `PathFollower.update(pose, config)` returns the next velocity command. It steers
 from the pose predicted for the moment that command takes effect (see `latency`), so the
 latency between pose and command is accounted for, not guessed. Curves are tracked with
 curvature feed-forward plus a heading set-point that steers back onto the path
 (`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
-towards the end of the curve and, near the end, by the predicted remaining distance per
+towards the end of the polyline and, near the end, by the predicted remaining distance per
 control period, so the turtle stops on the end point. A turtle facing more than
 `turn_first_angle` away from the path turns in place first.
 """
@@ -18,7 +18,7 @@ from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.config import ControlConfig
 from turtle_traj.control.latency import LatencyPredictor
 from turtle_traj.geometry.angles import wrap_angle
-from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn
+from turtle_traj.geometry.path import Path, Polyline, Pose2D, Turn
 
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
@@ -81,22 +81,22 @@ class _TurnTracker:
         return Command(0.0, math.copysign(rate, error))
 
 
-class _CurveTracker:
+class _PolylineTracker:
     """Tracks a polyline, keeping its place along it from one update to the next."""
 
-    def __init__(self, curve: Curve, end_tolerance: float) -> None:
-        self.curve = curve
+    def __init__(self, polyline: Polyline, end_tolerance: float) -> None:
+        self.polyline = polyline
         self.end_tolerance = end_tolerance
         self.segment = 0
-        self.fraction = 0.0  # of the curve's length, up to where the turtle is (one lap)
+        self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
         # Plain floats: a projection looks at a few segments, too few for numpy to pay.
-        self._xs, self._ys = curve.points[:, 0].tolist(), curve.points[:, 1].tolist()
+        self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
 
     def _candidates(self) -> list[int] | range:
         """The segments searched: a window around the last match (wrapping on a loop)."""
         count = len(self._xs) - 1
         first, last = self.segment - _WINDOW_BEHIND, self.segment + _WINDOW_AHEAD
-        if self.curve.repeat:
+        if self.polyline.repeat:
             return [index % count for index in range(first, last + 1)]
         return range(min(max(first, 0), count - 1), min(max(last, 0), count - 1) + 1)
 
@@ -119,33 +119,33 @@ class _CurveTracker:
         return index, fraction, offset
 
     def _remaining(self, pose: Pose2D, segment: int, fraction: float) -> float:
-        """Distance left to the end (inf on a repeating curve), signed: negative past it."""
-        curve = self.curve
-        if curve.repeat:
+        """Distance left to the end (inf on a repeating polyline), signed: negative past it."""
+        polyline = self.polyline
+        if polyline.repeat:
             return math.inf
-        last = len(curve.points) - 2
-        end = curve.points[-1]
-        heading = curve.headings[last]
+        last = len(polyline.points) - 2
+        end = polyline.points[-1]
+        heading = polyline.headings[last]
         to_end = (end[0] - pose.x) * math.cos(heading) + (end[1] - pose.y) * math.sin(heading)
-        along_rest = curve.length - curve.cumulative_length[segment + 1]
+        along_rest = polyline.length - polyline.cumulative_length[segment + 1]
         return along_rest + (to_end if segment == last else
-                             (1.0 - fraction) * curve.segment_lengths[segment])
+                             (1.0 - fraction) * polyline.segment_lengths[segment])
 
     def _arrived(self, pose: Pose2D, segment: int, remaining: float) -> bool:
-        if self.curve.repeat:
+        if self.polyline.repeat:
             return False
-        end = self.curve.points[-1]
+        end = self.polyline.points[-1]
         return abs(remaining) <= self.end_tolerance or (
-            segment == len(self.curve.points) - 2
+            segment == len(self.polyline.points) - 2
             and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
 
     def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
                latency: LatencyPredictor) -> Command | None:
         """Steer from the predicted pose; progress and arrival are the actual pose's."""
-        curve = self.curve
+        polyline = self.polyline
         actual_segment, actual_fraction, _ = self._project(pose)
-        self.fraction = (curve.cumulative_length[actual_segment] + actual_fraction
-                         * curve.segment_lengths[actual_segment]) / max(curve.length, 1e-12)
+        self.fraction = (polyline.cumulative_length[actual_segment] + actual_fraction
+                         * polyline.segment_lengths[actual_segment]) / max(polyline.length, 1e-12)
         self.segment, fraction, offset = self._project(predicted)
         remaining = self._remaining(predicted, self.segment, fraction)
         if self._arrived(predicted, self.segment, remaining):
@@ -154,9 +154,9 @@ class _CurveTracker:
             return _finished(arrived, latency)
         pose = predicted
 
-        facing = pose.theta + (math.pi if curve.reverse else 0.0)
-        path_heading = float(curve.headings[self.segment])
-        curvature = float(curve.curvatures[self.segment])
+        facing = pose.theta + (math.pi if polyline.reverse else 0.0)
+        path_heading = float(polyline.headings[self.segment])
+        curvature = float(polyline.curvatures[self.segment])
         heading_error = wrap_angle(path_heading - facing)
 
         speed = config.linear_speed
@@ -176,16 +176,17 @@ class _CurveTracker:
         target = path_heading - lead - math.atan(config.cross_track_gain * offset)
         steering = config.heading_gain * wrap_angle(target - facing)
         angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
-        linear = -speed if curve.reverse else speed
+        linear = -speed if polyline.reverse else speed
         return Command(linear, angular)
 
 
 class PathFollower:
     """Drives a Path leg by leg; `done` once the last leg is finished.
 
-    With `manage_pen`, a curve starts only once the pen is as it needs (`Curve.pen`): until the
-    caller reports that state in `pen_down`, the follower holds the turtle with STOP and names
-    the state it waits for in `pen_wanted`. The pen's state is unknown (None) at first.
+    With `manage_pen`, a polyline starts only once the pen is as it needs (`Polyline.pen`):
+    until the caller reports that state in `pen_down`, the follower holds the turtle with STOP
+    and names the state it waits for in `pen_wanted`. The pen's state is unknown (None) at
+    first.
     """
 
     def __init__(self, path: Path, *, end_tolerance: float | None = None,
@@ -198,7 +199,7 @@ class PathFollower:
         self.pen_wanted: bool | None = None
         self.leg_index = 0
         self._end_tolerance = end_tolerance
-        self._tracker: _TurnTracker | _CurveTracker | None = None
+        self._tracker: _TurnTracker | _PolylineTracker | None = None
         self._latency = latency
 
     @property
@@ -208,7 +209,7 @@ class PathFollower:
     def progress(self, config: ControlConfig) -> float:
         """How much of the path is driven, 0 to 1, each leg weighted by its time at top speed
         (so turns in place count); an endless path shows the progress of its current lap."""
-        costs = [leg.length / config.linear_speed if isinstance(leg, Curve)
+        costs = [leg.length / config.linear_speed if isinstance(leg, Polyline)
                  else abs(leg.sweep_rad) / config.angular_speed for leg in self.path.legs]
         done = sum(costs[:self.leg_index])
         if self._tracker is not None and not self.done:
@@ -226,7 +227,7 @@ class PathFollower:
         while not self.done:
             leg = self.path.legs[self.leg_index]
             if self._tracker is None:
-                if self.manage_pen and isinstance(leg, Curve) and leg.pen != self.pen_down:
+                if self.manage_pen and isinstance(leg, Polyline) and leg.pen != self.pen_down:
                     self.pen_wanted = leg.pen
                     return STOP
                 self.pen_wanted = None
@@ -235,7 +236,7 @@ class PathFollower:
                 if last and self._end_tolerance is not None:
                     tolerance = self._end_tolerance
                 self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
-                                 else _CurveTracker(leg, tolerance))
+                                 else _PolylineTracker(leg, tolerance))
             command = self._tracker.update(pose, predicted, config, self._latency)
             if command is not None:
                 return command

@@ -16,6 +16,7 @@ from collections import deque
 import numpy as np
 
 from turtle_traj.control.commands import STOP, Command
+from turtle_traj.geometry.angles import wrap_angle
 from turtle_traj.geometry.path import Pose2D
 
 _HISTORY = 32  # commands remembered: far more than any latency we can steer through
@@ -98,4 +99,4 @@ class LatencyPredictor:
             theta += command.angular * self.period_s
             x += command.linear * math.cos(theta) * self.period_s
             y += command.linear * math.sin(theta) * self.period_s
-        return Pose2D(x, y, math.remainder(theta, math.tau))
+        return Pose2D(x, y, wrap_angle(theta))

@@ -83,6 +83,19 @@ class RunSupervisor:
         """A stop request: success for an endless trajectory (it ends only this way)."""
         self.end(self.plan.path.endless, f'{self.name} stopped by request')
 
+    @property
+    def pen_wanted(self) -> bool | None:
+        """The pen state (True: down) the run waits for before it moves on; None: none."""
+        return self.follower.pen_wanted
+
+    def pen_is(self, down: bool) -> None:
+        """The simulator confirmed this pen state."""
+        self.follower.pen_down = down
+
+    def progress(self, config: ControlConfig) -> float:
+        """How much of the plan is driven, 0 to 1 (see `PathFollower.progress`)."""
+        return self.follower.progress(self.plan.control(config))
+
     def distance_from_path(self, pose: Pose2D) -> float:
         """Distance from the planned path as drawn (every leg; a turn is its point)."""
         return self._drawn.distance(pose.x, pose.y)

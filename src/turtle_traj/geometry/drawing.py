@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from turtle_traj.geometry.angles import wrap_angle
-from turtle_traj.geometry.path import Curve, Leg, Path, Pose2D, Turn, legs_from_polyline
+from turtle_traj.geometry.path import Leg, Path, Polyline, Pose2D, Turn, legs_from_polyline
 
 MIN_STROKE_M = 1e-6  # shorter strokes leave no ink and are dropped
 TWO_OPT_PASSES = 20  # each O(n^2): 500 strokes are ordered in under half a second
@@ -140,7 +140,7 @@ def drawn_strokes(path: Path) -> list[np.ndarray]:
 
 def pen_up_moves(path: Path) -> list[np.ndarray]:
     """The polylines driven with the pen up."""
-    return [leg.points for leg in path.legs if isinstance(leg, Curve) and not leg.pen]
+    return [leg.points for leg in path.legs if isinstance(leg, Polyline) and not leg.pen]
 
 
 def resampled(points: np.ndarray, spacing: float) -> np.ndarray:

@@ -12,7 +12,7 @@ from functools import cached_property
 
 import numpy as np
 
-from turtle_traj.geometry.angles import shortest_angular_distance, wrap_angle
+from turtle_traj.geometry.angles import shortest_angular_distance, wrap_angle, wrap_angles
 
 
 @dataclass(frozen=True)
@@ -25,7 +25,7 @@ class Pose2D:
 
 
 @dataclass(frozen=True, eq=False)
-class Curve:
+class Polyline:
     """A polyline tracked continuously, with no corner sharper than the planner allowed.
 
     :param points: (N, 2) array, N >= 2, metres.
@@ -61,11 +61,11 @@ class Curve:
     @cached_property
     def curvatures(self) -> np.ndarray:
         """Signed curvature around each segment (1/m), from the heading change at its ends."""
-        turn = np.angle(np.exp(1j * np.diff(self.headings)))
+        turn = wrap_angles(np.diff(self.headings))
         mean_length = 0.5 * (self.segment_lengths[:-1] + self.segment_lengths[1:])
         at_vertices = turn / np.maximum(mean_length, 1e-9)
         if self.repeat and len(at_vertices):
-            closing = math.remainder(self.headings[0] - self.headings[-1], 2 * math.pi)
+            closing = wrap_angle(self.headings[0] - self.headings[-1])
             edge = closing / max(0.5 * (self.segment_lengths[0] + self.segment_lengths[-1]),
                                  1e-9)
             padded = np.concatenate(([edge], at_vertices, [edge]))
@@ -92,7 +92,7 @@ class Turn:
         return self.x, self.y
 
 
-Leg = Curve | Turn
+Leg = Polyline | Turn
 
 
 @dataclass(frozen=True)
@@ -118,12 +118,12 @@ class Path:
 
     @property
     def length(self) -> float:
-        return sum(leg.length for leg in self.legs if isinstance(leg, Curve))
+        return sum(leg.length for leg in self.legs if isinstance(leg, Polyline))
 
     @property
     def pen_up_length(self) -> float:
         """Length driven with the pen up (between the strokes of a drawing)."""
-        return sum(leg.length for leg in self.legs if isinstance(leg, Curve) and not leg.pen)
+        return sum(leg.length for leg in self.legs if isinstance(leg, Polyline) and not leg.pen)
 
     @property
     def turning(self) -> float:
@@ -132,7 +132,7 @@ class Path:
 
     def points(self) -> np.ndarray:
         """Every point the turtle is meant to visit, (N, 2)."""
-        parts = [leg.points if isinstance(leg, Curve) else np.array([[leg.x, leg.y]])
+        parts = [leg.points if isinstance(leg, Polyline) else np.array([[leg.x, leg.y]])
                  for leg in self.legs]
         return np.concatenate(parts) if parts else np.empty((0, 2))
 
@@ -147,7 +147,7 @@ def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: f
 
     The turtle starts at `start`; a turn in place (shortest direction) is inserted wherever the
     direction of travel changes by more than the corner angle, including before the first
-    segment. Zero-length segments are dropped. `pen` marks the curves (see `Curve`).
+    segment. Zero-length segments are dropped. `pen` marks the polylines (see `Polyline`).
     """
     points = np.asarray(points, dtype=float)
     keep = np.concatenate(([True], np.hypot(*np.diff(points, axis=0).T) > 1e-9))
@@ -160,14 +160,14 @@ def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: f
         change = shortest_angular_distance(heading, direction)
         if abs(change) > corner_angle_rad:
             if len(current) > 1:
-                legs.append(Curve(np.array(current), reverse=reverse, pen=pen))
+                legs.append(Polyline(np.array(current), reverse=reverse, pen=pen))
             facing = heading - (math.pi if reverse else 0.0)
             legs.append(Turn(float(a[0]), float(a[1]), wrap_angle(facing), change))
             current = [a]
         current.append(b)
         heading = direction
     if len(current) > 1:
-        legs.append(Curve(np.array(current), reverse=reverse, pen=pen))
+        legs.append(Polyline(np.array(current), reverse=reverse, pen=pen))
     return legs
 
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from turtle_traj.geometry.angles import shortest_angular_distance
-from turtle_traj.geometry.path import Curve, Path, Pose2D, Turn, legs_from_polyline
+from turtle_traj.geometry.path import Path, Polyline, Pose2D, Turn, legs_from_polyline
 
 SAMPLE_SPACING_M = 0.02  # chord error of a 1 m circle at this spacing: 0.05 mm
 MAX_TURNS = 100.0
@@ -83,7 +83,7 @@ def circle(start: Pose2D, *, radius: float, clockwise: bool, turns: float) -> Pa
     whole_laps = abs(laps - round(laps)) < 1e-9
     if whole_laps:
         points[-1] = points[0]
-    return Path((Curve(points, repeat=turns <= 0),), closed=whole_laps, endless=turns <= 0)
+    return Path((Polyline(points, repeat=turns <= 0),), closed=whole_laps, endless=turns <= 0)
 
 
 def spiral_points(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool,
@@ -132,7 +132,7 @@ def spiral(start: Pose2D, *, start_radius: float, growth: float, clockwise: bool
         if len(points) < 2 * math.pi * start_radius / SAMPLE_SPACING_M:
             raise ShapeError('not even one full turn of the spiral fits before the wall from '
                             'here')
-    return Path((Curve(points),))
+    return Path((Polyline(points),))
 
 
 def sine(start: Pose2D, *, amplitude: float, frequency: float, length: float,
@@ -148,7 +148,7 @@ def sine(start: Pose2D, *, amplitude: float, frequency: float, length: float,
 def straight(start: Pose2D, *, distance: float) -> Path:
     """Drive `distance` metres along the heading; negative drives backwards."""
     end = anchored(np.array([[distance, 0.0]]), start)[0]
-    return Path((Curve(np.vstack((_start_xy(start), end)), reverse=distance < 0),))
+    return Path((Polyline(np.vstack((_start_xy(start), end)), reverse=distance < 0),))
 
 
 def rotation(start: Pose2D, *, angle_rad: float) -> Path:

@@ -11,14 +11,10 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
 from functools import partial
 
-import numpy as np
-from geometry_msgs.msg import PoseStamped, Twist
+from geometry_msgs.msg import Twist
 from nav_msgs.msg import Path as PathMsg
-from rclpy.action import ActionServer, CancelResponse
-from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
 from rclpy.duration import Duration
@@ -26,50 +22,29 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.task import Future
 from rclpy.time import Time
+from std_msgs.msg import Header
 from std_srvs.srv import Empty, Trigger
-from turtle_traj_interfaces.action import Draw
 from turtlesim.msg import Pose
-from turtlesim.srv import SetPen
 
 from turtle_traj import planning
 from turtle_traj.control.commands import STOP, Command
 from turtle_traj.control.loop import ControlLoop
-from turtle_traj.control.plan import Plan
 from turtle_traj.control.supervisor import Outcome, RunSupervisor
-from turtle_traj.geometry.path import Path, Pose2D
+from turtle_traj.geometry.path import Pose2D
 from turtle_traj.node import parameters
 from turtle_traj.node.async_service import create_async_service
+from turtle_traj.node.draw_action import DrawActionServer
+from turtle_traj.node.outcomes import PLAN_FRAME_ID, RunRefused, fill_response, plan_message
+from turtle_traj.node.pen_client import PenClient
+from turtle_traj.node.waiting import wait_until
 from turtle_traj.planning import PlanError
-from turtle_traj.services import DRAW_ACTION, service_type
-from turtle_traj.trajectories import BY_NAME, TRAJECTORIES, Trajectory
-from turtle_traj.turtlesim_contract import STEP_S, PenStyle
+from turtle_traj.services import service_type
+from turtle_traj.trajectories import TRAJECTORIES, TrajectoryKind
+from turtle_traj.turtlesim_contract import STEP_S
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
-PLAN_FRAME_ID = 'world'
 _WATCHDOG_PERIOD_S = 0.05
-_FEEDBACK_PERIOD_S = 0.1  # node clock: 10 Hz
 _RESET_TIMEOUT_S = 5.0
-_POLL_PERIOD_S = 0.005
-_PLAN_POINTS = 20_000  # most points published on ~/plan
-_SET_PEN_TIMEOUT_S = 2.0  # wall clock: a simulator that does not answer set_pen has vanished
-
-
-def fill_response(response, outcome: Outcome):
-    """Copy an outcome into any of our service responses (they share these fields)."""
-    response.success = outcome.success
-    response.message = outcome.message
-    if outcome.pose is not None:
-        response.final_x, response.final_y = outcome.pose.x, outcome.pose.y
-        response.final_theta = outcome.pose.theta
-    response.elapsed = outcome.elapsed_s
-    response.path_length = outcome.path_length
-    response.max_deviation = outcome.max_deviation
-    response.final_error = outcome.final_error
-    response.final_heading_error = outcome.final_heading_error
-    if hasattr(response, 'pen_up_length'):  # drawings (text, svg) and the draw action
-        response.pen_up_length = outcome.pen_up_length
-        response.pen_up_unordered = outcome.pen_up_unordered
-    return response
 
 
 class TrajectoryNode(Node):
@@ -94,7 +69,6 @@ class TrajectoryNode(Node):
         # here, and a handler checks `_run` and claims it without an `await` in between, so
         # two requests can never both start a run.
         self._run_done: Future | None = None
-        self._goal_runs: dict[bytes, RunSupervisor] = {}  # draw goals running, by goal id
 
         self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
         self.create_subscription(Pose, f'{turtle}/pose', self._on_pose, TURTLE_TOPIC_QOS)
@@ -105,24 +79,15 @@ class TrajectoryNode(Node):
 
         # Handlers await the end of a trajectory, so they must not block the timer's group.
         group = ReentrantCallbackGroup()
-        for trajectory in TRAJECTORIES:
-            create_async_service(self, service_type(trajectory), f'~/{trajectory.service}',
-                                 partial(self._execute, trajectory), callback_group=group)
-        # Every goal is accepted (rclpy's default goal callback): one that cannot run ends
-        # ABORTED with the reason in its result, which any action client can read; a goal id
-        # the server already knows is rejected by rclpy, which makes a client's repeat of an
-        # unanswered request harmless (client.py).
-        ActionServer(self, Draw, f'~/{DRAW_ACTION}', self._execute_goal,
-                     cancel_callback=self._on_cancel,
-                     callback_group=group)
+        for kind in TRAJECTORIES:
+            create_async_service(self, service_type(kind), f'~/{kind.service}',
+                                 partial(self._execute, kind), callback_group=group)
+        self._draw_action = DrawActionServer(self, group)
         self.create_service(Trigger, '~/stop', self._handle_stop, callback_group=group)
         create_async_service(self, Trigger, '~/reset', self._handle_reset, callback_group=group)
         self.stop_service = self.resolve_service_name('~/stop')
         self._sim_reset = self.create_client(Empty, 'reset', callback_group=group)
-        # Drawings lift the pen between strokes; the pen call on its way, and when it went.
-        self._set_pen = self.create_client(SetPen, f'{turtle}/set_pen', callback_group=group)
-        self._pen_call: Future | None = None
-        self._pen_call_wall_s = 0.0
+        self._pen = PenClient(self, turtle, callback_group=group)  # drawings lift the pen
 
         self.create_timer(1.0 / self.get_parameter('control_rate').value,
                           self._on_control_timer)
@@ -131,7 +96,7 @@ class TrajectoryNode(Node):
         name = self.get_fully_qualified_name()
         self.get_logger().info(
             f'serving {len(TRAJECTORIES)} trajectories on {name}/<service> and the action '
-            f'{name}/{DRAW_ACTION}; driving {self.pose_topic.removesuffix("/pose")}')
+            f'{self._draw_action.name}; driving {self.pose_topic.removesuffix("/pose")}')
 
     # -- inputs ------------------------------------------------------------------------------
 
@@ -178,39 +143,23 @@ class TrajectoryNode(Node):
         run = self._run
         if run is None:
             return
-        command = self._loop.command(self.settings.control, self.settings.arena, self._now_s())
-        if command is not None:
-            self._publish(command)
-            if run.follower.pen_wanted is not None and self._pen_call is None:
-                self._call_set_pen(run.plan.pen, down=run.follower.pen_wanted, run=run)
-        else:
+        command = self._loop.command(self.settings.control, self.settings.arena, self.now_s())
+        if command is None:
             self._finish_if_ended()  # which sends the stop
-
-    def _call_set_pen(self, pen: PenStyle, *, down: bool, run: RunSupervisor | None = None,
-                      then: Callable[[], None] | None = None) -> None:
-        """Ask turtlesim for this pen. Once it answers, tell `run`'s follower (if that run is
-        still on); answered or given up (the watchdog), call `then`."""
-        request = SetPen.Request(r=pen.r, g=pen.g, b=pen.b, width=pen.width, off=not down)
-        self._pen_call, self._pen_call_wall_s = self._set_pen.call_async(request), time.monotonic()
-
-        def answered(future: Future) -> None:
-            if future is self._pen_call:
-                self._pen_call = None
-            if run is not None and run is self._run and not future.cancelled():
-                run.follower.pen_down = down
-            if then is not None:
-                then()
-        self._pen_call.add_done_callback(answered)
+            return
+        self._publish(command)
+        wanted = run.pen_wanted
+        if wanted is not None and not self._pen.busy:
+            def answered(ok: bool) -> None:
+                if ok and run is self._run:
+                    run.pen_is(wanted)
+            self._pen.set(run.plan.pen, down=wanted, then=answered)
 
     def _on_watchdog(self) -> None:
-        if (self._pen_call is not None
-                and time.monotonic() - self._pen_call_wall_s > _SET_PEN_TIMEOUT_S):
-            self._pen_call.cancel()
-            self._pen_call = None
-            if self._run is not None:
-                self._finish(False, f'{self._run.name} aborted: {self._set_pen.srv_name} did '
-                                    f'not answer within {_SET_PEN_TIMEOUT_S:g} s; is the '
-                                    'simulator still running?')
+        if self._pen.give_up_if_late() and self._run is not None:
+            self._finish(False, f'{self._run.name} aborted: {self._pen.service_name} did not '
+                                f'answer within {self._pen.timeout_s:g} s; is the simulator '
+                                'still running?')
         if self._run is None:
             return
         silence = self._pose_silence_s()
@@ -244,7 +193,7 @@ class TrajectoryNode(Node):
         self._loop.take_run()
         self._run_done = None
         self._publish(STOP)
-        outcome = run.outcome(self._loop.pose, self._now_s())
+        outcome = run.outcome(self._loop.pose, self.now_s())
         summary = (f'{outcome.message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
                    f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m, '
                    f'heading error {outcome.final_heading_error:.4f} rad)')
@@ -256,9 +205,11 @@ class TrajectoryNode(Node):
         if run.plan.pen is None:
             done.set_result(outcome)
         else:  # a drawing answers once the pen is down again, as turtlesim starts it
-            self._call_set_pen(self.settings.pen, down=True, then=lambda: done.set_result(outcome))
+            self._pen.set(self.settings.pen, down=True,
+                          then=lambda _answered: done.set_result(outcome))
 
-    def _now_s(self) -> float:
+    def now_s(self) -> float:
+        """The node clock, seconds."""
         return self.get_clock().now().nanoseconds * 1e-9
 
     # -- running a trajectory ----------------------------------------------------------------
@@ -277,104 +228,49 @@ class TrajectoryNode(Node):
                     f'running and turtle_name right?')
         return None
 
-    def _pen_refusal(self, trajectory: Trajectory, plan: Plan) -> str | None:
-        """Why a drawing cannot run here: turtlesim's set_pen is not there to lift the pen."""
-        if plan.pen is not None and not self._set_pen.service_is_ready():
-            return (f'{trajectory.name} refused: it lifts the pen between strokes, and the '
-                    f'simulator service {self._set_pen.srv_name} is not available')
-        return None
+    def refuse(self, reason: str) -> RunRefused:
+        """The refusal of a request, logged."""
+        self.get_logger().warning(reason)
+        return RunRefused(reason)
 
-    def _begin(self, trajectory: Trajectory, request) -> Future | str:
-        """Start a run: the future of its Outcome, or why it is refused (logged)."""
+    def start_run(self, kind: TrajectoryKind, request) -> tuple[RunSupervisor, Future]:
+        """Plan `request` and drive it: the run, and the future of its Outcome.
+
+        :raises RunRefused: busy, a request that cannot be planned, or no simulator (logged).
+        """
         refusal = self._refusal()
-        if refusal is None:
-            try:
-                plan = planning.plan(trajectory.name, request, self._loop.pose, self.settings)
-                refusal = self._pen_refusal(trajectory, plan)
-            except PlanError as error:
-                refusal = f'{trajectory.name} refused: {error}'
         if refusal is not None:
-            self.get_logger().warning(refusal)
-            return refusal
-        self._loop.start(plan, arena=self.settings.arena, now_s=self._now_s())
+            raise self.refuse(refusal)
+        try:
+            plan = planning.plan(kind.name, request, self._loop.pose, self.settings)
+        except PlanError as error:
+            raise self.refuse(f'{kind.name} refused: {error}') from None
+        if plan.pen is not None and not self._pen.ready:
+            raise self.refuse(f'{kind.name} refused: it lifts the pen between strokes, and the '
+                              f'simulator service {self._pen.service_name} is not available')
+        run = self._loop.start(plan, arena=self.settings.arena, now_s=self.now_s())
         self._run_done = done = Future()
         path = plan.path
-        self._publish_plan(path)
+        self._plan.publish(plan_message(path, Header(frame_id=PLAN_FRAME_ID,
+                                                     stamp=self.get_clock().now().to_msg())))
         self.get_logger().info(
-            f'{trajectory.name}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} '
+            f'{kind.name}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} '
             f'deg of turns in place, at least {plan.lower_bound_s(self.settings.control):.1f} s')
-        return done
+        return run, done
 
-    async def _execute(self, trajectory: Trajectory, request, response):
-        """A trajectory service: refuse, or drive to the end; the response is filled either way."""
-        started = self._begin(trajectory, request)
-        if isinstance(started, str):
-            return fill_response(response, Outcome(False, started, self._loop.pose))
-        return fill_response(response, await started)
-
-    # -- the draw action ---------------------------------------------------------------------
-
-    def _on_cancel(self, goal_handle: ServerGoalHandle) -> CancelResponse:
-        """Stop this goal's run at once (not another's); the goal then ends CANCELED."""
-        run = self._goal_runs.get(bytes(goal_handle.goal_id.uuid))
-        if run is not None and run is self._run:
+    def stop_run(self, run: RunSupervisor) -> None:
+        """End `run` at once as stopped by request, if it is still the one running."""
+        if run is self._run:
             run.request_stop()
             self._finish_if_ended()
-        return CancelResponse.ACCEPT
 
-    async def _execute_goal(self, goal_handle: ServerGoalHandle) -> Draw.Result:
-        goal = goal_handle.request
-        if goal_handle.is_cancel_requested:  # cancelled before it started
-            goal_handle.canceled()
-            return fill_response(Draw.Result(), Outcome(False, 'cancelled before it started',
-                                                         self._loop.pose))
-        trajectory = BY_NAME.get(goal.trajectory)
-        if trajectory is None:
-            started = f'unknown trajectory {goal.trajectory!r}; known: {", ".join(BY_NAME)}'
-            self.get_logger().warning(started)  # as `_begin` logs the other refusals
-        else:
-            started = self._begin(trajectory, goal)
-        if isinstance(started, str):  # refused: busy, bad numbers, no simulator
-            goal_handle.abort()
-            return fill_response(Draw.Result(), Outcome(False, started, self._loop.pose))
-        run, goal_id = self._run, bytes(goal_handle.goal_id.uuid)
-        self._goal_runs[goal_id] = run
-        feedback = self.create_timer(_FEEDBACK_PERIOD_S,
-                                     lambda: goal_handle.publish_feedback(self._feedback(run)))
+    async def _execute(self, kind: TrajectoryKind, request, response):
+        """A trajectory service: refuse, or drive to the end; the response is filled either way."""
         try:
-            outcome = await started
-        finally:
-            self.destroy_timer(feedback)
-            del self._goal_runs[goal_id]
-        if goal_handle.is_cancel_requested:
-            goal_handle.canceled()
-        elif outcome.success:
-            goal_handle.succeed()
-        else:
-            goal_handle.abort()
-        return fill_response(Draw.Result(), outcome)
-
-    def _feedback(self, run: RunSupervisor) -> Draw.Feedback:
-        pose = self._loop.pose or Pose2D(math.nan, math.nan, math.nan)
-        return Draw.Feedback(
-            progress=run.follower.progress(run.plan.control(self.settings.control)),
-            distance=run.distance, elapsed=self._now_s() - run.started_s,
-            deviation=run.deviation, x=pose.x, y=pose.y, theta=pose.theta)
-
-    def _publish_plan(self, path: Path) -> None:
-        msg = PathMsg()
-        msg.header.frame_id = PLAN_FRAME_ID
-        msg.header.stamp = self.get_clock().now().to_msg()
-        points = path.points()
-        # Every point up to _PLAN_POINTS (a Lissajous curve has 12 000); beyond, evenly
-        # thinned, its last point kept.
-        stride = math.ceil(len(points) / _PLAN_POINTS)
-        for x, y in points[np.unique(np.r_[np.arange(0, len(points), stride), len(points) - 1])]:
-            stamped = PoseStamped()
-            stamped.header = msg.header
-            stamped.pose.position.x, stamped.pose.position.y = float(x), float(y)
-            msg.poses.append(stamped)
-        self._plan.publish(msg)
+            _run, finished = self.start_run(kind, request)
+        except RunRefused as refusal:
+            return fill_response(response, Outcome(False, str(refusal), self._loop.pose))
+        return fill_response(response, await finished)
 
     # -- services ----------------------------------------------------------------------------
 
@@ -384,8 +280,7 @@ class TrajectoryNode(Node):
         if run is None:
             response.success, response.message = True, 'nothing was running; turtle stopped'
         else:
-            run.request_stop()
-            self._finish_if_ended()
+            self.stop_run(run)
             response.success, response.message = True, f'stopped {run.name}'
         return response
 
@@ -397,7 +292,7 @@ class TrajectoryNode(Node):
                                  'available')
             return response
         future = self._sim_reset.call_async(Empty.Request())
-        if not await self._wait_until(future.done, _RESET_TIMEOUT_S):
+        if not await wait_until(self, future.done, _RESET_TIMEOUT_S):
             future.cancel()
             response.message = (f'{self._sim_reset.srv_name} did not answer in '
                                 f'{_RESET_TIMEOUT_S:g} s')
@@ -406,7 +301,7 @@ class TrajectoryNode(Node):
         # one's topics are connected, so that a trajectory requested next starts at once.
         self._loop.forget_pose()
         self._pose_time = None
-        if await self._wait_until(self._connected, _RESET_TIMEOUT_S):
+        if await wait_until(self, self._connected, _RESET_TIMEOUT_S):
             response.success, response.message = True, 'simulator reset; ready'
         else:
             response.message = f'simulator reset, but not ready: {self._refusal()}'
@@ -418,36 +313,9 @@ class TrajectoryNode(Node):
 
         Sends that stop (harmless: no trajectory runs) while no acknowledgement is in.
         """
-        if self._refusal() is not None or not self._set_pen.service_is_ready():
+        if self._refusal() is not None or not self._pen.ready:
             return False
         if self._cmd_vel.wait_for_all_acked(Duration()):
             return True
         self._publish(STOP)
         return False
-
-    async def _wait_until(self, condition, timeout_s: float) -> bool:
-        """Await `condition()` for at most `timeout_s` of wall time.
-
-        Polled on the node clock, so that on simulated time it is seen at the step it comes
-        true, and on the steady clock, so that a clock that stands still (a vanished /clock
-        source) still times out.
-        """
-        waited = Future()
-        deadline = time.monotonic() + timeout_s
-
-        def poll() -> None:
-            if waited.done():
-                return
-            met = condition()
-            if met or time.monotonic() > deadline:
-                waited.set_result(met)
-
-        timers = [self.create_timer(_POLL_PERIOD_S, poll),
-                  self.create_timer(_POLL_PERIOD_S, poll,
-                                    clock=Clock(clock_type=ClockType.STEADY_TIME))]
-        try:
-            poll()
-            return await waited
-        finally:
-            for timer in timers:
-                self.destroy_timer(timer)

@@ -1,0 +1,52 @@
+"""How a run is reported: a refusal, and an Outcome copied into our responses and results."""
+
+from __future__ import annotations
+
+import math
+
+from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Path as PathMsg
+
+from turtle_traj.control.supervisor import Outcome
+from turtle_traj.geometry.path import Path
+
+PLAN_FRAME_ID = 'world'
+PLAN_POINTS = 20_000  # most points published on ~/plan
+
+
+class RunRefused(Exception):
+    """A request that cannot run now; the message says why (busy, bad numbers, no simulator)."""
+
+
+def fill_response(response, outcome: Outcome):
+    """Copy an outcome into any of our service responses or the Draw result (they share these
+    fields)."""
+    response.success = outcome.success
+    response.message = outcome.message
+    if outcome.pose is not None:
+        response.final_x, response.final_y = outcome.pose.x, outcome.pose.y
+        response.final_theta = outcome.pose.theta
+    response.elapsed = outcome.elapsed_s
+    response.path_length = outcome.path_length
+    response.max_deviation = outcome.max_deviation
+    response.final_error = outcome.final_error
+    response.final_heading_error = outcome.final_heading_error
+    if hasattr(response, 'pen_up_length'):  # drawings (text, svg) and the draw action
+        response.pen_up_length = outcome.pen_up_length
+        response.pen_up_unordered = outcome.pen_up_unordered
+    return response
+
+
+def plan_message(path: Path, header) -> PathMsg:
+    """The planned path as nav_msgs/Path: every point up to PLAN_POINTS (a Lissajous curve has
+    12 000); beyond, evenly thinned, its last point kept."""
+    msg = PathMsg()
+    msg.header = header
+    points = path.points()
+    stride = math.ceil(len(points) / PLAN_POINTS)
+    for index in [*range(0, len(points) - 1, stride), len(points) - 1]:
+        stamped = PoseStamped()
+        stamped.header = header
+        stamped.pose.position.x, stamped.pose.position.y = (float(v) for v in points[index])
+        msg.poses.append(stamped)
+    return msg
