@@ -26,8 +26,10 @@ LAYERS = [
     ['control.follower'],
     ['control.supervisor'],
     ['control.loop'],
-    # planning: the parameter table, then requests to plans
+    # planning: the parameter table, then requests to sketches, then to checked plans
     ['settings'],
+    ['sketches.base'],
+    ['sketches.motions', 'sketches.curves', 'sketches.drawings'],
     ['planning'],
     # the registry of trajectory kinds
     ['trajectories'],
@@ -141,5 +143,5 @@ def test_the_command_line_parses_without_loading_ros_numpy_or_the_planner():
     # the registry and the parameter table, which are plain data.
     assert _loaded_by('import turtle_traj.cli as cli\ncli.build_parser()',
                       'm.split(".")[0] in {"rclpy", "numpy", "PIL", "svgelements", '
-                      '"HersheyFonts"} or m in {"turtle_traj.planning", "turtle_traj.client"}'
-                      ) == ''
+                      '"HersheyFonts"} or m.startswith("turtle_traj.sketches") '
+                      'or m in {"turtle_traj.planning", "turtle_traj.client"}') == ''
