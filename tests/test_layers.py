@@ -18,8 +18,8 @@ LAYERS = [
     ['geometry.shapes', 'geometry.drawing'],
     ['geometry.svg', 'geometry.text'],
     # the simulator's pure core (the controller never imports it: see below)
-    ['sim.physics', 'sim.delay', 'sim.options', 'sim.gui'],
-    ['sim.canvas'],
+    ['sim.state', 'sim.delay', 'sim.options', 'sim.gui'],
+    ['sim.physics', 'sim.canvas'],
     # control: a plan in, commands out
     ['control.commands', 'control.config'],
     ['control.latency', 'control.plan'],
@@ -34,9 +34,11 @@ LAYERS = [
     # the registry of trajectory kinds
     ['trajectories'],
     # the ROS shell: QoS, interface names, the program runner, nodes, executors
-    ['wire', 'services', 'runtime', 'node.async_service', 'node.outcomes', 'node.pen_client',
-     'node.waiting'],
-    ['node.parameters', 'node.draw_action', 'sim.node'],
+    ['wire', 'services', 'runtime', 'remote_parameters', 'node.async_service',
+     'node.outcomes', 'node.pen_client', 'node.waiting'],
+    ['node.parameters', 'node.draw_action', 'sim.rotation_goals'],
+    ['sim.endpoints'],
+    ['sim.node'],
     ['node.trajectory_node', 'lockstep'],
     # nodes put together, and the script-side client
     ['system', 'sim.main', 'client'],

@@ -5,13 +5,8 @@ import math
 import pytest
 
 from turtle_traj.sim.canvas import Canvas
-from turtle_traj.sim.physics import (
-    NonFiniteCommand,
-    RotationEnd,
-    SimulationError,
-    World,
-    normalize_angle,
-)
+from turtle_traj.sim.physics import World
+from turtle_traj.sim.state import NonFiniteCommand, RotationEnd, SimulationError, normalize_angle
 from turtle_traj.turtlesim_contract import DEFAULT_PEN, SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 
 

@@ -14,13 +14,10 @@ from dataclasses import dataclass
 
 import rclpy
 from action_msgs.msg import GoalStatus
-from rcl_interfaces.msg import Parameter as ParameterMsg
-from rcl_interfaces.msg import ParameterType, ParameterValue
 from rcl_interfaces.srv import GetParameters
 from rclpy.action import ActionClient
 from rclpy.action.client import ClientGoalHandle
 from rclpy.context import Context
-from rclpy.parameter import Parameter, get_parameter_value, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.task import Future
 from rclpy.wait_for_message import wait_for_message
@@ -29,6 +26,7 @@ from turtlesim.msg import Pose
 from unique_identifier_msgs.msg import UUID
 
 from turtle_traj.geometry.path import Pose2D
+from turtle_traj.remote_parameters import RemoteParameters, UnknownParameter
 from turtle_traj.runtime import events_executor
 from turtle_traj.services import (
     DRAW_ACTION,
@@ -75,24 +73,6 @@ def _known_goal(action: ActionClient, goal_id: UUID) -> ClientGoalHandle:
     """A handle for a goal the server has under this id, though its answer never came."""
     accepted = interface(DRAW_ACTION_TYPE).Impl.SendGoalService.Response(accepted=True)
     return ClientGoalHandle(action, goal_id, accepted)
-
-
-def _typed_value(declared: int, text: str) -> ParameterValue:
-    """A parameter value of the declared type from text (other types: read as YAML, as
-    `ros2 param set` does)."""
-    if declared == ParameterType.PARAMETER_DOUBLE:
-        try:
-            return ParameterValue(type=declared, double_value=float(text))
-        except ValueError:
-            raise ValueError(f'expects a number, got {text!r}') from None
-    if declared == ParameterType.PARAMETER_INTEGER:
-        try:
-            return ParameterValue(type=declared, integer_value=int(text))
-        except ValueError:
-            raise ValueError(f'expects a whole number, got {text!r}') from None
-    if declared == ParameterType.PARAMETER_STRING:
-        return ParameterValue(type=declared, string_value=text)
-    return get_parameter_value(text)
 
 
 class TrajClient:
@@ -307,27 +287,21 @@ class TrajClient:
             self._executor.spin_once(timeout_sec=0.1)
         return future.result()
 
-    def _parameter_client(self) -> AsyncParameterClient:
-        parameters = AsyncParameterClient(self._node, self.node_name)
-        if not self._discovered(parameters.services_are_ready):
+    def _remote_parameters(self) -> RemoteParameters:
+        client = AsyncParameterClient(self._node, self.node_name)
+        if not self._discovered(client.services_are_ready):
             raise TrajClientError(f'no node {self.node_name} answers parameter requests')
-        return parameters
+        return RemoteParameters(client, self.node_name, self._wait)
 
     def parameters(self, names: list[str] | None = None) -> dict[str, object]:
         """Parameters of the node with their current values (all, sorted by name, by default).
 
         :raises TrajClientError: naming a parameter the node does not have.
         """
-        client = self._parameter_client()
-        known = sorted(self._wait(client.list_parameters(), 'list_parameters').result.names)
-        unknown = [name for name in names or [] if name not in known]
-        if unknown:
-            raise TrajClientError(f'{self.node_name} has no parameter {", ".join(unknown)}; '
-                                  f'it has: {", ".join(known)}')
-        names = names or known
-        values = self._wait(client.get_parameters(names), 'get_parameters').values
-        return {name: parameter_value_to_python(value)
-                for name, value in zip(names, values, strict=True)}
+        try:
+            return self._remote_parameters().get(names)
+        except UnknownParameter as error:
+            raise TrajClientError(str(error)) from None
 
     def set_parameter(self, name: str, text: str) -> str | None:
         """Set a parameter from text, converted to the type the node declared it with (`2` to a
@@ -335,17 +309,10 @@ class TrajClient:
 
         :raises TrajClientError: naming a parameter the node does not have.
         """
-        client = self._parameter_client()
-        self.parameters([name])  # exists, or the error names it
-        declared = self._wait(client.describe_parameters([name]),
-                              'describe_parameters').descriptors[0].type
         try:
-            value = _typed_value(declared, text)
-        except ValueError as error:
-            return f'{name}: {error}'
-        parameter = Parameter.from_parameter_msg(ParameterMsg(name=name, value=value))
-        result = self._wait(client.set_parameters([parameter]), 'set_parameters').results[0]
-        return None if result.successful else result.reason
+            return self._remote_parameters().set(name, text)
+        except UnknownParameter as error:
+            raise TrajClientError(str(error)) from None
 
     def turtle_pose(self, values: dict[str, object] | None = None) -> Pose2D | None:
         """The driven turtle's pose (None if none arrives within a second).

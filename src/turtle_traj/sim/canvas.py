@@ -9,7 +9,7 @@ from functools import cache
 import numpy as np
 from PIL import Image, ImageDraw
 
-from turtle_traj.sim.physics import Segment, Turtle
+from turtle_traj.sim.state import Segment, Turtle
 from turtle_traj.turtlesim_contract import CANVAS_SIZE_PX, PIXELS_PER_METER, WORLD_SIZE_M
 
 _ICON_SIZE_PX = 45

@@ -3,87 +3,37 @@
 from __future__ import annotations
 
 from collections import deque
-from functools import partial
 from pathlib import Path
 
 from geometry_msgs.msg import Twist
 from PIL import Image
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
-from rclpy.action import ActionServer, CancelResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
 from rclpy.exceptions import NameValidationException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_srvs.srv import Empty
 from turtle_traj_interfaces.srv import SaveImage
-from turtlesim.action import RotateAbsolute
-from turtlesim.msg import Color, Pose
-from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelative
+from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
 
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.delay import CommandDelay
-from turtle_traj.sim.physics import (
+from turtle_traj.sim.endpoints import TurtleEndpoints
+from turtle_traj.sim.physics import World
+from turtle_traj.sim.rotation_goals import RotationGoals
+from turtle_traj.sim.state import (
     NonFiniteCommand,
     RotationEnd,
-    RotationEvent,
     SimulationError,
     Turtle,
-    World,
 )
 from turtle_traj.turtlesim_contract import SPAWN_XY_M, STEP_S
 from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 _FIRST_TURTLE = 'turtle1'
 _CMD_VEL_DEPTH = TURTLE_TOPIC_QOS.depth
-
-
-class _TurtleEndpoints:
-    """Everything one turtle has on the ROS graph, created and destroyed together."""
-
-    def __init__(self, node: SimNode, name: str) -> None:
-        group = node.reentrant_group
-        self.pose = node.create_publisher(Pose, f'{name}/pose', TURTLE_TOPIC_QOS)
-        self.color = node.create_publisher(Color, f'{name}/color_sensor', TURTLE_TOPIC_QOS)
-        # One message each, refilled every step: publish() serializes at once (no allocation
-        # per step).
-        self.pose_msg, self.color_msg = Pose(), Color()
-        self.cmd_vel = node.create_subscription(
-            Twist, f'{name}/cmd_vel', lambda msg: node.on_cmd_vel(name, msg), TURTLE_TOPIC_QOS)
-        self.services = [
-            node.create_service(
-                SetPen, f'{name}/set_pen', lambda req, res: node.handle_set_pen(name, req, res)),
-            node.create_service(
-                TeleportAbsolute, f'{name}/teleport_absolute',
-                lambda req, res: node.handle_teleport(name, req, res)),
-            node.create_service(
-                TeleportRelative, f'{name}/teleport_relative',
-                lambda req, res: node.handle_teleport(name, req, res)),
-        ]
-        self.action = ActionServer(
-            node, RotateAbsolute, f'{name}/rotate_absolute',
-            # partial, not lambda: rclpy must see that the execute callback is a coroutine.
-            execute_callback=partial(node.execute_rotation, name),
-            cancel_callback=partial(node.accept_cancel, name),
-            callback_group=group)
-
-    def destroy(self, node: Node) -> None:
-        self.action.destroy()
-        node.destroy_publisher(self.pose)
-        node.destroy_publisher(self.color)
-        node.destroy_subscription(self.cmd_vel)
-        for service in self.services:
-            node.destroy_service(service)
-
-
-class _Rotation:
-    """A rotate_absolute goal handle and the future its execute callback awaits."""
-
-    def __init__(self, handle) -> None:
-        self.handle = handle
-        self.finished = Future()
 
 
 def _color_range() -> list[IntegerRange]:
@@ -102,6 +52,7 @@ class SimNode(Node):
         super().__init__(node_name, **kwargs)
         self.reentrant_group = ReentrantCallbackGroup()
         self.world = World()
+        self.rotations = RotationGoals(self, self.world)
         self.add_post_set_parameters_callback(self._apply_parameters)
         self.declare_parameter('background_r', 69, ParameterDescriptor(
             description='Red channel of the background color', integer_range=_color_range()))
@@ -135,7 +86,7 @@ class SimNode(Node):
                 read_only=True)).value)
 
         self.canvas = Canvas()
-        self._endpoints: dict[str, _TurtleEndpoints] = {}
+        self._endpoints: dict[str, TurtleEndpoints] = {}
         # Velocity commands wait for the next tick, which reads one per turtle, the oldest, as
         # turtlesim's spin_some does; a subscription keeps the last 7 (its history depth).
         self._pending: dict[str, deque[Twist]] = {}
@@ -190,7 +141,7 @@ class SimNode(Node):
         if self._clock_publisher is not None and self._clock_publisher.get_subscription_count():
             self._clock_publisher.publish(self.clock_message())
         for event in report.rotation_events:
-            self._on_rotation_event(event)
+            self.rotations.on_event(event)
         for _turtle, x, flipped_y in report.wall_hits:
             self.get_logger().warning(
                 f'Oh no! I hit the wall! (Clamping from [x={x:f}, y={flipped_y:f}])')
@@ -231,7 +182,10 @@ class SimNode(Node):
         turtle = self.world.spawn(x, y, theta, name, self._now_s())
         try:
             if turtle.name not in self._endpoints:  # kept through a reset: see handle_reset
-                self._endpoints[turtle.name] = _TurtleEndpoints(self, turtle.name)
+                self._endpoints[turtle.name] = TurtleEndpoints(
+                    self, turtle.name, on_cmd_vel=self.on_cmd_vel, set_pen=self.handle_set_pen,
+                    teleport=self.handle_teleport, rotations=self.rotations,
+                    group=self.reentrant_group)
         except (NameValidationException, ValueError):  # ValueError: a {substitution}
             self.world.kill(turtle.name)
             raise SimulationError(f'[{turtle.name}] is not a valid ROS name') from None
@@ -244,7 +198,7 @@ class SimNode(Node):
         self._command_delay.drop(name)
         self._pending.pop(name, None)
         if turtle.rotation is not None:
-            self._finish_rotation(turtle.rotation.token, RotationEnd.ABORTED,
+            self.rotations.finish(turtle.rotation.token, RotationEnd.ABORTED,
                                   turtle.rotation.delta_rad)
         if not keep_endpoints:
             self._endpoints.pop(name).destroy(self)
@@ -271,7 +225,7 @@ class SimNode(Node):
         if aborted is not None:
             self.get_logger().warning(
                 'Velocity command received during rotation goal. Aborting goal')
-            self._finish_rotation(aborted.token, RotationEnd.ABORTED, aborted.delta_rad)
+            self.rotations.finish(aborted.token, RotationEnd.ABORTED, aborted.delta_rad)
 
     # -- services --------------------------------------------------------------------------
 
@@ -338,52 +292,3 @@ class SimNode(Node):
                 response.success, response.path = True, str(target)
                 response.message = f'saved {target}'
         return response
-
-    # -- rotate_absolute -------------------------------------------------------------------
-
-    async def execute_rotation(self, name: str, goal_handle) -> RotateAbsolute.Result:
-        rotation = _Rotation(goal_handle)
-        try:
-            replaced = self.world.start_rotation(name, rotation, goal_handle.request.theta)
-        except SimulationError as error:
-            self.get_logger().error(f'Rotation goal refused: {error}')
-            self._finish_rotation(rotation, RotationEnd.ABORTED, 0.0)
-        else:
-            if replaced is not None:
-                self.get_logger().warning(
-                    'Rotation goal received before a previous goal finished. '
-                    'Aborting previous goal')
-                self._finish_rotation(replaced.token, RotationEnd.ABORTED, replaced.delta_rad)
-        return await rotation.finished
-
-    def accept_cancel(self, name: str, goal_handle) -> CancelResponse:
-        turtle = self.world.turtles.get(name)
-        if turtle is not None and turtle.rotation is not None \
-                and turtle.rotation.token.handle is goal_handle:
-            self.world.cancel_rotation(name, turtle.rotation.token)
-        return CancelResponse.ACCEPT
-
-    def _on_rotation_event(self, event: RotationEvent) -> None:
-        if event.status is None:
-            event.token.handle.publish_feedback(
-                RotateAbsolute.Feedback(remaining=event.remaining_rad))
-        else:
-            if event.status is RotationEnd.CANCELED:
-                self.get_logger().info('Rotation goal canceled')
-            elif event.status is RotationEnd.SUCCEEDED:
-                self.get_logger().info('Rotation goal completed successfully')
-            self._finish_rotation(event.token, event.status, event.delta_rad)
-
-    def _finish_rotation(self, rotation: _Rotation, status: RotationEnd, delta_rad: float) -> None:
-        handle = rotation.handle
-        if rotation.finished.done():
-            return
-        if not handle.is_active:
-            pass  # already ended by rclpy; still release the awaiting execute callback
-        elif status is RotationEnd.SUCCEEDED:
-            handle.succeed()
-        elif status is RotationEnd.CANCELED and handle.is_cancel_requested:
-            handle.canceled()
-        else:
-            handle.abort()
-        rotation.finished.set_result(RotateAbsolute.Result(delta=delta_rad))

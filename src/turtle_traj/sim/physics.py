@@ -14,130 +14,24 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass, field
-from enum import Enum
 
-from turtle_traj.turtlesim_contract import (
-    COMMAND_TIMEOUT_S,
-    DEFAULT_PEN,
-    SPAWN_XY_M,
-    STEP_S,
-    WORLD_SIZE_M,
+from turtle_traj.sim.state import (
+    NonFiniteCommand,
+    Pen,
+    RotationEnd,
+    RotationEvent,
+    RotationGoal,
+    Segment,
+    SimulationError,
+    StepReport,
+    Turtle,
+    normalize_angle,
+    require_finite,
 )
+from turtle_traj.turtlesim_contract import COMMAND_TIMEOUT_S, SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 
 ROTATION_SPEED_RAD_S = 1.0
 ROTATION_TOLERANCE_RAD = 0.02
-_PI = 3.14159265  # turtlesim's own value of pi in its angle normalisation
-
-
-def normalize_angle(angle_rad: float) -> float:
-    """Wrap an angle into [-pi, pi) exactly as turtlesim does."""
-    return angle_rad - 2.0 * _PI * math.floor((angle_rad + _PI) / (2.0 * _PI))
-
-
-class SimulationError(ValueError):
-    """A request the world refuses; the message says why."""
-
-
-class NonFiniteCommand(SimulationError):
-    """A velocity command with NaN or infinity: refused, and the turtle stopped instead.
-
-    :ivar aborted: the rotation goal the command aborted, if any (any cmd_vel aborts one).
-    """
-
-    def __init__(self, message: str, aborted: RotationGoal | None) -> None:
-        super().__init__(message)
-        self.aborted = aborted
-
-
-@dataclass
-class Pen:
-    """Trail pen: opaque colour, width in pixels, on or off."""
-
-    r: int = DEFAULT_PEN.r
-    g: int = DEFAULT_PEN.g
-    b: int = DEFAULT_PEN.b
-    width_px: int = DEFAULT_PEN.width
-    on: bool = True
-
-
-class RotationEnd(Enum):
-    """How a rotation goal ended."""
-
-    SUCCEEDED = 'succeeded'
-    ABORTED = 'aborted'
-    CANCELED = 'canceled'
-
-
-@dataclass
-class RotationGoal:
-    """An active rotate_absolute goal; `token` lets the ROS layer match it to its handle."""
-
-    token: object
-    target_rad: float
-    start_rad: float
-    delta_rad: float = 0.0
-    cancel_requested: bool = False
-
-
-@dataclass
-class RotationEvent:
-    """Feedback (status None) or the end of a rotation goal."""
-
-    turtle: str
-    token: object
-    remaining_rad: float
-    delta_rad: float
-    status: RotationEnd | None = None
-
-
-@dataclass
-class Segment:
-    """A pen stroke from one position to the next, in world metres."""
-
-    start: tuple[float, float]
-    end: tuple[float, float]
-    pen: Pen
-
-
-@dataclass
-class Turtle:
-    """State of one turtle."""
-
-    name: str
-    x: float
-    y: float
-    theta: float
-    vx: float = 0.0
-    vy: float = 0.0
-    omega: float = 0.0
-    command_time_s: float = 0.0
-    pen: Pen = field(default_factory=Pen)
-    teleports: list[tuple[str, float, float, float]] = field(default_factory=list)
-    rotation: RotationGoal | None = None
-
-    @property
-    def linear_speed(self) -> float:
-        """Magnitude of the commanded velocity, as turtlesim's Pose reports it."""
-        return math.hypot(self.vx, self.vy)
-
-    def stop(self) -> None:
-        self.vx = self.vy = self.omega = 0.0
-
-
-@dataclass
-class StepReport:
-    """What one step produced, for the ROS layer to publish."""
-
-    segments: list[Segment] = field(default_factory=list)
-    wall_hits: list[tuple[str, float, float]] = field(default_factory=list)
-    rotation_events: list[RotationEvent] = field(default_factory=list)
-
-
-def _require_finite(**values: float) -> None:
-    for name, value in values.items():
-        if not math.isfinite(value):
-            raise SimulationError(f'{name} must be a finite number, got {value}')
 
 
 class World:
@@ -164,7 +58,7 @@ class World:
 
         :param now_s: the clock (see the module); its command timestamp starts there.
         """
-        _require_finite(x=x, y=y, theta=theta)
+        require_finite(x=x, y=y, theta=theta)
         if name in self.turtles:
             raise SimulationError(f'A turtle named [{name}] already exists')
         if not name:
@@ -220,11 +114,11 @@ class World:
         return self.time_s + STEP_S if coming else self.time_s
 
     def teleport_absolute(self, name: str, x: float, y: float, theta: float) -> None:
-        _require_finite(x=x, y=y, theta=theta)
+        require_finite(x=x, y=y, theta=theta)
         self.turtle(name).teleports.append(('absolute', x, y, theta))
 
     def teleport_relative(self, name: str, linear: float, angular: float) -> None:
-        _require_finite(linear=linear, angular=angular)
+        require_finite(linear=linear, angular=angular)
         self.turtle(name).teleports.append(('relative', linear, angular, 0.0))
 
     def set_pen(self, name: str, r: int, g: int, b: int, width_px: int, off: int) -> None:
@@ -237,7 +131,7 @@ class World:
 
     def start_rotation(self, name: str, token: object, target_rad: float) -> RotationGoal | None:
         """Start a rotate_absolute goal; return the goal it replaces (to be aborted)."""
-        _require_finite(theta=target_rad)
+        require_finite(theta=target_rad)
         turtle = self.turtle(name)
         replaced = turtle.rotation
         turtle.rotation = RotationGoal(token, target_rad, start_rad=turtle.theta)
