@@ -9,7 +9,8 @@ from rclpy.action import ActionClient
 from rclpy.task import Future
 
 from tests.ros_helpers import program
-from turtle_traj.client import FEEDBACK_SILENCE_S, PROBE_TIMEOUT_S, TrajClient, TrajClientError
+from turtle_traj.client import TrajClient, TrajClientError
+from turtle_traj.liveness import FEEDBACK_SILENCE_S, PROBE_TIMEOUT_S
 from turtle_traj.services import make_goal
 from turtle_traj.trajectories import BY_NAME
 

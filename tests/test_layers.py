@@ -34,7 +34,7 @@ LAYERS = [
     # the registry of trajectory kinds
     ['trajectories'],
     # the ROS shell: QoS, interface names, the program runner, nodes, executors
-    ['wire', 'services', 'runtime', 'remote_parameters', 'node.async_service',
+    ['wire', 'services', 'runtime', 'remote_parameters', 'liveness', 'node.async_service',
      'node.outcomes', 'node.pen_client', 'node.waiting'],
     ['node.parameters', 'node.draw_action', 'sim.rotation_goals'],
     ['sim.endpoints'],

@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import rclpy
 from action_msgs.msg import GoalStatus
-from rcl_interfaces.srv import GetParameters
 from rclpy.action import ActionClient
 from rclpy.action.client import ClientGoalHandle
 from rclpy.context import Context
@@ -26,6 +25,7 @@ from turtlesim.msg import Pose
 from unique_identifier_msgs.msg import UUID
 
 from turtle_traj.geometry.path import Pose2D
+from turtle_traj.liveness import Liveness
 from turtle_traj.remote_parameters import RemoteParameters, UnknownParameter
 from turtle_traj.runtime import events_executor
 from turtle_traj.services import (
@@ -55,8 +55,6 @@ INTERRUPTED = 'interrupted'  # why a goal was cancelled on Ctrl-C
 ANSWER_WAIT_S = 2.0  # a request not answered within this is sent again
 REQUEST_ATTEMPTS = 3
 _ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)
-FEEDBACK_SILENCE_S = 2.0  # no feedback for this long: ask whether the node still answers
-PROBE_TIMEOUT_S = 3.0  # no answer within this: the node is gone
 
 
 @dataclass(frozen=True)
@@ -88,7 +86,6 @@ class TrajClient:
         self._executor = events_executor(context=self._context)
         self._executor.add_node(self._node)
         self._action: ActionClient | None = None
-        self._probe_client = None
 
     def __enter__(self) -> TrajClient:
         return self
@@ -149,10 +146,10 @@ class TrajClient:
             raise TrajClientError(
                 f'no trajectory node answers on {self.node_name}/{DRAW_ACTION} (waited '
                 f'{self.connect_timeout_s:g} s): {_START_ONE}')
-        heard = [time.monotonic()]
+        liveness = Liveness(self._node, self.node_name)
 
         def feedback(message) -> None:
-            heard[0] = time.monotonic()
+            liveness.heard()
             if on_feedback is not None:
                 on_feedback(message.feedback)
         goal_id = UUID(uuid=list(uuid.uuid4().bytes))
@@ -164,7 +161,7 @@ class TrajClient:
             handle = self._goal_handle(action, goal_id, handle, repeated=len(sent) > 1)
             if not handle.accepted:
                 raise GoalRejected(f'{self.node_name} rejected the goal')
-            result = self._follow(goal.trajectory, handle, heard, timeout_s)
+            result = self._follow(goal.trajectory, handle, liveness, timeout_s)
         except KeyboardInterrupt:
             return self._cancel(action, goal_id, sent, INTERRUPTED)
         except TimeoutError:
@@ -205,12 +202,11 @@ class TrajClient:
                 sent_at = time.monotonic()
             self._executor.spin_once(timeout_sec=0.05)
 
-    def _follow(self, name: str, handle, heard: list[float], timeout_s: float | None):
+    def _follow(self, name: str, handle, liveness: Liveness, timeout_s: float | None):
         """Spin until the goal's result arrives and return it; TimeoutError after `timeout_s`;
         TrajClientError when the node vanished."""
         start = time.monotonic()
         result, asked_at = handle.get_result_async(), start
-        probe = None
         while not result.done():
             self._executor.spin_once(timeout_sec=0.1)
             now = time.monotonic()
@@ -224,19 +220,12 @@ class TrajClient:
             if not self._draw_action().server_is_ready():
                 raise TrajClientError(f'{self.node_name} left during the {name}: it was shut '
                                       'down')
-            if now - heard[0] < FEEDBACK_SILENCE_S:
-                continue
-            if probe is None:  # silent: does the node still answer at all?
-                probe = (self._probe().call_async(GetParameters.Request(names=['turtle_name'])),
-                         now)
-            elif probe[0].done():
-                heard[0], probe = now, None
-            elif now - probe[1] > PROBE_TIMEOUT_S:
+            if liveness.gone():
                 raise TrajClientError(
                     f'{self.node_name} stopped answering during the {name} (no feedback for '
-                    f'{now - heard[0]:.0f} s, no reply to a parameter request): it was probably '
-                    "killed. The turtle stops 1 s after the node's last command (turtlesim's "
-                    f'command timeout); {_START_ONE}')
+                    f'{liveness.silence_s():.0f} s, no reply to a parameter request): it was '
+                    "probably killed. The turtle stops 1 s after the node's last command "
+                    f"(turtlesim's command timeout); {_START_ONE}")
         return result.result()
 
     def _cancel(self, action: ActionClient, goal_id: UUID, sent: list[Future],
@@ -262,12 +251,6 @@ class TrajClient:
             self._action = ActionClient(self._node, interface(DRAW_ACTION_TYPE),
                                         f'{self.node_name}/{DRAW_ACTION}')
         return self._action
-
-    def _probe(self):
-        if self._probe_client is None:
-            self._probe_client = self._node.create_client(
-                GetParameters, f'{self.node_name}/get_parameters')
-        return self._probe_client
 
     def _discovered(self, ready: Callable[[], bool]) -> bool:
         """Wait up to `connect_timeout_s` for `ready()`, looking every 10 ms (rclpy's own
