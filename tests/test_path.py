@@ -63,3 +63,4 @@ def test_nearest_on_polyline_agrees_with_the_brute_force_distance(seed):
         expected = distance_to_polyline(points, drawn)
         measured = [nearest.distance(x, y) for x, y in points]
         assert np.allclose(measured, expected, rtol=0.0, atol=1e-12)
+        assert np.allclose(nearest.distances(points), expected, rtol=0.0, atol=1e-12)

@@ -214,6 +214,17 @@ class NearestOnPolyline:
         gaps = offsets - along[:, None] * edges
         return float(np.sqrt(np.min(np.einsum('kj,kj->k', gaps, gaps))))
 
+    def distances(self, points: np.ndarray) -> np.ndarray:
+        """Distance of each point (N, 2) to the nearest segment: all at once for a polyline
+        of one block (numpy's cost per call, not its arithmetic, dominates there)."""
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        if len(self._blocks) > 1:
+            return np.array([self.distance(x, y) for x, y in points.tolist()])
+        offsets = points[:, None, :] - self._starts[None, :, :]
+        along = np.clip(np.einsum('nkj,kj->nk', offsets, self._edges) / self._squared, 0.0, 1.0)
+        gaps = offsets - along[:, :, None] * self._edges[None, :, :]
+        return np.sqrt(np.min(np.einsum('nkj,nkj->nk', gaps, gaps), axis=1))
+
     def distance(self, x: float, y: float) -> float:
         """Distance of (x, y) to the nearest segment."""
         if len(self._blocks) == 1:
