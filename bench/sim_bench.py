@@ -5,7 +5,6 @@ Run: .venv/bin/python bench/sim_bench.py   (or `make bench`)
 
 from __future__ import annotations
 
-import os
 import statistics
 import subprocess
 import sys
@@ -20,6 +19,7 @@ from rclpy.parameter import Parameter
 from turtle_traj_interfaces.srv import DrawShape
 
 from isolation import isolate
+from process_cpu import cpu_share, wait_until_connected
 from turtle_traj.client import TrajClient
 from turtle_traj.services import make_goal
 from turtle_traj.sim.node import SimNode
@@ -61,27 +61,6 @@ def lockstep_real_time_factor() -> float:
         system.close()
 
 
-def _process_cpu_s(pid: int) -> float:
-    """CPU time (user + system) a process has used, from /proc."""
-    fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
-
-
-def _cpu_share(pid: int, seconds: float) -> float:
-    start_cpu, start_wall = _process_cpu_s(pid), time.monotonic()
-    time.sleep(seconds)
-    return (_process_cpu_s(pid) - start_cpu) / (time.monotonic() - start_wall)
-
-
-def wait_until_connected(client: TrajClient, timeout_s: float = 30.0) -> None:
-    """Ask the trajectory node to reset until it succeeds: then it has the simulator's poses."""
-    deadline = time.monotonic() + timeout_s
-    while not client.call('reset').success:
-        if time.monotonic() > deadline:
-            raise RuntimeError('the trajectory node never got the simulator')
-        time.sleep(0.2)
-
-
 def simulator_program_cpu(seconds: float = 10.0) -> tuple[float, float]:
     """Share of one core used by `python -m turtle_traj.sim` with one turtle at real time:
     idle (nothing connected), then while our trajectory node (its own process) drives a
@@ -91,7 +70,7 @@ def simulator_program_cpu(seconds: float = 10.0) -> tuple[float, float]:
     node = None
     try:
         time.sleep(3.0)  # started, discovered, settled
-        idle = _cpu_share(sim.pid, seconds)
+        idle = cpu_share(sim.pid, seconds)
         node = subprocess.Popen([sys.executable, '-m', 'turtle_traj'], **quiet)
         with TrajClient(connect_timeout_s=20.0) as client:
             wait_until_connected(client)
@@ -100,7 +79,7 @@ def simulator_program_cpu(seconds: float = 10.0) -> tuple[float, float]:
             def measure() -> None:
                 driving.wait(timeout=30.0)
                 time.sleep(1.0)
-                shares.append(_cpu_share(sim.pid, seconds))
+                shares.append(cpu_share(sim.pid, seconds))
             threading.Thread(target=measure, daemon=True).start()
             goal = make_goal(BY_NAME['circle'], {'size': 1.5, 'forever': True})
             client.draw(goal, on_feedback=lambda _feedback: driving.set(),
@@ -121,10 +100,10 @@ def _program_cpu_driven(program: list[str], seconds: float = 10.0) -> tuple[floa
     driver = None
     try:
         time.sleep(3.0)
-        idle = _cpu_share(sim.pid, seconds)
+        idle = cpu_share(sim.pid, seconds)
         driver = subprocess.Popen([sys.executable, floor, 'driver'], **quiet)
         time.sleep(3.0)  # discovered and matched
-        return idle, _cpu_share(sim.pid, seconds)
+        return idle, cpu_share(sim.pid, seconds)
     finally:
         for process in (driver, sim):
             if process is not None:

@@ -116,9 +116,9 @@ def measure_breakdown() -> dict:
 
 def measure_node_cpu(seconds: float) -> dict:
     """`python -m turtle_traj` at real time beside our simulator program: idle, then driving."""
-    from sim_bench import _cpu_share as _share
-    from sim_bench import _process_cpu_s as _cpu_s
-    from sim_bench import wait_until_connected
+    from process_cpu import cpu_share as _share
+    from process_cpu import process_cpu_s as _cpu_s
+    from process_cpu import wait_until_connected
     from turtle_traj.client import TrajClient
     from turtle_traj.services import make_goal
     from turtle_traj.trajectories import BY_NAME

@@ -13,7 +13,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / 'src' / 'turtle_traj'
 # line below is a set of modules independent of each other.
 LAYERS = [
     # turtlesim's contract, what requests may ask for, and plane geometry
-    ['turtlesim_contract', 'limits', 'geometry.angles', 'geometry.curves'],
+    ['turtlesim_contract', 'limits', 'teleop_keys', 'geometry.angles', 'geometry.curves'],
     ['geometry.path', 'parameter_table'],
     ['geometry.shapes', 'geometry.drawing'],
     ['geometry.svg', 'geometry.text'],
@@ -31,17 +31,20 @@ LAYERS = [
     ['sketches.base'],
     ['sketches.motions', 'sketches.curves', 'sketches.drawings'],
     ['planning'],
-    # the registry of trajectory kinds
+    # the registry of trajectory kinds, and the live view's messages built from it
     ['trajectories'],
+    ['web.protocol'],
     # the ROS shell: QoS, interface names, the program runner, nodes, executors
-    ['wire', 'services', 'runtime', 'remote_parameters', 'liveness', 'node.async_service',
+    ['wire', 'services', 'runtime', 'remote_parameters', 'liveness', 'web.server',
+     'node.async_service',
      'node.outcomes', 'node.pen_client', 'node.waiting'],
     ['node.parameters', 'node.draw_action', 'sim.rotation_goals'],
     ['sim.endpoints'],
     ['sim.node'],
-    ['node.trajectory_node', 'lockstep'],
+    ['node.trajectory_node', 'lockstep', 'web.bridge'],
     # nodes put together, and the script-side client
-    ['system', 'sim.main', 'client'],
+    ['system', 'client', 'web.view'],
+    ['sim.main'],
     ['node.with_sim'],
     ['node.main'],
     # what people run
@@ -50,7 +53,7 @@ LAYERS = [
     ['cli', 'demo'],
     ['__main__', 'sim.__main__'],
 ]
-PURE = [module for layer in LAYERS[:LAYERS.index(['trajectories']) + 1] for module in layer]
+PURE = [module for layer in LAYERS[:LAYERS.index(['web.protocol']) + 1] for module in layer]
 CONTROLLER = [module for layer in LAYERS[LAYERS.index(['control.commands', 'control.config']):
                                          LAYERS.index(['trajectories']) + 1]
               for module in layer] + ['node.parameters', 'node.trajectory_node', 'node.outcomes',

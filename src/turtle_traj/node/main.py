@@ -43,7 +43,7 @@ def main(args: Sequence[str] | None = None) -> int:
     parsed = build_parser().parse_args(remove_ros_args(argv)[1:])
     with_sim = options_from(parsed)
     if with_sim != SimOptions() and not parsed.with_sim:
-        return fail('--time-scale, --gui and --snapshot need --with-sim')
+        return fail('--time-scale, --gui, --web and --snapshot need --with-sim')
     return run(Options(sim=with_sim if parsed.with_sim else None, ros_args=argv))
 
 
@@ -59,7 +59,7 @@ def run(options: Options) -> int:
     controllers: list[TrajectoryNode] = []
 
     def create_nodes(stop: Callable[[], None]) -> list[Node]:
-        nodes: list[Node] = [beside.create(stop)] if beside is not None else []
+        nodes: list[Node] = beside.create(stop) if beside is not None else []
         controllers.append(TrajectoryNode(
             parameter_overrides=[Parameter('use_sim_time', value=True)] if sim_time else []))
         return [*nodes, *controllers]

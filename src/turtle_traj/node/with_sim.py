@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from rclpy.node import Node
+
 from turtle_traj.sim import main as sim_main
-from turtle_traj.sim.gui import GuiUnavailable
 from turtle_traj.sim.node import SimNode
-from turtle_traj.sim.options import SimOptions, SimUnavailable
+from turtle_traj.sim.options import SimOptions
 
 
 class SimBeside:
@@ -17,13 +18,12 @@ class SimBeside:
         self.options = options
         self.node: SimNode | None = None
 
-    def create(self, stop: Callable[[], None]) -> SimNode:
-        """The simulator node; SimUnavailable when its window cannot open (`--gui`)."""
-        try:
-            self.node = sim_main.create_sim(self.options, stop)
-        except GuiUnavailable as error:
-            raise SimUnavailable(f'--gui: {error}') from None
-        return self.node
+    def create(self, stop: Callable[[], None]) -> list[Node]:
+        """The simulator node and its live view, if asked for; SimUnavailable when its window
+        cannot open (`--gui`) or the view cannot listen (`--web`)."""
+        nodes = sim_main.create_sim(self.options, stop)
+        self.node = nodes[0]
+        return nodes
 
     def save_snapshot(self) -> None:
         if self.node is not None:

@@ -41,10 +41,26 @@ class Canvas:
 
     def __init__(self) -> None:
         self.trails = np.empty((CANVAS_SIZE_PX, CANVAS_SIZE_PX, 4), dtype=np.uint8)
+        # Changes since `take_changes`, kept only once someone asks (a live view): whether the
+        # trails were cleared, and the pixel rectangles strokes touched (row0, row1, col0, col1).
+        self.tracking = False
+        self._cleared = False
+        self._touched: list[tuple[int, int, int, int]] = []
         self.clear()
 
     def clear(self) -> None:
         self.trails[:] = _TRANSPARENT_WHITE
+        if self.tracking:
+            self._cleared, self._touched = True, []
+
+    def take_changes(self) -> tuple[bool, list[tuple[int, int, np.ndarray]]]:
+        """What changed since the last call: whether the trails were cleared first, then each
+        touched rectangle as (row, column, its RGBA pixels now). Starts tracking."""
+        self.tracking = True
+        patches = [(row0, col0, self.trails[row0:row1, col0:col1].copy())
+                   for row0, row1, col0, col1 in self._touched]
+        cleared, self._cleared, self._touched = self._cleared, False, []
+        return cleared, patches
 
     def draw(self, segment: Segment) -> None:
         """Stroke a segment as turtlesim's Qt painter does: solid, square cap, no antialiasing.
@@ -74,6 +90,9 @@ class Canvas:
         inside = (along >= -cap) & (along <= length + cap) & (np.abs(across) <= half)
         self.trails[rows[0]:rows[-1] + 1, columns[0]:columns[-1] + 1][inside] = (
             pen.r, pen.g, pen.b, 255)
+        if self.tracking:
+            self._touched.append((int(rows[0]), int(rows[-1]) + 1, int(columns[0]),
+                                  int(columns[-1]) + 1))
 
     def ink_at(self, points_m: np.ndarray, rgb: tuple[int, int, int]) -> np.ndarray:
         """Per point (world metres, (N, 2)): the trail pixel under it has colour `rgb`."""

@@ -14,7 +14,7 @@ from rclpy.utilities import remove_ros_args
 from turtle_traj.runtime import fail, run_nodes
 from turtle_traj.sim.gui import GuiUnavailable, Window
 from turtle_traj.sim.node import SimNode
-from turtle_traj.sim.options import SimOptions, add_sim_options, options_from
+from turtle_traj.sim.options import SimOptions, SimUnavailable, add_sim_options, options_from
 
 GUI_FRAME_PERIOD_S = 1.0 / 30.0
 
@@ -45,11 +45,24 @@ def parameter_overrides(options: SimOptions) -> list[Parameter]:
     return overrides
 
 
-def create_sim(options: SimOptions, stop: Callable[[], None]) -> SimNode:
-    """The simulator node, with its window when asked (closing the window calls `stop`)."""
+def create_sim(options: SimOptions, stop: Callable[[], None]) -> list[Node]:
+    """The simulator node (first), with its window when asked (closing the window calls
+    `stop`) and its live view.
+
+    :raises SimUnavailable: the window cannot open, or the live view cannot listen.
+    """
     node = SimNode(parameter_overrides=parameter_overrides(options))
+    nodes: list[Node] = [node]
+    if options.web:  # aiohttp is loaded only when asked for
+        from turtle_traj.web.view import create_web
+        nodes.append(create_web(options, node))
     if options.gui:
-        window = Window()
+        try:
+            window = Window()
+        except GuiUnavailable as error:
+            for created in nodes:
+                created.destroy_node()
+            raise SimUnavailable(f'--gui: {error}') from None
 
         def on_frame() -> None:
             window.show(node.render())
@@ -57,7 +70,7 @@ def create_sim(options: SimOptions, stop: Callable[[], None]) -> SimNode:
                 stop()
 
         node.create_timer(GUI_FRAME_PERIOD_S, on_frame)
-    return node
+    return nodes
 
 
 def save_snapshot(node: SimNode, path: Path | None) -> None:
@@ -73,10 +86,10 @@ def main(args: Sequence[str] | None = None) -> int:
     options = options_from(build_parser().parse_args(remove_ros_args(argv)[1:]))
     if (problem := options.problem()) is not None:
         return fail(problem)
-    nodes: list[SimNode] = []
+    nodes: list[Node] = []
 
     def create_nodes(stop: Callable[[], None]) -> list[Node]:
-        nodes.append(create_sim(options, stop))
+        nodes.extend(create_sim(options, stop))
         return nodes
 
     try:
@@ -85,5 +98,5 @@ def main(args: Sequence[str] | None = None) -> int:
         # through this program in tests/test_sim_node.py.
         return run_nodes(create_nodes, args=argv,
                          on_exit=lambda: save_snapshot(nodes[0], options.snapshot))
-    except GuiUnavailable as error:
-        return fail(f'--gui: {error}')
+    except SimUnavailable as error:
+        return fail(str(error))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Callable
 from pathlib import Path
 
 from geometry_msgs.msg import Twist
@@ -86,6 +87,9 @@ class SimNode(Node):
                 read_only=True)).value)
 
         self.canvas = Canvas()
+        # Called after every step, once its poses are published and its strokes drawn (the
+        # live view takes its frames here).
+        self.step_listeners: list[Callable[[], None]] = []
         self._endpoints: dict[str, TurtleEndpoints] = {}
         # Velocity commands wait for the next tick, which reads one per turtle, the oldest, as
         # turtlesim's spin_some does; a subscription keeps the last 7 (its history depth).
@@ -149,6 +153,8 @@ class SimNode(Node):
             self._publish_state(turtle)
         for segment in report.segments:
             self.canvas.draw(segment)
+        for listener in self.step_listeners:
+            listener()
 
     def clock_message(self) -> ClockMsg:
         """The simulated time now, as /clock carries it."""

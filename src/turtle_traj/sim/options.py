@@ -6,6 +6,8 @@ import argparse
 from dataclasses import dataclass
 from pathlib import Path
 
+WEB_HOST, WEB_PORT = '127.0.0.1', 8080
+
 
 class SimUnavailable(RuntimeError):
     """The simulator cannot start as asked (its window cannot open); the message says why."""
@@ -16,9 +18,17 @@ def add_sim_options(parser: argparse.ArgumentParser, prefix: str = '') -> None:
     parser.add_argument('--time-scale', type=float, default=None, metavar='FACTOR',
                         help=f'{prefix}run FACTOR times faster than real time and publish '
                              '/clock (nodes follow it with use_sim_time:=true)')
-    parser.add_argument('--gui', action='store_true',
+    parser.add_argument('--gui', action=argparse.BooleanOptionalAction, default=False,
                         help=f'{prefix}show the canvas in a live window (needs pygame and a '
                              'display)')
+    parser.add_argument('--web', action=argparse.BooleanOptionalAction, default=False,
+                        help=f'{prefix}serve the live canvas, with keys, trajectories and '
+                             'parameters, to a browser')
+    parser.add_argument('--web-host', default=WEB_HOST, metavar='HOST',
+                        help=f'{prefix}address the live view listens on (default {WEB_HOST}: '
+                             'this machine only)')
+    parser.add_argument('--web-port', type=int, default=WEB_PORT, metavar='PORT',
+                        help=f'{prefix}its port (default {WEB_PORT}; 0: any free one)')
     parser.add_argument('--snapshot', type=Path, metavar='PNG',
                         help=f'{prefix}save the canvas to this PNG file on exit')
 
@@ -32,6 +42,9 @@ class SimOptions:
     gui: bool = False
     snapshot: Path | None = None
     output_dir: Path | None = None
+    web: bool = False
+    web_host: str = WEB_HOST
+    web_port: int = WEB_PORT
 
     def problem(self) -> str | None:
         """Why these options cannot run, or None."""
@@ -39,6 +52,10 @@ class SimOptions:
             return f'--time-scale must be within 0.1 and 1000, got {self.time_scale}'
         if self.snapshot is not None and self.snapshot.suffix.lower() != '.png':
             return f'--snapshot must name a .png file, got {self.snapshot}'
+        if not 0 <= self.web_port <= 65535:
+            return f'--web-port must be within 0 and 65535, got {self.web_port}'
+        if not self.web and (self.web_host, self.web_port) != (WEB_HOST, WEB_PORT):
+            return '--web-host and --web-port need --web'
         return None
 
 
@@ -46,4 +63,5 @@ def options_from(parsed: argparse.Namespace) -> SimOptions:
     """SimOptions from parsed options (those `add_sim_options` added, and any others)."""
     return SimOptions(time_scale=parsed.time_scale, gui=parsed.gui, snapshot=parsed.snapshot,
                       holonomic=getattr(parsed, 'holonomic', False),
-                      output_dir=getattr(parsed, 'output_dir', None))
+                      output_dir=getattr(parsed, 'output_dir', None), web=parsed.web,
+                      web_host=parsed.web_host, web_port=parsed.web_port)

@@ -1,0 +1,284 @@
+"""The live view's web server: the page, its static files and one WebSocket per page.
+
+aiohttp runs on its own thread and event loop, so rclpy and the server never wait for each
+other: the ROS side hands over frames and replies with `broadcast` and `send` (thread-safe, they
+never block), and hears requests through `on_request`, called on the web thread (it must only
+queue them). Each page has a bounded queue: a page that falls behind loses frames (counted) and
+then gets the whole canvas again.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import io
+import ipaddress
+import logging
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from aiohttp import WSMsgType, web
+
+from turtle_traj.sim.canvas import turtle_icon
+from turtle_traj.web import protocol
+from turtle_traj.web.protocol import Frame, ProtocolError
+
+STATIC = Path(__file__).with_name('static')
+FRAME_QUEUE = 30  # frames a page may be behind (about half a second) before it loses them
+REPLY_QUEUE = 256  # replies waiting for a page, at most
+MAX_FRAME_BACKLOG = 120  # frames waiting for the web thread at all, before all pages resync
+LOCAL_HOSTS = {'localhost', '127.0.0.1', '::1'}
+_log = logging.getLogger(__name__)
+
+
+@dataclass(eq=False)
+class _Page:
+    """One connected page: its socket and what waits to go to it."""
+
+    ident: int
+    socket: web.WebSocketResponse
+    frames: asyncio.Queue = field(default_factory=lambda: asyncio.Queue(FRAME_QUEUE))
+    replies: asyncio.Queue = field(default_factory=lambda: asyncio.Queue(REPLY_QUEUE))
+    wake: asyncio.Event = field(default_factory=asyncio.Event)
+    in_sync: bool = False  # has had a snapshot, and every frame since
+    frames_sent: int = 0
+
+
+def _is_ip(host: str) -> bool:
+    try:
+        ipaddress.ip_address(host.strip('[]'))
+    except ValueError:
+        return False
+    return True
+
+
+class WebServer:
+    """Serves the page on http://host:port/ and streams frames to every page."""
+
+    def __init__(self, host: str, port: int,
+                 on_request: Callable[[int, dict[str, Any]], None]) -> None:
+        self.host, self.port = host, port
+        self._on_request = on_request
+        self._pages: dict[int, _Page] = {}
+        self._next_ident = 1
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._runner: web.AppRunner | None = None
+        self._thread: threading.Thread | None = None
+        self._backlog: list[Frame] = []  # handed over by the ROS thread, not yet fanned out
+        self._backlog_lock = threading.Lock()
+        self._resync_all = False
+        self.snapshot_wanted = False  # a page needs the whole canvas (read by the ROS side)
+        self.frames_dropped = 0
+        self.requests_refused = 0
+        self._icon_png: bytes | None = None
+
+    # -- life --------------------------------------------------------------------------------
+
+    @property
+    def url(self) -> str:
+        host = f'[{self.host}]' if ':' in self.host else self.host
+        return f'http://{host}:{self.port}/'
+
+    def start(self) -> str:
+        """Bind and serve on a thread of its own; the URL. OSError when the port is taken."""
+        started: dict[str, Any] = {}
+        ready = threading.Event()
+
+        def serve() -> None:
+            loop = asyncio.new_event_loop()
+            asyncio.set_event_loop(loop)
+            try:
+                loop.run_until_complete(self._bind())
+                self._loop = loop
+            except Exception as error:  # noqa: BLE001 - reported to the starting thread
+                started['error'] = error
+                ready.set()
+                loop.close()
+                return
+            ready.set()
+            try:
+                loop.run_forever()
+            finally:
+                loop.run_until_complete(self._runner.cleanup())
+                loop.close()
+
+        self._thread = threading.Thread(target=serve, name='turtle_traj web', daemon=True)
+        self._thread.start()
+        ready.wait()
+        if 'error' in started:
+            raise started['error']
+        if self.host not in LOCAL_HOSTS:
+            _log.warning('the live view listens on %s: anyone who can reach this address can '
+                         'watch and drive the turtles', self.host)
+        return self.url
+
+    async def _bind(self) -> None:
+        app = web.Application(middlewares=[self._check_host], client_max_size=64 * 1024)
+        app.router.add_get('/', self._index)
+        app.router.add_get('/ws', self._websocket)
+        app.router.add_get('/turtle.png', self._turtle_icon)
+        app.router.add_static('/static/', STATIC, follow_symlinks=False, show_index=False)
+        self._runner = web.AppRunner(app, access_log=None)
+        await self._runner.setup()
+        site = web.TCPSite(self._runner, self.host, self.port)
+        await site.start()
+        if self.port == 0:  # the port the system chose
+            self.port = self._runner.addresses[0][1]
+
+    def stop(self) -> None:
+        if self._loop is not None and self._loop.is_running():
+            self._loop.call_soon_threadsafe(self._loop.stop)
+        if self._thread is not None:
+            self._thread.join(timeout=5.0)
+
+    @property
+    def page_count(self) -> int:
+        return len(self._pages)
+
+    # -- from the ROS thread ------------------------------------------------------------------
+
+    def broadcast(self, frame: Frame) -> None:
+        """Hand a frame to every page (never blocks; drops all when the web thread is stuck)."""
+        with self._backlog_lock:
+            first = not self._backlog
+            if len(self._backlog) >= MAX_FRAME_BACKLOG:  # every page starts over
+                self.frames_dropped += len(self._backlog) * max(self.page_count, 1)
+                self._backlog.clear()
+                self._resync_all = self.snapshot_wanted = True
+            self._backlog.append(frame)
+        if first and self._loop is not None:
+            self._loop.call_soon_threadsafe(self._fan_out)
+
+    def send(self, page: int | None, text: str) -> None:
+        """A reply to one page (None: to every page)."""
+        if self._loop is not None:
+            self._loop.call_soon_threadsafe(self._reply, page, text)
+
+    # -- on the web thread --------------------------------------------------------------------
+
+    def _fan_out(self) -> None:
+        with self._backlog_lock:
+            frames, self._backlog = self._backlog, []
+            resync, self._resync_all = self._resync_all, False
+        if resync:
+            for page in self._pages.values():
+                page.in_sync = False
+        for frame in frames:
+            delta = snapshot = None
+            for page in list(self._pages.values()):
+                if not page.in_sync:
+                    if frame.snapshot is None:
+                        self.snapshot_wanted = True
+                        continue
+                    snapshot = snapshot or protocol.snapshot_text(frame)
+                    self._clear(page.frames)
+                    page.frames.put_nowait(snapshot)
+                    page.in_sync = True
+                elif page.frames.full():
+                    self.frames_dropped += 1
+                    page.in_sync = False
+                    self.snapshot_wanted = True
+                    continue
+                else:
+                    delta = delta or protocol.frame_text(frame)
+                    page.frames.put_nowait(delta)
+                page.wake.set()
+
+    @staticmethod
+    def _clear(queue: asyncio.Queue) -> None:
+        while not queue.empty():
+            queue.get_nowait()
+
+    def _reply(self, ident: int | None, text: str) -> None:
+        pages = self._pages.values() if ident is None else [self._pages.get(ident)]
+        for page in pages:
+            if page is None:
+                continue
+            if page.replies.full():
+                page.replies.get_nowait()  # the oldest reply goes
+            page.replies.put_nowait(text)
+            page.wake.set()
+
+    @web.middleware
+    async def _check_host(self, request: web.Request, handler):
+        """Only names this server is reached by: a page from another site that points its own
+        name at this machine (DNS rebinding) is refused."""
+        host = request.url.host or ''
+        if host not in LOCAL_HOSTS and host != self.host and not _is_ip(host):
+            return web.Response(status=403, text=f'host {host!r} refused')
+        return await handler(request)
+
+    async def _index(self, request: web.Request) -> web.FileResponse:
+        return web.FileResponse(STATIC / 'index.html')
+
+    async def _turtle_icon(self, request: web.Request) -> web.Response:
+        """The simulator's own turtle, facing up (the page turns it to each heading)."""
+        if self._icon_png is None:
+            encoded = io.BytesIO()
+            turtle_icon().save(encoded, format='PNG')
+            self._icon_png = encoded.getvalue()
+        return web.Response(body=self._icon_png, content_type='image/png')
+
+    def _origin_refusal(self, request: web.Request) -> str | None:
+        """Why a WebSocket may not open: a page of another origin (cross-site WebSocket
+        hijacking). A client that is not a browser sends no Origin."""
+        origin = request.headers.get('Origin')
+        if origin is not None and origin != f'{request.scheme}://{request.host}':
+            return f'origin {origin!r} refused: only this server\'s own page may connect'
+        return None
+
+    async def _websocket(self, request: web.Request) -> web.StreamResponse:
+        refusal = self._origin_refusal(request)
+        if refusal is not None:
+            _log.warning('live view: %s', refusal)
+            return web.Response(status=403, text=refusal)
+        socket = web.WebSocketResponse(max_msg_size=4 * protocol.MAX_MESSAGE_CHARS,
+                                       heartbeat=10.0)
+        await socket.prepare(request)
+        page = _Page(self._next_ident, socket)
+        self._next_ident += 1
+        self._pages[page.ident] = page
+        self.snapshot_wanted = True
+        page.replies.put_nowait(protocol.hello_text())
+        sender = asyncio.create_task(self._send(page))
+        try:
+            async for message in socket:
+                if message.type == WSMsgType.TEXT:
+                    self._receive(page, message.data)
+                elif message.type == WSMsgType.BINARY:
+                    self._refuse(page, 'binary messages are not understood: send JSON text')
+        finally:
+            del self._pages[page.ident]
+            sender.cancel()
+        return socket
+
+    def _receive(self, page: _Page, raw: str) -> None:
+        try:
+            request = protocol.parse(raw)
+        except ProtocolError as error:
+            self._refuse(page, str(error))
+            return
+        try:
+            self._on_request(page.ident, request)
+        except Exception as error:  # noqa: BLE001 - a page must never take the server down
+            _log.exception('live view request failed')
+            self._refuse(page, f'request failed: {error}')
+
+    def _refuse(self, page: _Page, reason: str) -> None:
+        self.requests_refused += 1
+        self._reply(page.ident, protocol.error_text(reason))
+
+    async def _send(self, page: _Page) -> None:
+        """Replies first, then frames, as fast as the page takes them."""
+        try:
+            while not page.socket.closed:
+                await page.wake.wait()
+                page.wake.clear()
+                while not page.replies.empty() or not page.frames.empty():
+                    queue = page.replies if not page.replies.empty() else page.frames
+                    await page.socket.send_str(queue.get_nowait())
+                    page.frames_sent += queue is page.frames
+        except (ConnectionError, RuntimeError):
+            pass  # the page went away; its handler cleans up
