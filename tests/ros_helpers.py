@@ -84,16 +84,26 @@ class Terminal:
         """Type `keys` ('\\x03' is Ctrl-C: the terminal interrupts the program)."""
         os.write(self._fd, keys.encode())
 
-    def finish(self, timeout_s: float = 30.0) -> int:
-        """Read to the end and return the exit code (the program is killed after `timeout_s`)."""
+    @property
+    def fd(self) -> int:
+        """The terminal's side of the pseudo-terminal (its modes are the program's)."""
+        return self._fd
+
+    def finish(self, timeout_s: float = 30.0, *, close: bool = True) -> int:
+        """Read to the end and return the exit code (the program is killed after `timeout_s`);
+        with `close` False the terminal stays open, to look at the modes it was left in."""
         deadline = time.monotonic() + timeout_s
         while self._read(deadline - time.monotonic()):
             pass
         if time.monotonic() >= deadline:
             os.kill(self.pid, signal.SIGKILL)
         status = os.waitpid(self.pid, 0)[1]
-        os.close(self._fd)
+        if close:
+            self.close()
         return os.waitstatus_to_exitcode(status)
+
+    def close(self) -> None:
+        os.close(self._fd)
 
     def _read(self, timeout_s: float) -> bool:
         """Read what is there (False at the end of the output or of the time)."""

@@ -19,7 +19,7 @@ from turtle_traj.client import TrajClient
 
 ROOT = Path(__file__).resolve().parents[1]
 PREFIX = Path(sys.prefix)
-EXECUTABLES = {'trajectory_node', 'sim', 'turtle_traj'}
+EXECUTABLES = {'trajectory_node', 'sim', 'turtle_traj', 'teleop'}
 
 
 @pytest.fixture(scope='module')
@@ -78,7 +78,23 @@ def test_the_launch_file_parses_and_names_installed_executables(install):
     assert ('turtlesim', 'turtlesim_node') in started  # use_real_turtlesim:=true
     arguments = {node.args[0].value for node in ast.walk(tree) if isinstance(node, ast.Call)
                  and getattr(node.func, 'id', '') == 'DeclareLaunchArgument'}
-    assert arguments == {'time_scale', 'gui', 'turtle_name', 'namespace', 'use_real_turtlesim'}
+    assert arguments == {'time_scale', 'gui', 'web', 'web_host', 'web_port', 'turtle_name',
+                         'namespace', 'use_real_turtlesim'}
+
+
+def test_the_launch_files_simulator_arguments_parse():
+    """What web:=true/false and gui:=true/false become (--web or --no-web ...) is what the
+    simulator program takes."""
+    from turtle_traj.sim.main import build_parser
+    from turtle_traj.sim.options import options_from
+
+    for gui, web in [('false', 'false'), ('true', 'true'), ('False', 'TRUE')]:
+        flags = [f'--{name}' if value.lower() == 'true' else f'--no-{name}'
+                 for name, value in (('gui', gui), ('web', web))]
+        options = options_from(build_parser().parse_args(
+            [*flags, '--web-host', '127.0.0.1', '--web-port', '8080']))
+        assert (options.gui, options.web) == (gui.lower() == 'true', web.lower() == 'true')
+        assert options.problem() is None
 
 
 def test_the_installed_executables_draw_a_square(install, tmp_path):

@@ -50,6 +50,7 @@ LAYERS = [
     # what people run
     ['console'],
     ['menu'],
+    ['teleop'],
     ['cli', 'demo'],
     ['__main__', 'sim.__main__'],
 ]

@@ -19,7 +19,7 @@ setup(
     version=VERSION,
     packages=find_packages('src'),
     package_dir={'': 'src'},
-    package_data={'turtle_traj': ['drawings/*.svg', 'fastdds.xml']},
+    package_data={'turtle_traj': ['drawings/*.svg', 'fastdds.xml', 'web/static/*']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/turtle_traj']),
         ('share/turtle_traj', ['package.xml']),
@@ -33,5 +33,6 @@ setup(
         'trajectory_node = turtle_traj.node.main:main',
         'sim = turtle_traj.sim.main:main',
         'turtle_traj = turtle_traj.cli:main',
+        'teleop = turtle_traj.teleop:main',
     ]},
 )

@@ -130,6 +130,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     up = commands.add_parser('up', help='run simulator and node together in this process')
     add_sim_options(up)
+    commands.add_parser('teleop', help="drive turtle1 with the keyboard, as turtlesim's "
+                        'turtle_teleop_key (arrows; g t r e d c v b turn; f cancels; q quits)')
     return parser
 
 
@@ -180,6 +182,9 @@ def _main(args: Sequence[str] | None) -> int:
     if options.command == 'up':
         from turtle_traj.node.main import Options, run  # loads the simulator: only here
         return run(Options(sim=options_from(options)))
+    if options.command == 'teleop':
+        from turtle_traj import teleop
+        return teleop.main([])
     # `kill` and a closed terminal stop the turtle as Ctrl-C does (the goal is cancelled).
     for ending in (signal.SIGTERM, signal.SIGHUP):
         signal.signal(ending, signal.default_int_handler)

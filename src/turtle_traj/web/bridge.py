@@ -33,6 +33,7 @@ from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 STATUS_PERIOD_S = 1.0
 REQUEST_PERIOD_S = 0.02  # a key press waits at most this long
+KEY_WAIT_S = 2.0  # for a turtle's cmd_vel or rotate_absolute to connect, at the first press
 TRAJECTORY_NODE = 'turtle_traj'  # relative: the node beside the simulator, in its namespace
 _START_ONE = 'start one with `python -m turtle_traj` (or run `turtle-traj up --web`)'
 
@@ -49,6 +50,7 @@ class WebBridge(Node):
         self._cmd_vel: dict[str, Any] = {}  # publishers by turtle
         self._rotations: dict[str, ActionClient] = {}
         self._rotation_goal = None  # the last accepted rotate_absolute goal handle
+        self._keys: list[tuple[int, str, str, float]] = []  # pressed, not yet sent
         node = self.resolve_service_name(TRAJECTORY_NODE)
         self._node_name = node
         self._draw = ActionClient(self, interface(DRAW_ACTION_TYPE), f'{node}/{DRAW_ACTION}')
@@ -96,6 +98,8 @@ class WebBridge(Node):
         self._requests.put((page, request))
 
     def _handle_requests(self) -> None:
+        if self._keys:
+            self._send_keys()
         while True:
             try:
                 page, request = self._requests.get_nowait()
@@ -117,30 +121,50 @@ class WebBridge(Node):
             self._error(page, f'no turtle {turtle!r}; there are: '
                               f'{", ".join(self._sim.world.turtles)}')
             return
+        self._keys.append((page, turtle, key, time.monotonic()))
+        self._send_keys()
+
+    def _send_keys(self) -> None:
+        """Act on the keys pressed, each once its turtle's topic or action is connected (the
+        first press for a turtle creates them)."""
+        waiting = []
+        for page, turtle, key, pressed in self._keys:
+            if not self._key_ready(turtle, key):
+                if time.monotonic() - pressed < KEY_WAIT_S:
+                    waiting.append((page, turtle, key, pressed))
+                else:
+                    self._error(page, f'{turtle} did not connect within {KEY_WAIT_S:g} s: is '
+                                      'it still there?')
+            elif key in ARROWS:
+                twist = Twist()
+                twist.linear.x, twist.angular.z = velocity(key)
+                self._cmd_vel[turtle].publish(twist)
+            elif key == CANCEL_KEY:
+                if self._rotation_goal is not None:
+                    self._rotation_goal.cancel_goal_async()
+            else:
+                self._rotations[turtle].send_goal_async(
+                    RotateAbsolute.Goal(theta=ROTATIONS[key])).add_done_callback(
+                        self._rotation_accepted)
+        self._keys = waiting
+
+    def _key_ready(self, turtle: str, key: str) -> bool:
         if key in ARROWS:
             if turtle not in self._cmd_vel:
                 self._cmd_vel[turtle] = self.create_publisher(Twist, f'{turtle}/cmd_vel',
                                                               TURTLE_TOPIC_QOS)
-            twist = Twist()
-            twist.linear.x, twist.angular.z = velocity(key)
-            self._cmd_vel[turtle].publish(twist)
-        elif key == CANCEL_KEY:
-            if self._rotation_goal is not None:
-                self._rotation_goal.cancel_goal_async()
-        else:
-            self._rotate(turtle, ROTATIONS[key])
-
-    def _rotate(self, turtle: str, theta: float) -> None:
+            return self._cmd_vel[turtle].get_subscription_count() > 0
+        if key == CANCEL_KEY:
+            return True
         if turtle not in self._rotations:
             self._rotations[turtle] = ActionClient(self, RotateAbsolute,
                                                    f'{turtle}/rotate_absolute')
+        return self._rotations[turtle].server_is_ready()
 
-        def accepted(future: Future) -> None:
-            handle = future.result()
-            if handle.accepted:
-                self._rotation_goal = handle
-        self._rotations[turtle].send_goal_async(
-            RotateAbsolute.Goal(theta=theta)).add_done_callback(accepted)
+    def _rotation_accepted(self, future: Future) -> None:
+        handle = future.result()
+        if handle.accepted:
+            self._rotation_goal = handle
 
     def _on_goto(self, page: int, request: dict[str, Any]) -> None:
         self._on_start(page, {'trajectory': 'go_to',

@@ -43,6 +43,7 @@ class _Page:
     replies: asyncio.Queue = field(default_factory=lambda: asyncio.Queue(REPLY_QUEUE))
     wake: asyncio.Event = field(default_factory=asyncio.Event)
     in_sync: bool = False  # has had a snapshot, and every frame since
+    behind: bool = False  # lost a frame, and waits for the next snapshot
     frames_sent: int = 0
 
 
@@ -164,21 +165,22 @@ class WebServer:
             resync, self._resync_all = self._resync_all, False
         if resync:
             for page in self._pages.values():
-                page.in_sync = False
+                page.in_sync, page.behind = False, True
         for frame in frames:
             delta = snapshot = None
             for page in list(self._pages.values()):
                 if not page.in_sync:
                     if frame.snapshot is None:
                         self.snapshot_wanted = True
+                        self.frames_dropped += page.behind
                         continue
                     snapshot = snapshot or protocol.snapshot_text(frame)
                     self._clear(page.frames)
                     page.frames.put_nowait(snapshot)
-                    page.in_sync = True
+                    page.in_sync, page.behind = True, False
                 elif page.frames.full():
                     self.frames_dropped += 1
-                    page.in_sync = False
+                    page.in_sync, page.behind = False, True
                     self.snapshot_wanted = True
                     continue
                 else:

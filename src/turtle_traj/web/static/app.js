@@ -97,7 +97,16 @@ const handlers = {
     }
   },
   params(message) {
-    $('params').replaceChildren(...message.params.map(paramRow));
+    const table = $('params');
+    const inputs = new Map([...table.querySelectorAll('input')].map((i) => [i.name, i]));
+    if (message.params.map((p) => p.name).join() !== [...inputs.keys()].join()) {
+      table.replaceChildren(...message.params.map(paramRow));
+      return;
+    }
+    for (const param of message.params) {  // in place: what is being typed stays
+      const input = inputs.get(param.name);
+      if (input !== document.activeElement) input.value = String(param.value);
+    }
   },
   param_result(message) {
     $('param-message').textContent = message.message;
@@ -147,12 +156,13 @@ function showFields() {
       input.step = field.type === 'int' ? '1' : 'any';
       if (field.low !== null) input.min = field.low;
       if (field.high !== null) input.max = field.high;
-      input.placeholder = field.parameter ? `node: ${field.parameter}` : (field.optional ? 'none' : '');
-      if (!field.parameter && field.default !== null) input.value = field.default;
+      // Left empty, a field takes its default (or the node's parameter), as on the command line.
+      input.placeholder = field.parameter ? `node: ${field.parameter}`
+        : (field.optional ? 'none' : `default: ${field.default}`);
     } else {
       input.type = 'text';
-      input.placeholder = field.type === 'points' ? 'x,y x,y …' : '';
-      if (field.default) input.value = field.default;
+      input.placeholder = field.type === 'points' ? 'x,y x,y …'
+        : (field.default ? `default: ${field.default}` : '');
     }
     const unit = field.unit ? ` [${field.unit}]` : '';
     const range = field.low !== null && field.high !== null ? ` ${field.low} to ${field.high}` : '';

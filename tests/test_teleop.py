@@ -1,0 +1,97 @@
+"""`turtle-traj teleop` on a pseudo-terminal against our simulator program: keys in, cmd_vel
+and rotate_absolute goals out, the terminal restored however it ends."""
+
+from __future__ import annotations
+
+import os
+import signal
+import termios
+
+import pytest
+
+from tests.ros_helpers import Terminal, program
+from turtle_traj.wire import TURTLE_TOPIC_QOS
+
+
+@pytest.fixture
+def turtle(ros_context, tmp_path):
+    """Our simulator, and a node of this test recording turtle1's poses."""
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.node import Node
+    from turtlesim.msg import Pose
+
+    from turtle_traj.runtime import spin_until
+    with program('turtle_traj.sim', cwd=tmp_path):
+        node = Node('teleop_observer', context=ros_context)
+        executor = SingleThreadedExecutor(context=ros_context)
+        executor.add_node(node)
+        node.poses = []
+        node.create_subscription(Pose, 'turtle1/pose', node.poses.append, TURTLE_TOPIC_QOS)
+        node.spin_until = lambda condition, timeout_s=20.0: spin_until(
+            executor, condition, timeout_s=timeout_s)
+        assert node.spin_until(lambda: bool(node.poses))
+        try:
+            yield node
+        finally:
+            executor.shutdown()
+            node.destroy_node()
+
+
+def _echoing(terminal: Terminal) -> bool:
+    """The terminal is back in the mode a shell expects: canonical, echoing."""
+    flags = termios.tcgetattr(terminal.fd)[3]
+    return bool(flags & termios.ECHO and flags & termios.ICANON)
+
+
+def _keys_drive(terminal: Terminal, turtle, keys: str, moved) -> None:
+    count = len(turtle.poses)
+    terminal.send(keys)
+    assert turtle.spin_until(lambda: any(moved(pose) for pose in turtle.poses[count:])), keys
+
+
+def test_keys_drive_as_turtle_teleop_key_and_q_restores_the_terminal(turtle):
+    terminal = Terminal('turtle_traj.teleop')
+    terminal.expect("'q' to quit.")
+    assert not _echoing(terminal)  # a key at a time, not echoed
+    _keys_drive(terminal, turtle, '\x1b[A', lambda pose: pose.linear_velocity == 2.0)
+    _keys_drive(terminal, turtle, '\x1b[D', lambda pose: pose.angular_velocity == 2.0)
+    _keys_drive(terminal, turtle, '\x1b[B', lambda pose: pose.linear_velocity == 2.0
+                and pose.angular_velocity == 0.0)  # backwards: the speed is reported
+    turtle.spin_until(lambda: False, timeout_s=1.2)  # the last command times out
+    _keys_drive(terminal, turtle, 'v', lambda pose: abs(pose.theta + 1.5708) < 0.03
+                and pose.angular_velocity == 0.0)  # rotate_absolute to -90 degrees
+    terminal.send('e')  # towards 135 degrees ...
+    assert turtle.spin_until(lambda: turtle.poses[-1].angular_velocity != 0.0)
+    # F cancels the last goal whose acceptance teleop has heard (it reads keys and answers
+    # in turn, 0.1 s at most apart): give the answer that moment, then cancel on the way.
+    turtle.spin_until(lambda: False, timeout_s=0.5)
+    terminal.send('f')
+    assert turtle.spin_until(lambda: turtle.poses[-1].angular_velocity == 0.0)
+    assert abs(turtle.poses[-1].theta - 2.3562) > 0.1
+    terminal.send('q')
+    assert terminal.finish(close=False) == 0
+    assert _echoing(terminal)
+    terminal.close()
+
+
+@pytest.mark.parametrize('ending', ['ctrl-c', 'sigterm', 'sighup'])
+def test_every_way_out_restores_the_terminal(turtle, ending):
+    terminal = Terminal('turtle_traj.teleop')
+    terminal.expect("'q' to quit.")
+    assert not _echoing(terminal)
+    if ending == 'ctrl-c':
+        terminal.send('\x03')
+    else:
+        os.kill(terminal.pid, signal.SIGTERM if ending == 'sigterm' else signal.SIGHUP)
+    assert terminal.finish(close=False) == 0
+    assert _echoing(terminal)
+    terminal.close()
+
+
+def test_teleop_needs_a_terminal(tmp_path):
+    import subprocess
+    import sys
+    done = subprocess.run([sys.executable, '-m', 'turtle_traj.teleop'], stdin=subprocess.PIPE,
+                          capture_output=True, text=True, timeout=30)
+    assert done.returncode == 2
+    assert 'teleop reads keys from a terminal' in done.stderr
