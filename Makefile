@@ -31,7 +31,7 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 # and the colcon build, so two run in about half the time, loaded or not (each worker claims
 # its own ROS_DOMAIN_ID in tests/conftest.py).
 test: setup
-	$(PY) -m pytest -q -n 2 --dist loadfile
+	$(PY) -m pytest -q -rs -n 2 --dist loadfile
 
 demo: setup
 	$(PY) -m turtle_traj.demo

@@ -41,7 +41,7 @@ def live(tmp_path_factory):
 def page(live):
     with chromium() as driver:
         driver.get(live[0])
-        wait_for(lambda: driver.execute_script('return window.turtleTraj.stats().received') > 5,
+        wait_for(lambda: driver.execute_script('return window.turtleTraj.stats().received') > 0,
                  what='frames on the page')
         yield driver
 
@@ -270,7 +270,7 @@ def test_bad_messages_get_an_error_and_the_stream_goes_on(live):
         await socket.send_bytes(b'\x00\x01')
         frames = 0
         deadline = time.monotonic() + 20.0
-        while (len(errors) < 5 or frames < 30) and time.monotonic() < deadline:
+        while (len(errors) < 5 or frames < 2) and time.monotonic() < deadline:
             message = json.loads((await socket.receive(timeout=10)).data)
             errors += [message['message']] if message['type'] == 'error' else []
             frames += message['type'] == 'frame'
@@ -290,7 +290,7 @@ def test_bad_messages_get_an_error_and_the_stream_goes_on(live):
     assert "no turtle 'turtle9'; there are: turtle1" in errors
     assert "unknown message type 'warp'" in errors
     assert any(error.startswith('message of 20000 characters refused') for error in errors)
-    assert frames >= 30 and closed
+    assert frames >= 2 and closed  # (a standing turtle: a frame a second)
 
 
 def test_a_hundred_turtles_are_shown(page, observer):
@@ -308,7 +308,7 @@ def test_a_hundred_turtles_are_shown(page, observer):
              == 100, what='100 turtles on the page')
     before = page.execute_script('return window.turtleTraj.stats().received')
     wait_for(lambda: page.execute_script('return window.turtleTraj.stats().received')
-             > before + 10, what='frames still arriving')
+             > before + 2, what='frames still arriving')
     for name in names:
         call = kill.call_async(Kill.Request(name=name))
         assert observer.spin_until(call.done)

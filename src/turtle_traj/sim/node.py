@@ -54,6 +54,7 @@ class SimNode(Node):
         self.reentrant_group = ReentrantCallbackGroup()
         self.world = World()
         self.rotations = RotationGoals(self, self.world)
+        self._background: tuple[int, int, int] | None = None
         self.add_post_set_parameters_callback(self._apply_parameters)
         self.declare_parameter('background_r', 69, ParameterDescriptor(
             description='Red channel of the background color', integer_range=_color_range()))
@@ -119,11 +120,14 @@ class SimNode(Node):
         for parameter in parameters:
             if parameter.name == 'holonomic':
                 self.world.holonomic = parameter.value
+        self._background = None  # read again when next asked for
 
     @property
     def background(self) -> tuple[int, int, int]:
         """Background colour from the live parameters, as turtlesim repaints it."""
-        return tuple(self.get_parameter(f'background_{c}').value for c in 'rgb')
+        if self._background is None:
+            self._background = tuple(self.get_parameter(f'background_{c}').value for c in 'rgb')
+        return self._background
 
     # -- simulation ------------------------------------------------------------------------
 

@@ -33,6 +33,7 @@ from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 STATUS_PERIOD_S = 1.0
 REQUEST_PERIOD_S = 0.02  # a key press waits at most this long
+IDLE_FRAME_PERIOD_S = 1.0  # while nothing changes, a frame this often (the page sees it live)
 KEY_WAIT_S = 2.0  # for a turtle's cmd_vel or rotate_absolute to connect, at the first press
 TRAJECTORY_NODE = 'turtle_traj'  # relative: the node beside the simulator, in its namespace
 _START_ONE = 'start one with `python -m turtle_traj` (or run `turtle-traj up --web`)'
@@ -47,6 +48,8 @@ class WebBridge(Node):
         self._requests: queue.SimpleQueue[tuple[int, dict[str, Any]]] = queue.SimpleQueue()
         self.create_timer(REQUEST_PERIOD_S, self._handle_requests)
         self._seq = 0
+        self._shown: tuple | None = None  # background and poses of the last frame sent
+        self._sent_wall_s = 0.0
         self._cmd_vel: dict[str, Any] = {}  # publishers by turtle
         self._rotations: dict[str, ActionClient] = {}
         self._rotation_goal = None  # the last accepted rotate_absolute goal handle
@@ -77,10 +80,15 @@ class WebBridge(Node):
         if self._server.snapshot_wanted:
             self._server.snapshot_wanted = False
             snapshot = canvas.trails.copy()
+        shown = (self._sim.background, [(t.name, t.x, t.y, t.theta) for t in self._sim.world])
+        now = time.time()
+        if (not cleared and not patches and snapshot is None and shown == self._shown
+                and now - self._sent_wall_s < IDLE_FRAME_PERIOD_S):
+            return  # nothing changed: a standing world costs a frame a second, not 62
+        self._shown, self._sent_wall_s = shown, now
         self._seq += 1
-        self._server.broadcast(protocol.Frame(
-            self._seq, self._sim.world.time_s, time.time(), self._sim.background,
-            [(t.name, t.x, t.y, t.theta) for t in self._sim.world], cleared, patches, snapshot))
+        self._server.broadcast(protocol.Frame(self._seq, self._sim.world.time_s, now, *shown,
+                                              cleared, patches, snapshot))
 
     def _send_status(self) -> None:
         if not self._server.page_count:

@@ -49,6 +49,9 @@ class Frame:
     snapshot: np.ndarray | None = None
 
 
+_COMPACT = (',', ':')
+
+
 def _pixels(array: np.ndarray) -> str:
     return base64.b64encode(np.ascontiguousarray(array).tobytes()).decode('ascii')
 
@@ -61,10 +64,10 @@ def _turtles(frame: Frame) -> list[list]:
 def frame_text(frame: Frame) -> str:
     return json.dumps({
         'type': 'frame', 'seq': frame.seq, 't': round(frame.time_s, 4), 'wall': frame.wall_s,
-        'background': list(frame.background), 'turtles': _turtles(frame),
+        'background': frame.background, 'turtles': _turtles(frame),
         'clear': frame.cleared,
         'patches': [[row, column, int(pixels.shape[0]), int(pixels.shape[1]), _pixels(pixels)]
-                    for row, column, pixels in frame.patches]})
+                    for row, column, pixels in frame.patches]}, separators=_COMPACT)
 
 
 def snapshot_text(frame: Frame) -> str:

@@ -28,6 +28,7 @@ from turtle_traj.web.protocol import Frame, ProtocolError
 STATIC = Path(__file__).with_name('static')
 FRAME_QUEUE = 30  # frames a page may be behind (about half a second) before it loses them
 REPLY_QUEUE = 256  # replies waiting for a page, at most
+FAN_OUT_PERIOD_S = 0.016  # the simulator's step: frames leave at its rate
 MAX_FRAME_BACKLOG = 120  # frames waiting for the web thread at all, before all pages resync
 LOCAL_HOSTS = {'localhost', '127.0.0.1', '::1'}
 _log = logging.getLogger(__name__)
@@ -70,6 +71,7 @@ class WebServer:
         self._backlog: list[Frame] = []  # handed over by the ROS thread, not yet fanned out
         self._backlog_lock = threading.Lock()
         self._resync_all = False
+        self._fanning_out = False  # the periodic fan-out runs (while pages are connected)
         self.snapshot_wanted = False  # a page needs the whole canvas (read by the ROS side)
         self.frames_dropped = 0
         self.requests_refused = 0
@@ -141,16 +143,17 @@ class WebServer:
     # -- from the ROS thread ------------------------------------------------------------------
 
     def broadcast(self, frame: Frame) -> None:
-        """Hand a frame to every page (never blocks; drops all when the web thread is stuck)."""
+        """Hand a frame to every page (never blocks; drops all when the web thread is stuck).
+
+        The web thread takes the frames every FAN_OUT_PERIOD_S: waking it for each one costs
+        both threads more than the frame itself.
+        """
         with self._backlog_lock:
-            first = not self._backlog
             if len(self._backlog) >= MAX_FRAME_BACKLOG:  # every page starts over
                 self.frames_dropped += len(self._backlog) * max(self.page_count, 1)
                 self._backlog.clear()
                 self._resync_all = self.snapshot_wanted = True
             self._backlog.append(frame)
-        if first and self._loop is not None:
-            self._loop.call_soon_threadsafe(self._fan_out)
 
     def send(self, page: int | None, text: str) -> None:
         """A reply to one page (None: to every page)."""
@@ -158,6 +161,14 @@ class WebServer:
             self._loop.call_soon_threadsafe(self._reply, page, text)
 
     # -- on the web thread --------------------------------------------------------------------
+
+    def _fan_out_every_period(self) -> None:
+        """Take the frames handed over, while pages are connected."""
+        self._fan_out()
+        if self._pages:
+            self._loop.call_later(FAN_OUT_PERIOD_S, self._fan_out_every_period)
+        else:
+            self._fanning_out = False
 
     def _fan_out(self) -> None:
         with self._backlog_lock:
@@ -236,13 +247,18 @@ class WebServer:
         if refusal is not None:
             _log.warning('live view: %s', refusal)
             return web.Response(status=403, text=refusal)
+        # No per-message deflate: frames are small, and compressing 62 a second per page
+        # cost more CPU than everything else the view does.
         socket = web.WebSocketResponse(max_msg_size=4 * protocol.MAX_MESSAGE_CHARS,
-                                       heartbeat=10.0)
+                                       heartbeat=10.0, compress=False)
         await socket.prepare(request)
         page = _Page(self._next_ident, socket)
         self._next_ident += 1
         self._pages[page.ident] = page
         self.snapshot_wanted = True
+        if not self._fanning_out:
+            self._fanning_out = True
+            self._loop.call_soon(self._fan_out_every_period)
         page.replies.put_nowait(protocol.hello_text())
         sender = asyncio.create_task(self._send(page))
         try:
