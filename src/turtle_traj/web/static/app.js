@@ -157,8 +157,9 @@ function showFields() {
       if (field.low !== null) input.min = field.low;
       if (field.high !== null) input.max = field.high;
       // Left empty, a field takes its default (or the node's parameter), as on the command line.
+      // (a 0 that is not a parameter's stands for a default the request works out: 'auto')
       input.placeholder = field.parameter ? `node: ${field.parameter}`
-        : (field.optional ? 'none' : `default: ${field.default}`);
+        : (field.optional ? 'none' : (field.default === 0 ? 'auto' : `default: ${field.default}`));
     } else {
       input.type = 'text';
       input.placeholder = field.type === 'points' ? 'x,y x,y …'
