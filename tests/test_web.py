@@ -298,6 +298,8 @@ def test_a_hundred_turtles_are_shown(page, observer):
     _reset()
     spawn = observer.create_client(Spawn, 'spawn')
     kill = observer.create_client(Kill, 'kill')
+    # (a request sent before the service is discovered would be lost)
+    assert observer.spin_until(lambda: spawn.service_is_ready() and kill.service_is_ready())
     names = []
     for index in range(99):
         call = spawn.call_async(Spawn.Request(x=0.5 + (index % 10), y=0.5 + (index // 10),
@@ -363,3 +365,26 @@ def observer_alone(tmp_path, ros_context):
             executor.shutdown()
             node.destroy_node()
 
+
+
+def test_a_flood_of_requests_is_cut_short_and_told_once(live):
+    async def scenario() -> list[str]:
+        session, socket = await _websocket(live[0])
+        for _ in range(400):
+            await socket.send_str('{"type": "cancel"}')
+        errors = []
+        deadline = time.monotonic() + 3.0
+        while time.monotonic() < deadline:
+            try:
+                message = json.loads((await socket.receive(timeout=1.0)).data)
+            except asyncio.TimeoutError:
+                continue
+            errors += [message['message']] if message['type'] == 'error' else []
+        await session.close()
+        return errors
+
+    errors = asyncio.run(scenario())
+    told = [error for error in errors if error.startswith('too many requests')]
+    handled = [error for error in errors if error.startswith('nothing to cancel')]
+    assert len(told) == 1
+    assert 45 <= len(handled) <= 100  # the allowance (50), and what it refilled meanwhile

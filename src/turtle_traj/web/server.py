@@ -13,7 +13,9 @@ import asyncio
 import io
 import ipaddress
 import logging
+import math
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -30,6 +32,7 @@ FRAME_QUEUE = 30  # frames a page may be behind (about half a second) before it 
 REPLY_QUEUE = 256  # replies waiting for a page, at most
 FAN_OUT_PERIOD_S = 0.016  # the simulator's step: frames leave at its rate
 MAX_FRAME_BACKLOG = 120  # frames waiting for the web thread at all, before all pages resync
+REQUESTS_PER_S = 50.0  # a page sending more (a key held down sends about 30) is refused
 LOCAL_HOSTS = {'localhost', '127.0.0.1', '::1'}
 _log = logging.getLogger(__name__)
 
@@ -43,6 +46,9 @@ class _Page:
     frames: asyncio.Queue = field(default_factory=lambda: asyncio.Queue(FRAME_QUEUE))
     replies: asyncio.Queue = field(default_factory=lambda: asyncio.Queue(REPLY_QUEUE))
     wake: asyncio.Event = field(default_factory=asyncio.Event)
+    allowance: float = 0.0  # requests it may still send now (refilled at REQUESTS_PER_S)
+    allowance_at: float = 0.0
+    told_too_many_at: float = -math.inf
     in_sync: bool = False  # has had a snapshot, and every frame since
     behind: bool = False  # lost a frame, and waits for the next snapshot
     frames_sent: int = 0
@@ -273,6 +279,18 @@ class WebServer:
         return socket
 
     def _receive(self, page: _Page, raw: str) -> None:
+        now = time.monotonic()
+        page.allowance = min(page.allowance + (now - page.allowance_at) * REQUESTS_PER_S,
+                             REQUESTS_PER_S)
+        page.allowance_at = now
+        if page.allowance < 1.0:  # said once a second at most: a flood gets no flood back
+            self.requests_refused += 1
+            if now - page.told_too_many_at > 1.0:
+                page.told_too_many_at = now
+                self._reply(page.ident, protocol.error_text(
+                    f'too many requests: at most {REQUESTS_PER_S:g} a second'))
+            return
+        page.allowance -= 1.0
         try:
             request = protocol.parse(raw)
         except ProtocolError as error:
