@@ -36,12 +36,11 @@ LAYERS = [
     ['web.protocol'],
     # the ROS shell: QoS, interface names, the program runner, nodes, executors
     ['wire', 'services', 'runtime', 'remote_parameters', 'liveness', 'web.server',
-     'node.async_service',
-     'node.outcomes', 'node.pen_client', 'node.waiting'],
-    ['node.parameters', 'node.draw_action', 'sim.rotation_goals'],
-    ['sim.endpoints'],
-    ['sim.node'],
-    ['node.trajectory_node', 'lockstep', 'web.bridge'],
+     'node.async_service', 'node.outcomes', 'node.pen_client', 'node.waiting', 'bags.types'],
+    ['node.parameters', 'node.draw_action', 'sim.rotation_goals', 'bags.writer'],
+    ['sim.endpoints', 'bags.reader', 'bags.recorder'],
+    ['sim.node', 'bags.plots', 'bags.player'],
+    ['node.trajectory_node', 'lockstep', 'web.bridge', 'bags.programs'],
     # nodes put together, and the script-side client
     ['system', 'client', 'web.view'],
     ['sim.main'],

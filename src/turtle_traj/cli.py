@@ -132,6 +132,28 @@ def build_parser() -> argparse.ArgumentParser:
     add_sim_options(up)
     commands.add_parser('teleop', help="drive turtle1 with the keyboard, as turtlesim's "
                         'turtle_teleop_key (arrows; g t r e d c v b turn; f cancels; q quits)')
+    record = commands.add_parser('record', help='record a rosbag2 bag (MCAP) until Ctrl-C: by '
+                                 "default the turtle's topics, the node's plan and draw action, "
+                                 '/rosout and /clock')
+    record.add_argument('topics', nargs='*', metavar='TOPIC', help='record these instead')
+    record.add_argument('--output', type=Path, metavar='DIR',
+                        help='the bag folder to create (default: bags/run_<date>-<time>)')
+    record.add_argument('--node', default='/turtle_traj',
+                        help='the trajectory node whose topics are recorded (default: '
+                             '%(default)s)')
+    play = commands.add_parser('play', help="publish a bag's commands (cmd_vel) at their "
+                               'recorded times, as ros2 bag play does')
+    play.add_argument('bag', type=Path, metavar='BAG', help='the bag folder')
+    play.add_argument('--rate', type=float, default=1.0, help='speed factor (default 1)')
+    play.add_argument('--topics', nargs='+', default=[], metavar='TOPIC',
+                      help='play these topics instead of the command topics')
+    plot = commands.add_parser('plot', help="PNG plots of a recorded run: path over plan, "
+                               'deviation, v and omega against their limits, progress')
+    plot.add_argument('bag', type=Path, nargs='?', metavar='BAG',
+                      help='the bag folder (default, or --last: the newest in bags/)')
+    plot.add_argument('--last', action='store_true', help='the newest bag in bags/')
+    plot.add_argument('--output', type=Path, metavar='DIR',
+                      help='where the PNG files go (default: BAG/plots)')
     return parser
 
 
@@ -185,6 +207,15 @@ def _main(args: Sequence[str] | None) -> int:
     if options.command == 'teleop':
         from turtle_traj import teleop
         return teleop.main([])
+    if options.command in ('record', 'play', 'plot'):
+        from turtle_traj.bags import programs
+        if options.command == 'record':
+            return programs.record(options.output, options.topics, options.node)
+        if options.command == 'play':
+            return programs.play(options.bag, options.topics, options.rate)
+        if options.bag is not None and options.last:
+            parser.error('plot takes a BAG or --last, not both')
+        return programs.plot(options.bag, options.output)
     # `kill` and a closed terminal stop the turtle as Ctrl-C does (the goal is cancelled).
     for ending in (signal.SIGTERM, signal.SIGHUP):
         signal.signal(ending, signal.default_int_handler)

@@ -76,6 +76,8 @@ PARAMETERS = (
          f'(turtlesim: {DEFAULT_PEN.width})', 'px', 1, 255),
     Spec('svg_dir', str(files('turtle_traj') / 'drawings'), 'Folder the draw_svg service reads '
          'files from (requests name them relative to it)', read_only=True),
+    Spec('record_dir', '', 'Record every run as a rosbag2 bag (MCAP) in this folder, named '
+         'after the trajectory and the time (empty: no recording)', read_only=True),
 )
 
 

@@ -22,7 +22,7 @@ from rclpy.task import Future
 
 # How long the executor may wait before Python gets to run a pending signal handler.
 _SIGNAL_LATENCY_S = 0.1
-_STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
+_STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}  # SIGHUP: terminal closed
 _FASTDDS_PROFILE = Path(__file__).with_name('fastdds.xml')
 _PROFILE_VARIABLES = ('FASTRTPS_DEFAULT_PROFILES_FILE', 'FASTDDS_DEFAULT_PROFILES_FILE')
 
@@ -97,6 +97,8 @@ def run_nodes(
             executor.spin_until_future_complete(Future(), timeout_sec=_SIGNAL_LATENCY_S)
         if not stop.is_set():
             raise ExternalShutdownException
+        # What already arrived still runs (a recorder keeps every message it was sent).
+        executor.spin_until_future_complete(Future(), timeout_sec=0.0)
     except ExternalShutdownException:
         exit_code = 1
     finally:

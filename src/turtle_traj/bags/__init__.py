@@ -1,0 +1,1 @@
+"""rosbag2 bags: their types, writing, reading, recording, playing and plotting."""
