@@ -9,7 +9,6 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -290,5 +289,5 @@ def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
     off = NearestOnPolyline(path).distances(moved)
     assert len(moved) > 100
     assert off.max() < 0.02, off.max()  # within 2 cm of the recorded path, at real time
-    print(f'real-time replay: {1e3 * off.max():.1f} mm at most from the recorded path')
-    time.sleep(0)
+    print(f'real-time replay: {1e3 * off.max():.1f} mm at most from the recorded path, '
+          f'median {1e3 * np.median(off):.1f} mm')

@@ -2,8 +2,8 @@
 
 Runs the simulator and the trajectory node in this process on lock-step simulated time, so it
 needs no display and no other program, and prints the same table on every run, however busy
-the machine is. Pictures go to output/demo/ (one PNG per trajectory and
-gallery.png).
+the machine is. Pictures go to output/demo/ (one PNG per trajectory, its plots as
+<name>-plot.png, and gallery.png).
 """
 
 from __future__ import annotations
@@ -13,17 +13,24 @@ import math
 import sys
 import time
 from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import get_context
 from pathlib import Path
 
+import numpy as np
 import rclpy
 from PIL import Image, ImageDraw
 from std_srvs.srv import Trigger
 from turtle_traj_interfaces.srv import SaveImage
 from turtlesim.srv import SetPen, TeleportAbsolute
 
+from turtle_traj import planning
+from turtle_traj.bags.plots import Run, write_overview
+from turtle_traj.geometry.path import Pose2D
 from turtle_traj.services import make_request, service_type
 from turtle_traj.system import InProcessSystem
 from turtle_traj.trajectories import TRAJECTORIES, TrajectoryKind
+from turtle_traj.turtlesim_contract import STEP_S
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -53,6 +60,20 @@ def run_example(system: InProcessSystem, trajectory: TrajectoryKind):
                       make_request(trajectory, example.given))
 
 
+def _run(system: InProcessSystem, trajectory: TrajectoryKind) -> Run:
+    """What the plots need of the run just driven: its poses (one per 16 ms step, lock-step),
+    its plan (planned again here, between runs: the node's plan message of a long curve takes
+    a while to read, and lock-step time stands still meanwhile) and the node's speed limits."""
+    poses = np.array([(index * STEP_S, p.x, p.y, p.theta, p.linear_velocity, p.angular_velocity)
+                      for index, p in enumerate(system.poses)]).reshape(-1, 6)
+    settings = system.node.settings
+    plan = planning.plan(trajectory.name, make_request(trajectory, trajectory.example.given),
+                         Pose2D(*trajectory.example.start), settings)
+    return Run(trajectory.name, poses, plan.path.points(),
+               linear_limit=settings.control.linear_speed,
+               angular_limit=settings.control.angular_speed)
+
+
 def gallery(pictures: list[tuple[str, Path]], target: Path) -> None:
     """All pictures in a labelled grid, one PNG."""
     columns, tile, label = 5, 250, 22
@@ -72,8 +93,11 @@ def main(args: Sequence[str] | None = None) -> int:
     folder.mkdir(parents=True, exist_ok=True)
     rclpy.init()
     wall_start = time.monotonic()
-    rows, pictures = [], []
+    rows, pictures, plots = [], [], []
     system = None
+    # The plots are drawn in another process, on the other core, while lock-step runs on.
+    # A fresh interpreter (spawn), not a fork of this one with its middleware's threads.
+    plotter = ProcessPoolExecutor(max_workers=1, mp_context=get_context('spawn'))
     try:
         system = InProcessSystem(output_dir=folder)
         sim_start = system.sim_time_s
@@ -84,12 +108,17 @@ def main(args: Sequence[str] | None = None) -> int:
             if not saved.success:
                 raise RuntimeError(saved.message)
             pictures.append((trajectory.name, Path(saved.path)))
+            plots.append(plotter.submit(write_overview, _run(system, trajectory),
+                                        folder / f'{trajectory.name}-plot.png'))
         gallery(pictures, folder / 'gallery.png')
         simulated_s = system.sim_time_s - sim_start
+        for plot in plots:
+            plot.result()
     except (RuntimeError, KeyboardInterrupt) as error:
         print(f'demo stopped: {error or "interrupted"}', file=sys.stderr)
         return 1
     finally:
+        plotter.shutdown(cancel_futures=True)
         if system is not None:
             system.close()
         rclpy.try_shutdown()
@@ -101,7 +130,7 @@ def main(args: Sequence[str] | None = None) -> int:
               f'{response.path_length:8.2f} {response.max_deviation:10.4f} '
               f'{response.final_error:10.4f}  {response.message}')
     wall_s = time.monotonic() - wall_start
-    print(f'pictures: {folder}/ (gallery.png and one PNG per trajectory)')
+    print(f'pictures: {folder}/ (gallery.png, one PNG per trajectory and its -plot.png)')
     print(f'{simulated_s:.1f} s simulated in {wall_s:.1f} s of wall time: '
           f'{simulated_s / wall_s:.0f}x real time (lock-step)')
     return 0 if all(response.success for _, response in rows) else 1

@@ -130,6 +130,12 @@ def overview(run: Run) -> Figure:
     return figure
 
 
+def write_overview(run: Run, target: Path) -> Path:
+    """The four panels of `run` in one PNG (the demo's plot per trajectory)."""
+    overview(run).savefig(target)
+    return target
+
+
 def write_plots(bag: Path, folder: Path) -> list[Path]:
     """One PNG per panel for the run in `bag`, into `folder`; the files."""
     run = read_run(bag)
