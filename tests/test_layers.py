@@ -40,7 +40,8 @@ LAYERS = [
     ['node.parameters', 'node.draw_action', 'sim.rotation_goals', 'bags.writer'],
     ['sim.endpoints', 'bags.reader', 'bags.recorder'],
     ['sim.node', 'bags.plots', 'bags.player'],
-    ['node.trajectory_node', 'lockstep', 'web.bridge', 'bags.programs'],
+    ['node.run_recording', 'bags.programs'],
+    ['node.trajectory_node', 'lockstep', 'web.bridge'],
     # nodes put together, and the script-side client
     ['system', 'client', 'web.view'],
     ['sim.main'],

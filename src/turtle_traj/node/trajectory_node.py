@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 import time
-from datetime import datetime
 from functools import partial
 from pathlib import Path
 
@@ -40,7 +39,7 @@ from turtle_traj.node.outcomes import PLAN_FRAME_ID, RunRefused, fill_response, 
 from turtle_traj.node.pen_client import PenClient
 from turtle_traj.node.waiting import wait_until
 from turtle_traj.planning import PlanError
-from turtle_traj.services import DRAW_ACTION, service_type
+from turtle_traj.services import service_type
 from turtle_traj.trajectories import TRAJECTORIES, TrajectoryKind
 from turtle_traj.turtlesim_contract import STEP_S
 from turtle_traj.wire import TURTLE_TOPIC_QOS
@@ -90,12 +89,11 @@ class TrajectoryNode(Node):
         self.stop_service = self.resolve_service_name('~/stop')
         self._sim_reset = self.create_client(Empty, 'reset', callback_group=group)
         self._pen = PenClient(self, turtle, callback_group=group)  # drawings lift the pen
-        self._recorder = None  # records every run when record_dir is set
-        if self.get_parameter('record_dir').value:  # rosbags is loaded only then
-            from turtle_traj.bags.recorder import TopicRecorder
-            self._recorder = TopicRecorder(self, [
-                f'{turtle}/pose', f'{turtle}/cmd_vel', '~/plan',
-                f'~/{DRAW_ACTION}/_action/feedback', f'~/{DRAW_ACTION}/_action/status'])
+        self._recording = None  # each run a bag, when record_dir is set (rosbags loaded then)
+        if self.get_parameter('record_dir').value:
+            from turtle_traj.node.run_recording import RunRecording
+            self._recording = RunRecording(self, turtle,
+                                           Path(self.get_parameter('record_dir').value))
 
         self.create_timer(1.0 / self.get_parameter('control_rate').value,
                           self._on_control_timer)
@@ -201,7 +199,8 @@ class TrajectoryNode(Node):
         self._loop.take_run()
         self._run_done = None
         self._publish(STOP)
-        self._stop_recording()
+        if self._recording is not None:
+            self._recording.stop()
         outcome = run.outcome(self._loop.pose, self.now_s())
         summary = (f'{outcome.message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
                    f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m, '
@@ -260,40 +259,14 @@ class TrajectoryNode(Node):
         run = self._loop.start(plan, arena=self.settings.arena, now_s=self.now_s())
         self._run_done = done = Future()
         path = plan.path
-        self._start_recording(kind)
+        if self._recording is not None:
+            self._recording.start(kind.name, self.settings.control)
         self._plan.publish(plan_message(path, Header(frame_id=PLAN_FRAME_ID,
                                                      stamp=self.get_clock().now().to_msg())))
         self.get_logger().info(
             f'{kind.name}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} '
             f'deg of turns in place, at least {plan.lower_bound_s(self.settings.control):.1f} s')
         return run, done
-
-    def _start_recording(self, kind: TrajectoryKind) -> None:
-        """A bag for this run in record_dir (a failure is logged: the run goes on)."""
-        if self._recorder is None:
-            return
-        from turtle_traj.bags.writer import BagError
-        folder = Path(self.get_parameter('record_dir').value)
-        path = folder / f'{kind.name}_{datetime.now():%Y%m%d-%H%M%S-%f}'
-        control = self.settings.control
-        try:
-            self._recorder.start(path, custom_data={
-                'trajectory': kind.name, 'linear_speed': str(control.linear_speed),
-                'angular_speed': str(control.angular_speed)})
-        except BagError as error:
-            self.get_logger().error(f'{kind.name} is not recorded: {error}')
-
-    def _stop_recording(self) -> None:
-        if self._recorder is None or self._recorder.writer is None:
-            return
-        from turtle_traj.bags.writer import BagError
-        path = self._recorder.writer.path
-        try:
-            counts = self._recorder.stop()
-        except BagError as error:
-            self.get_logger().error(str(error))
-            return
-        self.get_logger().info(f'recorded {sum(counts.values())} messages into {path}')
 
     def stop_run(self, run: RunSupervisor) -> None:
         """End `run` at once as stopped by request, if it is still the one running."""
