@@ -4,11 +4,15 @@ controller and the settings all take these numbers from here."""
 
 from __future__ import annotations
 
+import struct
 from dataclasses import dataclass
 
 PIXELS_PER_METER = 45.0
 CANVAS_SIZE_PX = 500
 WORLD_SIZE_M = (CANVAS_SIZE_PX - 1) / PIXELS_PER_METER
+# turtlesim keeps the height as a float (11.088889122): its canvas flips y about that value,
+# which puts a line at a whole metre a hair below the pixel edge (what its pen scan shows).
+CANVAS_HEIGHT_M = struct.unpack('f', struct.pack('f', WORLD_SIZE_M))[0]
 SPAWN_XY_M = 5.544444561004639  # float32 of WORLD_SIZE_M / 2, as real turtlesim publishes it
 STEP_S = 0.016  # the simulation step: one pose per turtle per step
 COMMAND_TIMEOUT_S = 1.0  # a turtle stops this long after its last cmd_vel

@@ -10,15 +10,15 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from turtle_traj.sim.state import Segment, Turtle
-from turtle_traj.turtlesim_contract import CANVAS_SIZE_PX, PIXELS_PER_METER, WORLD_SIZE_M
+from turtle_traj.turtlesim_contract import CANVAS_HEIGHT_M, CANVAS_SIZE_PX, PIXELS_PER_METER
 
 _ICON_SIZE_PX = 45
 _TRANSPARENT_WHITE = (255, 255, 255, 0)
 
 
 def to_pixel(x_m: float, y_m: float) -> tuple[float, float]:
-    """World metres (y up) to canvas pixels (y down), as turtlesim draws."""
-    return x_m * PIXELS_PER_METER, (WORLD_SIZE_M - y_m) * PIXELS_PER_METER
+    """World metres (y up) to canvas pixels (y down), as turtlesim draws and senses."""
+    return x_m * PIXELS_PER_METER, (CANVAS_HEIGHT_M - y_m) * PIXELS_PER_METER
 
 
 @cache
@@ -34,6 +34,56 @@ def turtle_icon() -> Image.Image:
     draw.ellipse((9, 8, 36, 41), fill=shell, outline=rim, width=2)  # shell
     draw.line((22, 12, 22, 38), fill=rim, width=1)
     return icon
+
+
+def _cosmetic(start: tuple[float, float],
+              end: tuple[float, float]) -> list[tuple[int, int, int]]:
+    """A 1 px line, as Qt's cosmetic stroker draws it aliased: one pixel per whole coordinate
+    along the major axis between the ends, the pixel holding the line there on the other.
+
+    Spans (row, first column, last column).
+    """
+    (x0, y0), (x1, y1) = start, end
+    dx, dy = x1 - x0, y1 - y0
+    if abs(dx) >= abs(dy):
+        if dx == 0.0:  # a point
+            return [(math.floor(y0), math.floor(x0), math.floor(x0))]
+        low, high = sorted((x0, x1))
+        return [(math.floor(y0 + dy * (x - x0) / dx), x, x)
+                for x in range(math.ceil(low), math.floor(high) + 1)]
+    low, high = sorted((y0, y1))
+    return [(y, column, column) for y in range(math.ceil(low), math.floor(high) + 1)
+            for column in (math.floor(x0 + dx * (y - y0) / dy),)]
+
+
+def _filled(start: tuple[float, float], end: tuple[float, float],
+            half: float) -> list[tuple[int, int, int]]:
+    """A wide line with square caps, as Qt fills its outline aliased: the pixels whose centre
+    lies in the outline, with the top and left edges in and the bottom and right ones out.
+
+    Spans (row, first column, last column).
+    """
+    (x0, y0), (x1, y1) = start, end
+    length = math.hypot(x1 - x0, y1 - y0)
+    ux, uy = ((x1 - x0) / length, (y1 - y0) / length) if length > 0.0 else (1.0, 0.0)
+    ax, ay = ux * half, uy * half  # along: the cap
+    nx, ny = -uy * half, ux * half  # across
+    corners = [(x0 - ax + nx, y0 - ay + ny), (x1 + ax + nx, y1 + ay + ny),
+               (x1 + ax - nx, y1 + ay - ny), (x0 - ax - nx, y0 - ay - ny)]
+    edges = list(zip(corners, corners[1:] + corners[:1], strict=True))
+    top, bottom = min(y for _, y in corners), max(y for _, y in corners)
+    spans = []
+    for row in range(math.ceil(top - 0.5), math.ceil(bottom - 0.5)):
+        centre = row + 0.5  # a scanline through the pixel centres, in [top, bottom)
+        crossings = [xa + (xb - xa) * (centre - ya) / (yb - ya)
+                     for (xa, ya), (xb, yb) in edges
+                     if min(ya, yb) <= centre < max(ya, yb)]
+        if len(crossings) >= 2:
+            left, right = min(crossings), max(crossings)
+            first, last = math.ceil(left - 0.5), math.ceil(right - 0.5) - 1  # [left, right)
+            if first <= last:
+                spans.append((row, first, last))
+    return spans
 
 
 class Canvas:
@@ -63,36 +113,28 @@ class Canvas:
         return cleared, patches
 
     def draw(self, segment: Segment) -> None:
-        """Stroke a segment as turtlesim's Qt painter does: solid, square cap, no antialiasing.
+        """Stroke a segment as turtlesim's QPainter does: aliased, square cap, in pixel
+        coordinates with no half-pixel offset (a pixel (c, r) covers [c, c+1) x [r, r+1)).
 
-        The stroke is the rectangle around the segment, lengthened by half the width at both
-        ends (the square cap); Qt paints an aliased shape's pixel when the pixel's centre, half
-        a pixel right of and below its corner, lies inside. That decides whether the colour
-        sensor, a step ahead, still reads the previous segment's cap (tests/test_sim_node.py).
-        A 1 px pen is a cap-less hairline through the pixels it crosses.
+        Qt draws a pen of width 0 or 1 as a cosmetic line and a wider one by filling the
+        stroke's outline. See `_cosmetic` and `_filled`; tests/test_pen_scan.py checks both
+        against the real turtlesim's colour sensor.
         """
-        (x0, y0), (x1, y1) = to_pixel(*segment.start), to_pixel(*segment.end)
+        start, end = to_pixel(*segment.start), to_pixel(*segment.end)
         pen = segment.pen
-        half = max(pen.width_px, 1) / 2.0
-        reach = half * math.sqrt(2.0) + 1.0  # the stroke's farthest corner, and a margin
-        columns = np.arange(max(math.floor(min(x0, x1) - reach), 0),
-                            min(math.ceil(max(x0, x1) + reach), CANVAS_SIZE_PX - 1) + 1)
-        rows = np.arange(max(math.floor(min(y0, y1) - reach), 0),
-                         min(math.ceil(max(y0, y1) + reach), CANVAS_SIZE_PX - 1) + 1)
-        if not len(columns) or not len(rows):
-            return  # wholly off the canvas
-        cx, cy = (columns + 0.5)[None, :], (rows + 0.5)[:, None]  # pixel centres, broadcast
-        length = math.hypot(x1 - x0, y1 - y0)
-        ux, uy = ((x1 - x0) / length, (y1 - y0) / length) if length > 0.0 else (1.0, 0.0)
-        along = (cx - x0) * ux + (cy - y0) * uy
-        across = (cy - y0) * ux - (cx - x0) * uy
-        cap = half if pen.width_px > 1 else 0.5
-        inside = (along >= -cap) & (along <= length + cap) & (np.abs(across) <= half)
-        self.trails[rows[0]:rows[-1] + 1, columns[0]:columns[-1] + 1][inside] = (
-            pen.r, pen.g, pen.b, 255)
-        if self.tracking:
-            self._touched.append((int(rows[0]), int(rows[-1]) + 1, int(columns[0]),
-                                  int(columns[-1]) + 1))
+        colour = (pen.r, pen.g, pen.b, 255)
+        spans = (_cosmetic(start, end) if pen.width_px <= 1
+                 else _filled(start, end, pen.width_px / 2.0))
+        painted = []
+        for row, first, last in spans:
+            first, last = max(first, 0), min(last, CANVAS_SIZE_PX - 1)
+            if 0 <= row < CANVAS_SIZE_PX and first <= last:
+                self.trails[row, first:last + 1] = colour
+                painted.append((row, first, last))
+        if self.tracking and painted:  # one rectangle around what the stroke painted
+            rows = [row for row, _, _ in painted]
+            self._touched.append((min(rows), max(rows) + 1, min(f for _, f, _ in painted),
+                                  max(last for _, _, last in painted) + 1))
 
     def ink_at(self, points_m: np.ndarray, rgb: tuple[int, int, int]) -> np.ndarray:
         """Per point (world metres, (N, 2)): the trail pixel under it has colour `rgb`."""

@@ -1,0 +1,65 @@
+"""Qt's pen widths: our simulator's colour sensor read across a line, as the real turtlesim's
+was read for shared/data/turtlesim-pen-scan.json (driven the way that file describes)."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+from geometry_msgs.msg import Twist
+from std_srvs.srv import Empty
+from turtlesim.msg import Color
+from turtlesim.srv import SetPen, TeleportAbsolute
+
+from turtle_traj.turtlesim_contract import WORLD_SIZE_M
+from turtle_traj.wire import TURTLE_TOPIC_QOS
+
+SCAN = Path(__file__).resolve().parents[2] / 'shared' / 'data' / 'turtlesim-pen-scan.json'
+PIXEL_M = WORLD_SIZE_M / 500  # as the file measures it: 11.088889 / 500 m
+RED = Color(r=255, g=0, b=0)
+
+
+def _recorded() -> dict[str, str]:
+    if not SCAN.is_file():
+        pytest.skip(f'{SCAN} (the real turtlesim\'s pen scan) is not next to this checkout')
+    return json.loads(SCAN.read_text())['scan']
+
+
+def _scan(sim, colours: list[Color], publisher, width: int, heading: float) -> str:
+    sim.call(SetPen, '/turtle1/set_pen', SetPen.Request(off=1))
+    sim.call(TeleportAbsolute, '/turtle1/teleport_absolute',
+             TeleportAbsolute.Request(x=3.0, y=3.0, theta=heading))
+    sim.call(Empty, '/clear')
+    sim.call(SetPen, '/turtle1/set_pen', SetPen.Request(r=255, g=0, b=0, width=width, off=0))
+    sim.spin_sim_seconds(0.05)
+    twist = Twist()
+    twist.linear.x = 1.0
+    publisher.publish(twist)
+    sim.spin_sim_seconds(1.2)  # it acts for 63 steps, then the turtle stands
+    sim.call(SetPen, '/turtle1/set_pen', SetPen.Request(off=1))
+    middle_x, middle_y = 3.0 + 0.504 * math.cos(heading), 3.0 + 0.504 * math.sin(heading)
+    read = ''
+    for offset in range(-4, 5):  # positive: to the left of the heading
+        x = middle_x - offset * PIXEL_M * math.sin(heading)
+        y = middle_y + offset * PIXEL_M * math.cos(heading)
+        sim.call(TeleportAbsolute, '/turtle1/teleport_absolute',
+                 TeleportAbsolute.Request(x=x, y=y, theta=heading))
+        sim.spin_sim_seconds(0.032)
+        read += 'P' if colours[-1] == RED else '.'
+    return read
+
+
+def test_every_scan_of_the_real_turtlesim_agrees(sim):
+    recorded = _recorded()
+    colours: list[Color] = []
+    sim.client.create_subscription(Color, 'turtle1/color_sensor', colours.append,
+                                   TURTLE_TOPIC_QOS)
+    publisher = sim.client.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
+    assert sim.spin_until(lambda: colours and publisher.get_subscription_count() > 0)
+    ours = {}
+    for name in recorded:
+        width, heading = (float(part.split()[1]) for part in name.split(', '))
+        ours[name] = _scan(sim, colours, publisher, int(width), heading)
+    assert ours == recorded
