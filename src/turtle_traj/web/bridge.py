@@ -94,8 +94,8 @@ class WebBridge(Node):
         if not self._server.page_count:
             return
         ready = self._draw.server_is_ready()
-        why = '' if ready else f'no trajectory node answers on {self._draw._action_name}: ' \
-                               f'{_START_ONE}. Viewing and the keys still work.'
+        why = '' if ready else (f'no trajectory node answers on {self._node_name}/'
+                                f'{DRAW_ACTION}: {_START_ONE}. Viewing and the keys still work.')
         self._server.send(None, protocol.text('status', node=ready, why=why,
                                               dropped=self._server.frames_dropped))
 
