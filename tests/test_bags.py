@@ -15,6 +15,7 @@ import pytest
 
 from turtle_traj.bags.reader import Bag
 from turtle_traj.bags.writer import BagError
+from turtle_traj.turtlesim_contract import SPAWN_XY_M
 
 pytest.importorskip('rosbags')
 
@@ -259,9 +260,16 @@ def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
         path = np.array([(m.value.x, m.value.y) for m in recording.messages(
             ['/turtle1/pose'], deserialize=True)])
         assert f'/turtle1/pose {len(times)}' in said
-    steps = np.diff(times)
-    assert steps.max() < 0.05  # no pose lost: one every 16 ms
-    assert len(times) > 100 and np.ptp(path[:, 0]) > 0.5
+    # Stamped on arrival: a starved recorder (or simulator) takes them late, never out of order.
+    assert np.all(np.diff(times) >= 0.0)
+    # Every recorded pose is one the simulator published: on the circle of radius 1 m left of
+    # the spawn pose, in the order the turtle drove it. (How many arrived is up to DDS under
+    # load: turtlesim's publisher keeps only its last 7, as for `ros2 bag record`.)
+    offset = path - (SPAWN_XY_M, SPAWN_XY_M + 1.0)
+    assert np.abs(np.hypot(*offset.T) - 1.0).max() < 0.02
+    around = np.unwrap(np.arctan2(offset[:, 1], offset[:, 0]))
+    assert np.all(np.diff(around) >= -1e-9) and around[-1] - around[0] > 1.0
+    assert len(times) > 100
 
     with program('turtle_traj.sim', cwd=tmp_path):
         from rclpy.executors import SingleThreadedExecutor
