@@ -18,7 +18,7 @@ LAYERS = [
     ['geometry.shapes', 'geometry.drawing'],
     ['geometry.svg', 'geometry.text'],
     # the simulator's pure core (the controller never imports it: see below)
-    ['sim.state', 'sim.delay', 'sim.options', 'sim.gui'],
+    ['sim.state', 'sim.raster', 'sim.delay', 'sim.options', 'sim.gui'],
     ['sim.physics', 'sim.canvas'],
     # control: a plan in, commands out
     ['control.commands', 'control.config'],

@@ -8,6 +8,7 @@ import json
 import math
 from pathlib import Path
 
+import pytest
 from geometry_msgs.msg import Twist
 from std_srvs.srv import Empty
 from turtlesim.msg import Color
@@ -49,8 +50,16 @@ def _scan(sim, colours: list[Color], publisher, width: int, heading: float) -> s
     return read
 
 
-def test_every_scan_of_the_real_turtlesim_agrees(sim):
-    recorded = _recorded()
+def _scans_of_width(width: int) -> dict[str, str]:
+    return {name: scan for name, scan in _recorded().items()
+            if name.startswith(f'width {width}, ')}
+
+
+@pytest.mark.parametrize('width', range(6))
+def test_every_scan_of_the_real_turtlesim_agrees(sim, width):
+    """One test per pen width, each across the file's headings (0, 0.5 and pi/2)."""
+    recorded = _scans_of_width(width)
+    assert len(recorded) == 3
     colours: list[Color] = []
     sim.client.create_subscription(Color, 'turtle1/color_sensor', colours.append,
                                    TURTLE_TOPIC_QOS)
@@ -58,6 +67,6 @@ def test_every_scan_of_the_real_turtlesim_agrees(sim):
     assert sim.spin_until(lambda: colours and publisher.get_subscription_count() > 0)
     ours = {}
     for name in recorded:
-        width, heading = (float(part.split()[1]) for part in name.split(', '))
-        ours[name] = _scan(sim, colours, publisher, int(width), heading)
+        heading = float(name.split(', ')[1].split()[1])
+        ours[name] = _scan(sim, colours, publisher, width, heading)
     assert ours == recorded

@@ -9,6 +9,7 @@ from functools import cache
 import numpy as np
 from PIL import Image, ImageDraw
 
+from turtle_traj.sim.raster import cosmetic_line, wide_line
 from turtle_traj.sim.state import Segment, Turtle
 from turtle_traj.turtlesim_contract import CANVAS_HEIGHT_M, CANVAS_SIZE_PX, PIXELS_PER_METER
 
@@ -34,56 +35,6 @@ def turtle_icon() -> Image.Image:
     draw.ellipse((9, 8, 36, 41), fill=shell, outline=rim, width=2)  # shell
     draw.line((22, 12, 22, 38), fill=rim, width=1)
     return icon
-
-
-def _cosmetic(start: tuple[float, float],
-              end: tuple[float, float]) -> list[tuple[int, int, int]]:
-    """A 1 px line, as Qt's cosmetic stroker draws it aliased: one pixel per whole coordinate
-    along the major axis between the ends, the pixel holding the line there on the other.
-
-    Spans (row, first column, last column).
-    """
-    (x0, y0), (x1, y1) = start, end
-    dx, dy = x1 - x0, y1 - y0
-    if abs(dx) >= abs(dy):
-        if dx == 0.0:  # a point
-            return [(math.floor(y0), math.floor(x0), math.floor(x0))]
-        low, high = sorted((x0, x1))
-        return [(math.floor(y0 + dy * (x - x0) / dx), x, x)
-                for x in range(math.ceil(low), math.floor(high) + 1)]
-    low, high = sorted((y0, y1))
-    return [(y, column, column) for y in range(math.ceil(low), math.floor(high) + 1)
-            for column in (math.floor(x0 + dx * (y - y0) / dy),)]
-
-
-def _filled(start: tuple[float, float], end: tuple[float, float],
-            half: float) -> list[tuple[int, int, int]]:
-    """A wide line with square caps, as Qt fills its outline aliased: the pixels whose centre
-    lies in the outline, with the top and left edges in and the bottom and right ones out.
-
-    Spans (row, first column, last column).
-    """
-    (x0, y0), (x1, y1) = start, end
-    length = math.hypot(x1 - x0, y1 - y0)
-    ux, uy = ((x1 - x0) / length, (y1 - y0) / length) if length > 0.0 else (1.0, 0.0)
-    ax, ay = ux * half, uy * half  # along: the cap
-    nx, ny = -uy * half, ux * half  # across
-    corners = [(x0 - ax + nx, y0 - ay + ny), (x1 + ax + nx, y1 + ay + ny),
-               (x1 + ax - nx, y1 + ay - ny), (x0 - ax - nx, y0 - ay - ny)]
-    edges = list(zip(corners, corners[1:] + corners[:1], strict=True))
-    top, bottom = min(y for _, y in corners), max(y for _, y in corners)
-    spans = []
-    for row in range(math.ceil(top - 0.5), math.ceil(bottom - 0.5)):
-        centre = row + 0.5  # a scanline through the pixel centres, in [top, bottom)
-        crossings = [xa + (xb - xa) * (centre - ya) / (yb - ya)
-                     for (xa, ya), (xb, yb) in edges
-                     if min(ya, yb) <= centre < max(ya, yb)]
-        if len(crossings) >= 2:
-            left, right = min(crossings), max(crossings)
-            first, last = math.ceil(left - 0.5), math.ceil(right - 0.5) - 1  # [left, right)
-            if first <= last:
-                spans.append((row, first, last))
-    return spans
 
 
 class Canvas:
@@ -113,18 +64,14 @@ class Canvas:
         return cleared, patches
 
     def draw(self, segment: Segment) -> None:
-        """Stroke a segment as turtlesim's QPainter does: aliased, square cap, in pixel
-        coordinates with no half-pixel offset (a pixel (c, r) covers [c, c+1) x [r, r+1)).
-
-        Qt draws a pen of width 0 or 1 as a cosmetic line and a wider one by filling the
-        stroke's outline. See `_cosmetic` and `_filled`; tests/test_pen_scan.py checks both
-        against the real turtlesim's colour sensor.
-        """
-        start, end = to_pixel(*segment.start), to_pixel(*segment.end)
+        """Stroke a segment as turtlesim's QPainter does (`drawLine(new, old)`): aliased,
+        square cap, in pixel coordinates with no half-pixel offset. See `sim.raster`;
+        tests/test_pen_scan.py checks it against the real turtlesim's colour sensor."""
+        new, old = to_pixel(*segment.end), to_pixel(*segment.start)
         pen = segment.pen
         colour = (pen.r, pen.g, pen.b, 255)
-        spans = (_cosmetic(start, end) if pen.width_px <= 1
-                 else _filled(start, end, pen.width_px / 2.0))
+        spans = (cosmetic_line(new, old, CANVAS_SIZE_PX) if pen.width_px <= 1
+                 else wide_line(new, old, float(pen.width_px), CANVAS_SIZE_PX))
         painted = []
         for row, first, last in spans:
             first, last = max(first, 0), min(last, CANVAS_SIZE_PX - 1)
