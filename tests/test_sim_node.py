@@ -325,6 +325,22 @@ def test_pen_trails_show_in_the_saved_image(sim, tmp_path):
     assert not (tmp_path / 'escape.png').exists()
 
 
+def test_a_teleport_far_off_the_canvas_with_the_pen_down_draws_to_the_edge(sim, tmp_path):
+    """A 1 px pen teleported to x = 1e9 m used to walk 4.5e10 pixels: the simulator froze."""
+    recorder = PoseRecorder(sim)
+    sim.call(SetPen, 'turtle1/set_pen', SetPen.Request(r=255, g=0, b=0, width=1))
+    sim.call(TeleportAbsolute, 'turtle1/teleport_absolute',
+             TeleportAbsolute.Request(x=1e9, y=SPAWN_XY_M, theta=0.0))
+    assert sim.spin_until(lambda: recorder.last.x > 11.0, timeout_s=10.0)  # at the wall
+    response = sim.call(SaveImage, '/turtlesim/save_image', SaveImage.Request(filename='f.png'),
+                        timeout_s=10.0)
+    image = Image.open(response.path).convert('RGB')
+    row = math.floor(to_pixel(0.0, SPAWN_XY_M)[1])  # a 1 px line: the row holding it
+    start = math.ceil(to_pixel(SPAWN_XY_M, 0.0)[0])
+    # the line runs to the wall, where the turtle now sits (its icon covers the last 23 px)
+    assert {image.getpixel((column, row)) for column in range(start, 476)} == {(255, 0, 0)}
+
+
 def test_window_shows_the_canvas_on_a_headless_driver(sim, monkeypatch):
     pytest.importorskip('pygame')
     monkeypatch.setenv('SDL_VIDEODRIVER', 'dummy')
