@@ -1,10 +1,13 @@
-"""Simulator benchmark: real-time factor, CPU at real time, cost per update for N turtles.
+"""Simulator benchmark: real-time factor, CPU at real time, cost per update for N turtles, and
+the pen's lateral scans against the real turtlesim's (tests/data/turtlesim-pen-scan.json).
 
 Run: .venv/bin/python bench/sim_bench.py   (or `make bench`)
 """
 
 from __future__ import annotations
 
+import json
+import math
 import statistics
 import subprocess
 import sys
@@ -22,10 +25,15 @@ from isolation import isolate
 from process_cpu import cpu_share, wait_until_connected
 from turtle_traj.client import TrajClient
 from turtle_traj.services import make_goal
+from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.node import SimNode
+from turtle_traj.sim.physics import World
 from turtle_traj.system import InProcessSystem
 from turtle_traj.trajectories import BY_NAME
-from turtle_traj.turtlesim_contract import STEP_S
+from turtle_traj.turtlesim_contract import STEP_S, WORLD_SIZE_M
+
+SCAN_FILE = Path(__file__).resolve().parents[1] / 'tests' / 'data' / 'turtlesim-pen-scan.json'
+REAL_TURTLESIM_CPU = {'idle': 0.027, 'driven': 0.057}  # issue 25, C++ turtlesim 1.8.2 here
 
 
 def _spin_for(executor: SingleThreadedExecutor, seconds: float) -> None:
@@ -139,6 +147,40 @@ def update_cost_ms(turtles: int, updates: int = 300) -> tuple[float, float]:
         node.destroy_node()
 
 
+def lateral_scan(width: int, heading: float) -> str:
+    """Our colour sensor read across a red line, as the scan file says the real turtlesim was
+    read, on the pure core (tests/test_pen_scan.py does it over ROS)."""
+    world, canvas = World(), Canvas()
+    turtle = world.spawn(3.0, 3.0, heading)
+    world.set_pen(turtle.name, 255, 0, 0, width, off=0)
+    world.command(turtle.name, 1.0, 0.0, 0.0)
+    for _ in range(70):  # it moves for 63 steps
+        for segment in world.step().segments:
+            canvas.draw(segment)
+    world.set_pen(turtle.name, 0, 0, 0, 0, off=1)
+    pixel_m, read = WORLD_SIZE_M / 500, ''
+    middle_x, middle_y = 3.0 + 0.504 * math.cos(heading), 3.0 + 0.504 * math.sin(heading)
+    for offset in range(-4, 5):  # positive: to the left of the heading
+        world.teleport_absolute(turtle.name, middle_x - offset * pixel_m * math.sin(heading),
+                                middle_y + offset * pixel_m * math.cos(heading), heading)
+        world.step()
+        read += 'P' if canvas.color_under(turtle) == (255, 0, 0) else '.'
+    return read
+
+
+def print_scan_table() -> None:
+    recorded = json.loads(SCAN_FILE.read_text())['scan']
+    agree = 0
+    print('  pen lateral scans, -4..+4 px across the line (P: the pen colour):')
+    print('    scan                       real turtlesim   ours')
+    for name, real in recorded.items():
+        width, heading = (float(part.split()[1]) for part in name.split(', '))
+        ours = lateral_scan(int(width), heading)
+        agree += ours == real
+        print(f'    {name:26s} {real}        {ours}   {"same" if ours == real else "DIFFERS"}')
+    print(f'    {agree} of {len(recorded)} agree')
+
+
 def main() -> None:
     isolate('sim')
     rclpy.init()
@@ -148,22 +190,25 @@ def main() -> None:
             print(f'  real-time factor, time_scale={scale:g}: {real_time_factor(scale):7.1f}x')
         print(f'  real-time factor, lock-step simulator + trajectory node + client drawing a '
               f'square: {lockstep_real_time_factor():7.1f}x')
+        real = REAL_TURTLESIM_CPU
         for run in range(1, 4):
             idle, driven = simulator_program_cpu()
             print(f'  CPU of `python -m turtle_traj.sim`, one turtle, real time, run {run}: '
-                  f'idle {100 * idle:4.1f}% of one core (target <= 2.5%), while our node '
-                  f'drives a circle {100 * driven:4.1f}% (target <= 3%)')
+                  f'idle {100 * idle:4.1f}% of one core, while our node drives a circle '
+                  f'{100 * driven:4.1f}% (the real turtlesim: {100 * real["idle"]:.1f}% idle)')
         for run in range(1, 3):
             for program, (idle, driven) in traffic_floor().items():
                 print(f'  CPU under the traffic driver (pose subscribed, cmd_vel every 16 ms), '
                       f'run {run}: {program:21s} idle {100 * idle:4.1f}%, '
-                      f'driven {100 * driven:4.1f}%')
+                      f'driven {100 * driven:4.1f}% (target: at most the real turtlesim\'s '
+                      f'{100 * real["idle"]:.1f}% and {100 * real["driven"]:.1f}%)')
         budget_ms = STEP_S * 1e3
         for turtles in (1, 10, 100):
             median, worst = update_cost_ms(turtles)
             verdict = 'holds 62.5 Hz' if median < budget_ms else 'cannot hold 62.5 Hz'
             print(f'  update with {turtles:3d} turtles: median {median:6.3f} ms, '
                   f'worst {worst:6.3f} ms (budget {budget_ms:.0f} ms): {verdict}')
+        print_scan_table()
     finally:
         rclpy.try_shutdown()
 

@@ -45,6 +45,11 @@ class TurtleEndpoints:
             cancel_callback=partial(rotations.accept_cancel, name),
             callback_group=group)
 
+    def color_wanted(self) -> bool:
+        """Whether anyone reads the colour sensor: a message nobody reads is not worth its
+        serialisation (turtlesim publishes it regardless; no subscriber can tell)."""
+        return self.color.get_subscription_count() > 0
+
     def destroy(self, node: Node) -> None:
         self.action.destroy()
         node.destroy_publisher(self.pose)

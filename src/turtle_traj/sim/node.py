@@ -173,7 +173,7 @@ class SimNode(Node):
         pose.x, pose.y, pose.theta = turtle.x, turtle.y, turtle.theta
         pose.linear_velocity, pose.angular_velocity = turtle.linear_speed, turtle.omega
         endpoints.pose.publish(pose)
-        if endpoints.color.get_subscription_count():  # read by nobody: not worth a message
+        if endpoints.color_wanted():
             color = endpoints.color_msg
             color.r, color.g, color.b = self.canvas.color_under(turtle)
             endpoints.color.publish(color)
