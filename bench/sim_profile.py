@@ -33,9 +33,9 @@ QUIET = {'stdout': subprocess.DEVNULL, 'stderr': subprocess.DEVNULL}
 
 # Levers: what each undoes of this checkout, as code run before the simulator starts.
 LEVERS = {
-    'colour sensor published with no subscriber (as before)': (
+    'pose and colour published with no subscriber (as before)': (
         'from turtle_traj.sim.endpoints import TurtleEndpoints\n'
-        'TurtleEndpoints.color_wanted = lambda endpoints: True\n'),
+        'TurtleEndpoints.listened = staticmethod(lambda publisher: True)\n'),
     "Fast DDS's default announcement period (3 s, not our 0.5 s)": None,  # an environment
 }
 

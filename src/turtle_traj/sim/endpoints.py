@@ -9,6 +9,7 @@ from geometry_msgs.msg import Twist
 from rclpy.action import ActionServer
 from rclpy.callback_groups import CallbackGroup
 from rclpy.node import Node
+from rclpy.publisher import Publisher
 from turtlesim.action import RotateAbsolute
 from turtlesim.msg import Color, Pose
 from turtlesim.srv import SetPen, TeleportAbsolute, TeleportRelative
@@ -45,10 +46,11 @@ class TurtleEndpoints:
             cancel_callback=partial(rotations.accept_cancel, name),
             callback_group=group)
 
-    def color_wanted(self) -> bool:
-        """Whether anyone reads the colour sensor: a message nobody reads is not worth its
-        serialisation (turtlesim publishes it regardless; no subscriber can tell)."""
-        return self.color.get_subscription_count() > 0
+    @staticmethod
+    def listened(publisher: Publisher) -> bool:
+        """Whether anyone subscribes: a pose or colour nobody reads is not worth serialising
+        (turtlesim publishes them regardless; with volatile topics no subscriber can tell)."""
+        return publisher.get_subscription_count() > 0
 
     def destroy(self, node: Node) -> None:
         self.action.destroy()

@@ -169,11 +169,12 @@ class SimNode(Node):
 
     def _publish_state(self, turtle: Turtle) -> None:
         endpoints = self._endpoints[turtle.name]
-        pose = endpoints.pose_msg
-        pose.x, pose.y, pose.theta = turtle.x, turtle.y, turtle.theta
-        pose.linear_velocity, pose.angular_velocity = turtle.linear_speed, turtle.omega
-        endpoints.pose.publish(pose)
-        if endpoints.color_wanted():
+        if endpoints.listened(endpoints.pose):
+            pose = endpoints.pose_msg
+            pose.x, pose.y, pose.theta = turtle.x, turtle.y, turtle.theta
+            pose.linear_velocity, pose.angular_velocity = turtle.linear_speed, turtle.omega
+            endpoints.pose.publish(pose)
+        if endpoints.listened(endpoints.color):
             color = endpoints.color_msg
             color.r, color.g, color.b = self.canvas.color_under(turtle)
             endpoints.color.publish(color)
