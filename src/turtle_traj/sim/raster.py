@@ -6,7 +6,7 @@ Qt then takes one of two paths, both reproduced here with Qt's own fixed-point a
 
 - a pen of width 0 or 1 is a *fast pen*: Qt's cosmetic stroker walks the major axis one pixel
   at a time from half a pixel before the start to half a pixel past the end (the square cap),
-  taking the pixel under the line at each pixel centre (`cosmetic_line`);
+  taking the pixel the line crosses there (`cosmetic_line`);
 - a wider pen goes to the rasteriser's line filler: the square-capped rectangle, its corners
   snapped to 1/64 px, filled at pixel centres (`wide_line`). A stroke of no length is a square.
 
@@ -112,8 +112,9 @@ def _walk(major1: int, minor1: int, major2: int, minor2: int) -> list[tuple[int,
     first, stop = (major1 + 32) >> 6, (major2 + 32) >> 6
     if first == stop:
         return []
-    # The minor coordinate at the first pixel: at its centre on a rising line, at its
-    # leading edge on a falling one (Qt 5.15's rounding; Qt 5.0 took the centre for both).
+    # The minor coordinate at the first pixel: at its centre on a rising line, at its first
+    # edge on a falling one (Qt 5.15's rounding; older Qt took the centre for both, and then
+    # a 1 px line at heading 0.5 would leave no pixel under the turtle's path).
     minor += (((first << 6) + (32 if step > 0 else 0) - major1) * step) >> 6
     pixels = []
     for major in range(first, stop):
