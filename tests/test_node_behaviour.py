@@ -128,6 +128,21 @@ def test_vanishing_simulator_aborts_the_trajectory_and_node_keeps_serving(traj):
     assert traj.call(Move, 'move', Move.Request(distance=0.5)).success
 
 
+def test_a_long_callback_in_the_lock_step_process_is_not_a_vanished_simulator(traj):
+    """Simulated time stands still while any callback of the process runs. One that takes
+    longer than pose_timeout of wall time (the demo once read a 12 000-pose plan message in
+    0.6 s) used to abort the run as if the simulator had gone."""
+    import time
+
+    timeout_s = traj.node.settings.pose_timeout_s
+    drawing = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+    assert traj.spin_until(lambda: traj.node.busy)
+    traj.spin_sim_seconds(0.5)
+    stall = traj.client.create_timer(0.1, lambda: (stall.cancel(), time.sleep(2 * timeout_s)))
+    assert traj.spin_until(drawing.done, timeout_s=60.0)
+    assert drawing.result().success, drawing.result().message
+
+
 def test_node_without_simulator_refuses_at_once(ros_context):
     node = TrajectoryNode(context=ros_context)
     client_node = Node('lonely_client', context=ros_context)

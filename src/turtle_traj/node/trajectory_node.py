@@ -4,7 +4,9 @@ Service handlers validate and plan, hand the path to the control timer and await
 timer steps the pure PathFollower on the latest pose. A watchdog aborts a trajectory when poses
 stop arriving: silence is measured on the node's clock (so simulated time gives the same verdict
 under any load) and on the wall clock only while the node's clock stands still (a simulator that
-published /clock has vanished).
+published /clock has vanished), counting only wall time in which the watchdog itself ran on time:
+a long callback elsewhere in a lock-step process also holds simulated time still, and no
+simulator vanished then.
 """
 
 from __future__ import annotations
@@ -64,7 +66,9 @@ class TrajectoryNode(Node):
         self.add_post_set_parameters_callback(self._on_parameters_set)
         turtle = self.get_parameter('turtle_name').value
 
-        self._pose_wall_s = -math.inf
+        # Wall time since the last pose, counted only while the watchdog kept its beat.
+        self._wall_silence_s = math.inf
+        self._watchdog_wall_s = time.monotonic()
         self._pose_time: Time | None = None
         # The future the run's service handler awaits. One executor thread calls everything
         # here, and a handler checks `_run` and claims it without an `await` in between, so
@@ -113,7 +117,7 @@ class TrajectoryNode(Node):
         self._loop.observe(Pose2D(msg.x, msg.y, msg.theta), msg.linear_velocity,
                            msg.angular_velocity)
         self._finish_if_ended()  # a jump ends the run
-        self._pose_wall_s = time.monotonic()
+        self._wall_silence_s = 0.0
         self._pose_time = self.get_clock().now()
 
     def _pose_silence_s(self) -> float:
@@ -123,7 +127,7 @@ class TrajectoryNode(Node):
         silence = (self.get_clock().now() - self._pose_time).nanoseconds * 1e-9
         if silence > 0.0:
             return silence
-        return time.monotonic() - self._pose_wall_s
+        return self._wall_silence_s
 
     @property
     def pose(self) -> Pose2D | None:
@@ -162,6 +166,11 @@ class TrajectoryNode(Node):
             self._pen.set(run.plan.pen, down=wanted, then=answered)
 
     def _on_watchdog(self) -> None:
+        now = time.monotonic()
+        # A late beat means this process was busy (a long callback, a starved machine): that
+        # gap counts as one beat, not as silence of the simulator.
+        self._wall_silence_s += min(now - self._watchdog_wall_s, 2 * _WATCHDOG_PERIOD_S)
+        self._watchdog_wall_s = now
         if self._pen.give_up_if_late() and self._run is not None:
             self._finish(False, f'{self._run.name} aborted: {self._pen.service_name} did not '
                                 f'answer within {self._pen.timeout_s:g} s; is the simulator '
