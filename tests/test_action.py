@@ -16,7 +16,7 @@ from turtle_traj.turtlesim_contract import SPAWN_XY_M
 def draw(traj):
     """An action client of the node's draw action, on the harness's client node."""
     client = ActionClient(traj.client, Draw, '/turtle_traj/draw')
-    assert traj.spin_until(client.server_is_ready, timeout_s=10.0)
+    assert traj.spin_until(client.server_is_ready, timeout_s=60.0)
     yield client
     client.destroy()
 

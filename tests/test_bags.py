@@ -32,7 +32,7 @@ def recorded(ros_context, tmp_path):
                              record_dir=str(tmp_path / 'bags'))
     try:
         action = ActionClient(system.client, Draw, '/turtle_traj/draw')
-        assert system.spin_until(action.server_is_ready, timeout_s=10.0)
+        assert system.spin_until(action.server_is_ready, timeout_s=60.0)
         system.poses.clear()
         sent = action.send_goal_async(Draw.Goal(trajectory='square', size=1.5))
         assert system.spin_until(sent.done, timeout_s=10.0)

@@ -132,7 +132,7 @@ def test_the_draw_action_writes_text_and_reports_the_pen_up_distance(traj):
     _, plan = _planned(traj, 'text', {'text': 'T T', 'height': 0.5})
     client = ActionClient(traj.client, Draw, '/turtle_traj/draw')
     try:
-        assert traj.spin_until(client.server_is_ready, timeout_s=10.0)
+        assert traj.spin_until(client.server_is_ready, timeout_s=60.0)
         sent = client.send_goal_async(Draw.Goal(trajectory='text', text='T T', height=0.5))
         assert traj.spin_until(sent.done)
         result = sent.result().get_result_async()

@@ -103,7 +103,7 @@ def test_menu_enter_uses_the_nodes_live_default_size(running_system, monkeypatch
         assert cli.main(['menu']) == 0
         out = capsys.readouterr().out
         assert "Enter = the node's default_side_length = 1.25" in out
-        assert 'done: square done' in out
+        assert 'done: square done' in out, out
         assert 'path 5.00 m' in out  # four sides of 1.25 m: the node's value, not 2 m
     finally:
         assert cli.main(['params', 'default_side_length', '2.0']) == 0
