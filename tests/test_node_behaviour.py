@@ -143,6 +143,20 @@ def test_a_long_callback_in_the_lock_step_process_is_not_a_vanished_simulator(tr
     assert drawing.result().success, drawing.result().message
 
 
+def test_a_node_that_falls_behind_reads_every_pose_it_missed(traj):
+    """A node process that does not run for a while (a starved machine) then reads the poses
+    it missed, in order. With turtlesim's own history of 7 it read only the last 7 of 25 and
+    aborted: the turtle seemed to jump 0.6 m."""
+    drawing = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=4.0, linear_speed=2.0))
+    assert traj.spin_until(lambda: traj.node.busy)
+    traj.spin_sim_seconds(0.6)  # on the first side, at full speed
+    traj.executor.remove_node(traj.node)
+    traj.spin_sim_seconds(0.4)  # 25 poses, 0.8 m, the last command still acting
+    traj.executor.add_node(traj.node)
+    assert traj.spin_until(drawing.done)
+    assert drawing.result().success, drawing.result().message
+
+
 def test_node_without_simulator_refuses_at_once(ros_context):
     node = TrajectoryNode(context=ros_context)
     client_node = Node('lonely_client', context=ros_context)

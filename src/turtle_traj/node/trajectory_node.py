@@ -44,7 +44,7 @@ from turtle_traj.planning import PlanError
 from turtle_traj.services import service_type
 from turtle_traj.trajectories import TRAJECTORIES, TrajectoryKind
 from turtle_traj.turtlesim_contract import STEP_S
-from turtle_traj.wire import TURTLE_TOPIC_QOS
+from turtle_traj.wire import POSE_READER_QOS, TURTLE_TOPIC_QOS
 
 _WATCHDOG_PERIOD_S = 0.05
 _RESET_TIMEOUT_S = 5.0
@@ -76,7 +76,7 @@ class TrajectoryNode(Node):
         self._run_done: Future | None = None
 
         self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
-        self.create_subscription(Pose, f'{turtle}/pose', self._on_pose, TURTLE_TOPIC_QOS)
+        self.create_subscription(Pose, f'{turtle}/pose', self._on_pose, POSE_READER_QOS)
         self._cmd_vel = self.create_publisher(Twist, f'{turtle}/cmd_vel', TURTLE_TOPIC_QOS)
         self._twist = Twist()
         self._plan = self.create_publisher(
