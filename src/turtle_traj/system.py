@@ -24,6 +24,9 @@ from turtle_traj.wire import TURTLE_TOPIC_QOS
 # Lock-step runs many times faster than real time even on a loaded machine: a wait that has
 # not ended after this much wall time is stuck, not slow (or the simulator was taken away).
 _WALL_SAFETY_MIN_S = 60.0
+# In-process endpoints still meet through DDS discovery: milliseconds when quiet, and once more
+# than 10 s with both cores busy. Only a bound.
+_DISCOVERY_TIMEOUT_S = 60.0
 _WALL_SAFETY_PER_SIM_S = 0.5
 SIM_TIME = Parameter('use_sim_time', value=True)
 
@@ -85,7 +88,7 @@ class LockstepSim:
         if client is None:
             client = self.client.create_client(service_type, name)
             self._service_clients[service_type, name] = client
-        if not self.spin_until(client.service_is_ready, timeout_s=10.0):
+        if not self.spin_until(client.service_is_ready, timeout_s=_DISCOVERY_TIMEOUT_S):
             raise RuntimeError(f'no service {name}')
         return client.call_async(request if request is not None else service_type.Request())
 
@@ -118,8 +121,10 @@ class InProcessSystem(LockstepSim):
         self.poses: list[Pose] = []
         self.client.create_subscription(Pose, 'turtle1/pose', self.poses.append,
                                         TURTLE_TOPIC_QOS)
-        if not self.spin_until(lambda: self.node.ready and bool(self.poses), timeout_s=10.0):
-            raise RuntimeError('the in-process system did not come up within 10 s')
+        if not self.spin_until(lambda: self.node.ready and bool(self.poses),
+                               timeout_s=_DISCOVERY_TIMEOUT_S):
+            raise RuntimeError(f'the in-process system did not come up within '
+                               f'{_DISCOVERY_TIMEOUT_S:g} s')
 
     def _resolve(self, name: str) -> str:
         """A relative service name is one of the trajectory node's."""
