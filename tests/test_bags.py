@@ -294,17 +294,20 @@ def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
             executor.shutdown()
             node.destroy_node()
     from turtle_traj.geometry.path import NearestOnPolyline
-    # The recording may end (SIGINT) before the node's last, stopping command reached it: then
-    # the replayed turtle drives on for turtlesim's 1 s command timeout, past the recorded path.
-    # Compare as many moving poses as the recording has.
-    recorded_moving = int(np.count_nonzero(speeds > 0))
-    moved = np.array([(p.x, p.y) for p in replayed if p.linear_velocity > 0])[:recorded_moving]
-    off = NearestOnPolyline(path).distances(moved)
+    moved = np.array([(p.x, p.y) for p in replayed if p.linear_velocity > 0])
     assert len(moved) > 100
-    # Open loop on the wall clock: each command lands within a step of where it did, which on
-    # a quiet machine keeps the path within 15 mm of the recording; a loaded one delays some
-    # commands by several steps (63 mm seen with both cores busy). The bound catches a wrong
-    # order, rate or topic; the lock-step replay above is the exact check.
-    assert off.max() < 0.15, off.max()
+    # Open loop on the wall clock, a command acts for as long as the next one takes to come. A
+    # loaded machine mostly moves the turtle further or less far along the path (63 mm and 209
+    # mm from the recorded path seen with both cores busy): every command turns it on about the
+    # same circle, and only the controller's small corrections, now acting for other durations,
+    # move it off (23 mm seen). So: on the recorded circle, the same way round, most of the
+    # recorded sweep; and a figure against the recorded path itself (0-15 mm when quiet). The
+    # lock-step replay above is the exact check.
+    replay_offset = moved - (SPAWN_XY_M, SPAWN_XY_M + 1.0)
+    assert np.abs(np.hypot(*replay_offset.T) - 1.0).max() < 0.1
+    swept = np.unwrap(np.arctan2(replay_offset[:, 1], replay_offset[:, 0]))
+    assert np.all(np.diff(swept) >= -1e-9)
+    assert swept[-1] - swept[0] > 0.8 * (around[-1] - around[0])
+    off = NearestOnPolyline(path).distances(moved[:int(np.count_nonzero(speeds > 0))])
     print(f'real-time replay: {1e3 * off.max():.1f} mm at most from the recorded path, '
           f'median {1e3 * np.median(off):.1f} mm')

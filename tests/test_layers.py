@@ -36,7 +36,8 @@ LAYERS = [
     ['web.protocol'],
     # the ROS shell: QoS, interface names, the program runner, nodes, executors
     ['wire', 'services', 'runtime', 'remote_parameters', 'liveness', 'web.server',
-     'node.async_service', 'node.outcomes', 'node.pen_client', 'node.waiting', 'bags.types'],
+     'node.async_service', 'node.outcomes', 'node.pen_client', 'node.waiting',
+     'node.pose_silence', 'bags.types'],
     ['node.parameters', 'node.draw_action', 'sim.rotation_goals', 'bags.writer'],
     ['sim.endpoints', 'bags.reader', 'bags.recorder'],
     ['sim.node', 'bags.plots', 'bags.player'],
@@ -58,7 +59,8 @@ PURE = [module for layer in LAYERS[:LAYERS.index(['web.protocol']) + 1] for modu
 CONTROLLER = [module for layer in LAYERS[LAYERS.index(['control.commands', 'control.config']):
                                          LAYERS.index(['trajectories']) + 1]
               for module in layer] + ['node.parameters', 'node.trajectory_node', 'node.outcomes',
-                                      'node.pen_client', 'node.waiting', 'node.draw_action']
+                                      'node.pen_client', 'node.waiting', 'node.draw_action',
+                                      'node.pose_silence']
 LAYER_OF = {module: index for index, modules in enumerate(LAYERS) for module in modules}
 
 

@@ -2,17 +2,12 @@
 
 Service handlers validate and plan, hand the path to the control timer and await its end; the
 timer steps the pure PathFollower on the latest pose. A watchdog aborts a trajectory when poses
-stop arriving: silence is measured on the node's clock (so simulated time gives the same verdict
-under any load) and on the wall clock only while the node's clock stands still (a simulator that
-published /clock has vanished), counting only wall time in which the watchdog itself ran on time:
-a long callback elsewhere in a lock-step process also holds simulated time still, and no
-simulator vanished then.
+stop arriving (see `PoseSilence`).
 """
 
 from __future__ import annotations
 
 import math
-import time
 from functools import partial
 from pathlib import Path
 
@@ -24,7 +19,6 @@ from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.task import Future
-from rclpy.time import Time
 from std_msgs.msg import Header
 from std_srvs.srv import Empty, Trigger
 from turtlesim.msg import Pose
@@ -39,6 +33,7 @@ from turtle_traj.node.async_service import create_async_service
 from turtle_traj.node.draw_action import DrawActionServer
 from turtle_traj.node.outcomes import PLAN_FRAME_ID, RunRefused, fill_response, plan_message
 from turtle_traj.node.pen_client import PenClient
+from turtle_traj.node.pose_silence import PoseSilence
 from turtle_traj.node.waiting import wait_until
 from turtle_traj.planning import PlanError
 from turtle_traj.services import service_type
@@ -66,10 +61,7 @@ class TrajectoryNode(Node):
         self.add_post_set_parameters_callback(self._on_parameters_set)
         turtle = self.get_parameter('turtle_name').value
 
-        # Wall time since the last pose, counted only while the watchdog kept its beat.
-        self._wall_silence_s = math.inf
-        self._watchdog_wall_s = time.monotonic()
-        self._pose_time: Time | None = None
+        self._silence = PoseSilence(self.get_clock(), _WATCHDOG_PERIOD_S)
         # The future the run's service handler awaits. One executor thread calls everything
         # here, and a handler checks `_run` and claims it without an `await` in between, so
         # two requests can never both start a run.
@@ -117,17 +109,7 @@ class TrajectoryNode(Node):
         self._loop.observe(Pose2D(msg.x, msg.y, msg.theta), msg.linear_velocity,
                            msg.angular_velocity)
         self._finish_if_ended()  # a jump ends the run
-        self._wall_silence_s = 0.0
-        self._pose_time = self.get_clock().now()
-
-    def _pose_silence_s(self) -> float:
-        """Time since the last pose, on the node clock (wall clock while that one stands still)."""
-        if self._pose_time is None:
-            return math.inf
-        silence = (self.get_clock().now() - self._pose_time).nanoseconds * 1e-9
-        if silence > 0.0:
-            return silence
-        return self._wall_silence_s
+        self._silence.heard()
 
     @property
     def pose(self) -> Pose2D | None:
@@ -166,18 +148,14 @@ class TrajectoryNode(Node):
             self._pen.set(run.plan.pen, down=wanted, then=answered)
 
     def _on_watchdog(self) -> None:
-        now = time.monotonic()
-        # A late beat means this process was busy (a long callback, a starved machine): that
-        # gap counts as one beat, not as silence of the simulator.
-        self._wall_silence_s += min(now - self._watchdog_wall_s, 2 * _WATCHDOG_PERIOD_S)
-        self._watchdog_wall_s = now
+        self._silence.beat()
         if self._pen.give_up_if_late() and self._run is not None:
             self._finish(False, f'{self._run.name} aborted: {self._pen.service_name} did not '
                                 f'answer within {self._pen.timeout_s:g} s; is the simulator '
                                 'still running?')
         if self._run is None:
             return
-        silence = self._pose_silence_s()
+        silence = self._silence.seconds()
         if silence > self.settings.pose_timeout_s:
             self._finish(False, f'{self._run.name} aborted: no pose on {self.pose_topic} for '
                                 f'{silence:.2f} s (pose_timeout {self.settings.pose_timeout_s:g} '
@@ -235,7 +213,7 @@ class TrajectoryNode(Node):
         if self._run is not None:
             return (f'busy: {self._run.name} is running; wait for it or call '
                     f'{self.stop_service} (std_srvs/srv/Trigger) to stop it')
-        silence = self._pose_silence_s()
+        silence = self._silence.seconds()
         if self._loop.pose is None or silence > self.settings.pose_timeout_s:
             heard = 'never' if self._loop.pose is None else f'not for {silence:.1f} s'
             return (f'no pose on {self.pose_topic} ({heard}): is the simulator running and '
@@ -319,7 +297,7 @@ class TrajectoryNode(Node):
         # The simulator made a new turtle: forget the old one's pose and wait until the new
         # one's topics are connected, so that a trajectory requested next starts at once.
         self._loop.forget_pose()
-        self._pose_time = None
+        self._silence.forget()
         if await wait_until(self, self._connected, _RESET_TIMEOUT_S):
             response.success, response.message = True, 'simulator reset; ready'
         else:
