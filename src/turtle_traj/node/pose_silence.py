@@ -26,6 +26,7 @@ class PoseSilence:
     def heard(self) -> None:
         """A pose arrived now."""
         self._pose_time, self._wall_s = self._clock.now(), 0.0
+        self._last_beat_s = time.monotonic()  # wall silence counts from here
 
     def forget(self) -> None:
         """As if no pose had ever arrived (a new turtle)."""
