@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 
 from rclpy.clock import Clock
 from rclpy.time import Time
@@ -17,16 +18,17 @@ class PoseSilence:
     and no simulator vanished then.
     """
 
-    def __init__(self, clock: Clock, beat_s: float) -> None:
-        self._clock, self._beat_s = clock, beat_s
+    def __init__(self, clock: Clock, beat_s: float,
+                 wall: Callable[[], float] = time.monotonic) -> None:
+        self._clock, self._beat_s, self._wall = clock, beat_s, wall
         self._pose_time: Time | None = None
         self._wall_s = math.inf  # since the last pose, counted beat by beat
-        self._last_beat_s = time.monotonic()
+        self._last_beat_s = wall()
 
     def heard(self) -> None:
         """A pose arrived now."""
         self._pose_time, self._wall_s = self._clock.now(), 0.0
-        self._last_beat_s = time.monotonic()  # wall silence counts from here
+        self._last_beat_s = self._wall()  # wall silence counts from here
 
     def forget(self) -> None:
         """As if no pose had ever arrived (a new turtle)."""
@@ -35,7 +37,7 @@ class PoseSilence:
     def beat(self) -> None:
         """The watchdog's beat. A late one means this process was busy (a long callback, a
         starved machine): that gap counts as one beat, not as silence of the simulator."""
-        now = time.monotonic()
+        now = self._wall()
         self._wall_s += min(now - self._last_beat_s, 2 * self._beat_s)
         self._last_beat_s = now
 
