@@ -1,4 +1,6 @@
-"""Test-session isolation: a private ROS domain, local discovery and logs kept out of $HOME."""
+"""Test-session isolation (a private ROS domain, local discovery, logs kept out of $HOME), one
+rclpy context per test process with nothing left alive between tests, and a bound on every
+test's time."""
 
 import fcntl
 import os
@@ -35,19 +37,53 @@ os.environ['ROS_DOMAIN_ID'] = str(DOMAIN_ID)
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='turtle_traj_ros_logs_'))
 
+from tests import ros_lifecycle  # noqa: E402 - rclpy reads the environment set above
+from tests.hang_watchdog import HangWatchdog  # noqa: E402
 
-@pytest.fixture
+ros_lifecycle.track()
+# A test whose own time limit (pytest-timeout, a Python signal) has not ended it this much later
+# is stuck where Python cannot run: the watchdog process ends it.
+_HANG_GRACE_S = 30.0
+_watchdog: HangWatchdog | None = None
+
+
+def pytest_timeout_set_timer(item, settings) -> None:
+    global _watchdog
+    if _watchdog is None:
+        _watchdog = HangWatchdog()
+    _watchdog.arm(settings.timeout + _HANG_GRACE_S, item.nodeid)
+
+
+def pytest_timeout_cancel_timer(item) -> None:
+    if _watchdog is not None:
+        _watchdog.disarm()
+
+
+def pytest_unconfigure(config) -> None:
+    if _watchdog is not None:
+        _watchdog.close()
+
+
+@pytest.fixture(scope='session')
 def ros_context() -> Iterator[object]:
-    """A fresh, initialised rclpy context, shut down after the test."""
+    """This test process's one rclpy context (one DDS participant while it has nodes)."""
     import rclpy
-    from rclpy.context import Context
 
-    context = Context()
-    rclpy.init(context=context)
-    try:
-        yield context
-    finally:
-        rclpy.try_shutdown(context=context)
+    from turtle_traj.runtime import process_context
+
+    context, _ = process_context()
+    yield context
+    rclpy.try_shutdown()
+
+
+@pytest.fixture(autouse=True)
+def _nothing_of_rclpy_left() -> Iterator[None]:
+    """Fail a test that leaves a node, action server or client, or executor alive (after
+    destroying them: never the garbage collector's job)."""
+    yield
+    left = ros_lifecycle.take_leftovers()
+    if left:
+        pytest.fail('the test left alive: ' + '; '.join(left), pytrace=False)
 
 
 @pytest.fixture

@@ -4,7 +4,6 @@ import math
 
 import pytest
 from action_msgs.msg import GoalStatus
-from rclpy.action import ActionClient
 from turtle_traj_interfaces.action import Draw
 from turtle_traj_interfaces.srv import DrawShape, GoTo
 
@@ -14,11 +13,11 @@ from turtle_traj.turtlesim_contract import SPAWN_XY_M
 
 @pytest.fixture
 def draw(traj):
-    """An action client of the node's draw action, on the harness's client node."""
-    client = ActionClient(traj.client, Draw, '/turtle_traj/draw')
+    """An action client of the node's draw action, on the harness's client node (which
+    destroys it)."""
+    client = traj.action_client(Draw, '/turtle_traj/draw')
     assert traj.spin_until(client.server_is_ready, timeout_s=60.0)
-    yield client
-    client.destroy()
+    return client
 
 
 def send(traj, draw, feedback=None, **fields):

@@ -24,14 +24,13 @@ pytest.importorskip('rosbags')
 def recorded(ros_context, tmp_path):
     """A draw_square run in lock-step, recorded by the node itself (record_dir), with its
     action feedback: (the bag, the poses the test's own client saw)."""
-    from rclpy.action import ActionClient
     from turtle_traj_interfaces.action import Draw
 
     from turtle_traj.system import InProcessSystem
     system = InProcessSystem(context=ros_context, output_dir=tmp_path / 'output',
                              record_dir=str(tmp_path / 'bags'))
     try:
-        action = ActionClient(system.client, Draw, '/turtle_traj/draw')
+        action = system.action_client(Draw, '/turtle_traj/draw')
         assert system.spin_until(action.server_is_ready, timeout_s=60.0)
         system.poses.clear()
         sent = action.send_goal_async(Draw.Goal(trajectory='square', size=1.5))

@@ -128,18 +128,14 @@ def test_an_abort_leaves_the_pen_down(traj):
 
 
 def test_the_draw_action_writes_text_and_reports_the_pen_up_distance(traj):
-    from rclpy.action import ActionClient
     _, plan = _planned(traj, 'text', {'text': 'T T', 'height': 0.5})
-    client = ActionClient(traj.client, Draw, '/turtle_traj/draw')
-    try:
-        assert traj.spin_until(client.server_is_ready, timeout_s=60.0)
-        sent = client.send_goal_async(Draw.Goal(trajectory='text', text='T T', height=0.5))
-        assert traj.spin_until(sent.done)
-        result = sent.result().get_result_async()
-        assert traj.spin_until(result.done)
-        outcome = result.result().result
-    finally:
-        client.destroy()
+    client = traj.action_client(Draw, '/turtle_traj/draw')
+    assert traj.spin_until(client.server_is_ready, timeout_s=60.0)
+    sent = client.send_goal_async(Draw.Goal(trajectory='text', text='T T', height=0.5))
+    assert traj.spin_until(sent.done)
+    result = sent.result().get_result_async()
+    assert traj.spin_until(result.done)
+    outcome = result.result().result
     assert outcome.success, outcome.message
     assert outcome.pen_up_length == pytest.approx(plan.path.pen_up_length)
     assert outcome.pen_up_unordered == pytest.approx(plan.pen_up_unordered)

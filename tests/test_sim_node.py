@@ -230,7 +230,7 @@ def test_spawn_kill_and_reset(sim):
 
 
 def _rotate(sim, theta, *, cancel_after_s=None):
-    client = ActionClient(sim.client, RotateAbsolute, 'turtle1/rotate_absolute')
+    client = sim.action_client(RotateAbsolute, 'turtle1/rotate_absolute')
     assert client.wait_for_server(timeout_sec=10.0) or sim.spin_until(client.server_is_ready)
     feedback = []
     goal_future = client.send_goal_async(RotateAbsolute.Goal(theta=theta),
@@ -265,7 +265,7 @@ def test_log_lines_use_turtlesims_words(sim, capfd):
     assert logs.wait_for('Tried to kill turtle [nobody], which does not exist')
     _rotate(sim, 0.5)
     assert logs.wait_for('Rotation goal completed successfully')
-    client = ActionClient(sim.client, RotateAbsolute, 'turtle1/rotate_absolute')
+    client = sim.action_client(RotateAbsolute, 'turtle1/rotate_absolute')
     assert sim.spin_until(client.server_is_ready)
     sent = client.send_goal_async(RotateAbsolute.Goal(theta=-2.0))
     assert sim.spin_until(sent.done) and sent.result().accepted
@@ -429,6 +429,7 @@ def test_the_simulator_program_serves_on_its_events_executor(ros_context, tmp_pa
         assert goal(0.5) == 4  # SUCCEEDED: the awaited future was resolved from the timer
         assert goal(-2.5, cancel=True) == 5  # CANCELED
         executor.shutdown()
+        rotate.destroy()
         node.destroy_node()
         stderr = terminate(process)
     assert process.returncode == 0, stderr

@@ -27,16 +27,17 @@ def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monke
     monkeypatch.setattr('sys.stdin', io.StringIO(answers))
     assert cli.main(['menu']) == 0
     out = capsys.readouterr().out
-    assert "unknown choice 'x'" in out
-    assert "'big' is not a number" in out
+    said = f'the menu said:\n{out}'
+    assert "unknown choice 'x'" in out, said
+    assert "'big' is not a number" in out, said
     # the range of a size ends at the largest that fits from the turtle's pose
     room = WORLD_SIZE_M - 0.3 - SPAWN_XY_M
-    assert f'-4 is outside 0.01 to {math.floor(room * 100) / 100:g}' in out
-    assert 'nan is outside' in out
-    assert 'please answer y or n' in out
-    assert 'done: square done' in out
-    assert 'done: simulator reset; ready' in out
-    assert out.rstrip().endswith('bye')
+    assert f'-4 is outside 0.01 to {math.floor(room * 100) / 100:g}' in out, said
+    assert 'nan is outside' in out, said
+    assert 'please answer y or n' in out, said
+    assert 'done: square done' in out, said
+    assert 'done: simulator reset; ready' in out, said
+    assert out.rstrip().endswith('bye'), said
 
 
 def test_ctrl_c_cancels_the_goal_and_the_turtle_stands(running_system):

@@ -5,6 +5,7 @@ Not for use inside another node's callbacks (it spins); that is what async clien
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import time
@@ -27,7 +28,7 @@ from unique_identifier_msgs.msg import UUID
 from turtle_traj.geometry.path import Pose2D
 from turtle_traj.liveness import Liveness
 from turtle_traj.remote_parameters import RemoteParameters, UnknownParameter
-from turtle_traj.runtime import events_executor
+from turtle_traj.runtime import events_executor, process_context
 from turtle_traj.services import (
     DRAW_ACTION,
     DRAW_ACTION_TYPE,
@@ -54,6 +55,7 @@ _START_ONE = ('start one with `python -m turtle_traj --with-sim` (or `turtle-tra
 INTERRUPTED = 'interrupted'  # why a goal was cancelled on Ctrl-C
 ANSWER_WAIT_S = 2.0  # a request not answered within this is sent again
 REQUEST_ATTEMPTS = 3
+_CLIENT_NUMBERS = itertools.count()
 _ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)
 
 
@@ -77,12 +79,23 @@ class TrajClient:
     """Calls the services and runs the draw action of one trajectory node (default
     `/turtle_traj`)."""
 
-    def __init__(self, *, node: str = '/turtle_traj', connect_timeout_s: float = 3.0) -> None:
+    def __init__(self, *, node: str = '/turtle_traj', connect_timeout_s: float = 3.0,
+                 context: Context | None = None) -> None:
+        """
+        :param context: the rclpy context to use; by default the process's own
+            (`runtime.process_context`), initialised here if no one did and then shut down by
+            `close`.
+        """
         self.node_name = node if node.startswith('/') else f'/{node}'
         self.connect_timeout_s = connect_timeout_s
-        self._context = Context()
-        rclpy.init(context=self._context)
-        self._node = rclpy.create_node(f'turtle_traj_cli_{os.getpid()}', context=self._context)
+        if context is None:
+            context, self._owns_context = process_context()
+        else:
+            self._owns_context = False
+        self._context = context
+        # A name of its own in the process: several clients may be open at once.
+        self._node = rclpy.create_node(f'turtle_traj_cli_{os.getpid()}_{next(_CLIENT_NUMBERS)}',
+                                       context=self._context)
         self._executor = events_executor(context=self._context)
         self._executor.add_node(self._node)
         self._action: ActionClient | None = None
@@ -310,7 +323,11 @@ class TrajClient:
         return Pose2D(pose.x, pose.y, pose.theta) if found else None
 
     def close(self) -> None:
+        """Destroy what this client made, in order; shut the context down if it started it."""
         self._executor.shutdown()
+        if self._action is not None:
+            self._action.destroy()
         self._node.destroy_node()
-        rclpy.try_shutdown(context=self._context)
+        if self._owns_context:
+            rclpy.try_shutdown()
 

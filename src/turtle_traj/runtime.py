@@ -113,6 +113,23 @@ def run_nodes(
     return exit_code
 
 
+def process_context() -> tuple[Context, bool]:
+    """The process's one rclpy context (rclpy's default), initialised if it is not, and whether
+    this call initialised it (the caller then shuts it down with `rclpy.try_shutdown()`).
+
+    One context per process: each is a DDS participant while it has nodes, and Fast DDS can
+    deadlock or crash when participants of one process come and go beside each other
+    (eProsima/Fast-DDS #1016, #6193). rclpy's signal handlers are not installed: Ctrl-C stays
+    the program's KeyboardInterrupt (a client cancels its goal on it), where rclpy's would shut
+    the context down first.
+    """
+    if rclpy.ok():
+        return rclpy.utilities.get_default_context(), False
+    rclpy.try_shutdown()  # forgets a default context that was shut down
+    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
+    return rclpy.utilities.get_default_context(), True
+
+
 def spin_until(executor: Executor, condition: Callable[[], bool], *,
                timeout_s: float) -> bool:
     """Spin until condition() holds or timeout_s of wall time passed; return condition().

@@ -7,9 +7,11 @@ executor themselves, so never use them from inside another node's callback.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
+from rclpy.action import ActionClient
 from rclpy.client import Client
 from rclpy.context import Context
 from rclpy.node import Node
@@ -40,22 +42,37 @@ class LockstepSim:
     def __init__(self, *, context: Context | None = None, output_dir: Path = Path('output'),
                  client_name: str = 'turtle_traj_client',
                  sim_parameters: dict[str, object] | None = None) -> None:
-        self.sim = SimNode(context=context, lockstep=True, parameter_overrides=[
-            Parameter('output_dir', value=str(output_dir)),
-            *(Parameter(name, value=value) for name, value in (sim_parameters or {}).items())])
-        # The client only calls and listens: no parameter services of its own to wait on.
-        self.client = Node(client_name, context=context, parameter_overrides=[SIM_TIME],
-                           start_parameter_services=False)
-        self.executor = LockstepExecutor(self.sim, context=context)
         self.nodes: list[Node] = []
+        self.executor: LockstepExecutor | None = None
         self._service_clients: dict[tuple[type, str], Client] = {}
-        self.add_node(self.sim)
-        self.add_node(self.client)
+        self._action_clients: list[ActionClient] = []
+        with self._closed_on_error():
+            self.sim = SimNode(context=context, lockstep=True, parameter_overrides=[
+                Parameter('output_dir', value=str(output_dir)),
+                *(Parameter(name, value=value) for name, value in (sim_parameters or {}).items())])
+            self.add_node(self.sim)
+            # The client only calls and listens: no parameter services of its own to wait on.
+            self.add_node(Node(client_name, context=context, parameter_overrides=[SIM_TIME],
+                               start_parameter_services=False))
+            self.client = self.nodes[-1]
+            self.executor = LockstepExecutor(self.sim, context=context)
+            for node in self.nodes:
+                self.executor.add_node(node)
+
+    @contextmanager
+    def _closed_on_error(self) -> Iterator[None]:
+        """A constructor that fails destroys what it made (never the garbage collector)."""
+        try:
+            yield
+        except BaseException:
+            self.close()
+            raise
 
     def add_node(self, node: Node) -> None:
         """Spin one more node in the same executor (it is destroyed by `close`)."""
         self.nodes.append(node)
-        self.executor.add_node(node)
+        if self.executor is not None:
+            self.executor.add_node(node)
 
     @property
     def sim_time_s(self) -> float:
@@ -81,6 +98,13 @@ class LockstepSim:
     def _resolve(self, name: str) -> str:
         return name
 
+    def action_client(self, action_type: type, name: str) -> ActionClient:
+        """An action client on the client node, destroyed by `close` (rclpy's destroy_node
+        leaves a node's action clients alive, and with them the node)."""
+        client = ActionClient(self.client, action_type, self._resolve(name))
+        self._action_clients.append(client)
+        return client
+
     def start(self, service_type, name: str, request=None):
         """Send a request and return its future."""
         name = self._resolve(name)
@@ -100,9 +124,13 @@ class LockstepSim:
         return future.result()
 
     def close(self) -> None:
-        self.executor.shutdown()
-        for node in reversed(self.nodes):
-            node.destroy_node()
+        """Shut the executor down, then destroy the nodes, newest first."""
+        if self.executor is not None:
+            self.executor.shutdown()
+        while self._action_clients:
+            self._action_clients.pop().destroy()
+        while self.nodes:
+            self.nodes.pop().destroy_node()
 
 
 class InProcessSystem(LockstepSim):
@@ -115,16 +143,17 @@ class InProcessSystem(LockstepSim):
                  sim_parameters: dict[str, object] | None = None,
                  **node_parameters: object) -> None:
         super().__init__(context=context, output_dir=output_dir, sim_parameters=sim_parameters)
-        self.node = TrajectoryNode(context=context, parameter_overrides=[SIM_TIME] + [
-            Parameter(name, value=value) for name, value in node_parameters.items()])
-        self.add_node(self.node)
-        self.poses: list[Pose] = []
-        self.client.create_subscription(Pose, 'turtle1/pose', self.poses.append,
-                                        TURTLE_TOPIC_QOS)
-        if not self.spin_until(lambda: self.node.ready and bool(self.poses),
-                               timeout_s=_DISCOVERY_TIMEOUT_S):
-            raise RuntimeError(f'the in-process system did not come up within '
-                               f'{_DISCOVERY_TIMEOUT_S:g} s')
+        with self._closed_on_error():
+            self.node = TrajectoryNode(context=context, parameter_overrides=[SIM_TIME] + [
+                Parameter(name, value=value) for name, value in node_parameters.items()])
+            self.add_node(self.node)
+            self.poses: list[Pose] = []
+            self.client.create_subscription(Pose, 'turtle1/pose', self.poses.append,
+                                            TURTLE_TOPIC_QOS)
+            if not self.spin_until(lambda: self.node.ready and bool(self.poses),
+                                   timeout_s=_DISCOVERY_TIMEOUT_S):
+                raise RuntimeError(f'the in-process system did not come up within '
+                                   f'{_DISCOVERY_TIMEOUT_S:g} s')
 
     def _resolve(self, name: str) -> str:
         """A relative service name is one of the trajectory node's."""

@@ -58,6 +58,10 @@ class TeleopNode(Node):
         self._rotate = ActionClient(self, RotateAbsolute, 'turtle1/rotate_absolute')
         self._goal = None  # the most recent goal whose acceptance came back
 
+    def destroy_node(self) -> None:
+        self._rotate.destroy()  # rclpy's destroy_node leaves a node's action clients alive
+        super().destroy_node()
+
     def connected(self) -> bool:
         """A turtle listens on cmd_vel and its rotate_absolute is there."""
         return self._cmd_vel.get_subscription_count() > 0 and self._rotate.server_is_ready()

@@ -54,6 +54,10 @@ class DrawActionServer:
                                     cancel_callback=self._on_cancel,
                                     callback_group=callback_group)
 
+    def destroy(self) -> None:
+        """Destroy the action server (rclpy's destroy_node leaves a node's actions alive)."""
+        self._server.destroy()
+
     def _on_cancel(self, goal_handle: ServerGoalHandle) -> CancelResponse:
         """Stop this goal's run at once (not another's); the goal then ends CANCELED."""
         run = self._runs.get(bytes(goal_handle.goal_id.uuid))

@@ -124,6 +124,10 @@ class TrajectoryNode(Node):
     def busy(self) -> bool:
         return self._run is not None
 
+    def destroy_node(self) -> None:
+        self._draw_action.destroy()
+        super().destroy_node()
+
     @property
     def ready(self) -> bool:
         """A fresh pose is in and nothing is running: a request would be accepted."""

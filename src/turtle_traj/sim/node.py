@@ -245,6 +245,11 @@ class SimNode(Node):
         self.canvas.clear()
         return response
 
+    def destroy_node(self) -> None:
+        while self._endpoints:  # each turtle's action server too, which destroy_node leaves
+            self._endpoints.popitem()[1].destroy(self)
+        super().destroy_node()
+
     def handle_reset(self, request: Empty.Request, response: Empty.Response) -> Empty.Response:
         self.get_logger().info('Resetting turtlesim.')
         # turtle1 comes straight back: its topics, services and action stay, so subscribers

@@ -66,6 +66,8 @@ class WebBridge(Node):
         self._server.stop()
         if self._on_step in self._sim.step_listeners:
             self._sim.step_listeners.remove(self._on_step)
+        for action in (self._draw, *self._rotations.values()):  # destroy_node leaves them
+            action.destroy()
         super().destroy_node()
 
     # -- out: a frame per simulator step ------------------------------------------------------
