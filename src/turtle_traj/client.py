@@ -99,6 +99,7 @@ class TrajClient:
         self._executor = events_executor(context=self._context)
         self._executor.add_node(self._node)
         self._action: ActionClient | None = None
+        self._parameters: RemoteParameters | None = None
 
     def __enter__(self) -> TrajClient:
         return self
@@ -194,10 +195,12 @@ class TrajClient:
         return _known_goal(action, goal_id)
 
     def _answer(self, send: Callable[[], Future], what: str, sent: list[Future] | None = None):
-        """The first answer to a request, sent again while none comes: DDS loses a request or
-        its response when the endpoints have been discovered but are not matched yet. A request
-        sent again must be harmless if the first got through: the same goal id, a cancel or a
-        result request.
+        """The first answer to a request, sent again while none comes. DDS loses an answer when
+        the server answers before it has matched the client's new endpoints: a client made in a
+        participant that knows the server already sees it ready at once, while the server learns
+        of the client only when its announcement arrives (once in 200 parameter reads with both
+        cores busy). A request sent again must be harmless if the first got through: the same
+        goal id, a cancel, a result request, a parameter read or the same value set again.
 
         :param sent: where the futures of the requests sent are kept, for the caller.
         """
@@ -284,10 +287,14 @@ class TrajClient:
         return future.result()
 
     def _remote_parameters(self) -> RemoteParameters:
-        client = AsyncParameterClient(self._node, self.node_name)
-        if not self._discovered(client.services_are_ready):
-            raise TrajClientError(f'no node {self.node_name} answers parameter requests')
-        return RemoteParameters(client, self.node_name, self._wait)
+        """The node's parameters, through one parameter client made on first use. Its requests
+        go through `_answer`: a new client's first request can lose its answer (see there)."""
+        if self._parameters is None:
+            client = AsyncParameterClient(self._node, self.node_name)
+            if not self._discovered(client.services_are_ready):
+                raise TrajClientError(f'no node {self.node_name} answers parameter requests')
+            self._parameters = RemoteParameters(client, self.node_name, self._answer)
+        return self._parameters
 
     def parameters(self, names: list[str] | None = None) -> dict[str, object]:
         """Parameters of the node with their current values (all, sorted by name, by default).

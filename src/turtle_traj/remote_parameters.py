@@ -38,26 +38,28 @@ def typed_value(declared: int, text: str) -> ParameterValue:
 
 
 class RemoteParameters:
-    """The parameters of `client`'s node; `wait(future, what)` spins until a future is done
-    and returns its result (or raises)."""
+    """The parameters of `client`'s node; `ask(send, what)` sends a request (`send()` returns
+    its future), spins until it is answered and returns the answer (or raises). Every request
+    here may be sent again: reading a parameter, or setting it to the same value, twice is the
+    same as once."""
 
     def __init__(self, client: AsyncParameterClient, node_name: str,
-                 wait: Callable[[Future, str], Any]) -> None:
-        self._client, self._node_name, self._wait = client, node_name, wait
+                 ask: Callable[[Callable[[], Future], str], Any]) -> None:
+        self._client, self._node_name, self._ask = client, node_name, ask
 
     def get(self, names: list[str] | None = None) -> dict[str, object]:
         """Values by name (all, sorted by name, by default).
 
         :raises UnknownParameter: naming a parameter the node does not have.
         """
-        known = sorted(self._wait(self._client.list_parameters(), 'list_parameters')
+        known = sorted(self._ask(self._client.list_parameters, 'list_parameters')
                        .result.names)
         unknown = [name for name in names or [] if name not in known]
         if unknown:
             raise UnknownParameter(f'{self._node_name} has no parameter {", ".join(unknown)}; '
                                    f'it has: {", ".join(known)}')
         names = names or known
-        values = self._wait(self._client.get_parameters(names), 'get_parameters').values
+        values = self._ask(lambda: self._client.get_parameters(names), 'get_parameters').values
         return {name: parameter_value_to_python(value)
                 for name, value in zip(names, values, strict=True)}
 
@@ -68,12 +70,12 @@ class RemoteParameters:
         :raises UnknownParameter: naming a parameter the node does not have.
         """
         self.get([name])  # exists, or the error names it
-        declared = self._wait(self._client.describe_parameters([name]),
-                              'describe_parameters').descriptors[0].type
+        declared = self._ask(lambda: self._client.describe_parameters([name]),
+                             'describe_parameters').descriptors[0].type
         try:
             value = typed_value(declared, text)
         except ValueError as error:
             return f'{name}: {error}'
         parameter = Parameter.from_parameter_msg(ParameterMsg(name=name, value=value))
-        result = self._wait(self._client.set_parameters([parameter]), 'set_parameters')
+        result = self._ask(lambda: self._client.set_parameters([parameter]), 'set_parameters')
         return None if result.results[0].successful else result.results[0].reason
