@@ -17,6 +17,8 @@ import pytest
 
 from turtle_traj.client import TrajClient
 
+# colcon builds both interface packages in the first test's fixture: 55 s quiet here.
+pytestmark = pytest.mark.timeout(300)
 ROOT = Path(__file__).resolve().parents[1]
 PREFIX = Path(sys.prefix)
 EXECUTABLES = {'trajectory_node', 'sim', 'turtle_traj', 'teleop'}
