@@ -29,19 +29,9 @@ import time
 from pathlib import Path
 
 from isolation import isolate
+from turtle_traj.runtime import live_participants
 
 HANG_S = 60.0  # no progress for this long: a hang (a cycle takes about 0.2 s)
-
-
-def participants(pid: int | str = 'self') -> int:
-    """Live Fast DDS participants of a process: each runs one event thread, `dds.ev.<n>`."""
-    count = 0
-    for task in Path(f'/proc/{pid}/task').iterdir():
-        try:
-            count += (task / 'comm').read_text().startswith('dds.ev.')
-        except OSError:  # the thread ended meanwhile
-            pass
-    return count
 
 
 def rss_mb(pid: int | str = 'self') -> float:
@@ -54,9 +44,11 @@ def rss_mb(pid: int | str = 'self') -> float:
 # -- part 1, in the child ----------------------------------------------------------------------
 
 def run_cycles(cycles: int) -> None:
-    """Print one JSON line per cycle: its number, participants at the peak, memory (after a
-    garbage collection at cycles 1, 100 and the last: what is kept, not garbage not yet
-    collected)."""
+    """Print one JSON line per cycle: its number, participants at the peak, memory. At cycles 1,
+    100 and the last, after a garbage collection, the memory is taken twice: as it is, and after
+    glibc's malloc_trim gave the heap's free pages back (the C++ threads' heaps grow in steps
+    that free() keeps; what is left after the trim is memory still in use)."""
+    import ctypes
     import gc
 
     import rclpy
@@ -73,15 +65,18 @@ def run_cycles(cycles: int) -> None:
             system = InProcessSystem(context=context, output_dir=output)
             try:
                 response = system.call(Move, 'move', Move.Request(distance=0.2), timeout_s=30.0)
-                peak = participants()
+                peak = live_participants()
             finally:
                 system.close()
+            line = {'cycle': cycle, 'ok': bool(response.success), 'message': response.message,
+                    'participants': peak, 'after_close': live_participants(),
+                    'elapsed_s': time.monotonic() - start}
             if cycle in (1, 100, cycles):
                 gc.collect()
-            print(json.dumps({'cycle': cycle, 'ok': bool(response.success),
-                              'message': response.message, 'participants': peak,
-                              'after_close': participants(), 'rss_mb': rss_mb(),
-                              'elapsed_s': time.monotonic() - start}), flush=True)
+                line['rss_mb'] = rss_mb()
+                ctypes.CDLL('libc.so.6').malloc_trim(0)
+                line['in_use_mb'] = rss_mb()
+            print(json.dumps(line), flush=True)
     finally:
         rclpy.try_shutdown()
 
@@ -132,13 +127,15 @@ def part_cycles(cycles: int) -> bool:
         print(f'   {len(lines) / lines[-1]["elapsed_s"]:.1f} cycles per second; '
               f'{len(failed)} moves failed' + (f' (first: {failed[0]["message"]})'
                                                if failed else ''))
-        by_cycle = {line['cycle']: line for line in lines}
-        marks = [mark for mark in (1, 100, cycles) if mark in by_cycle]
-        print('   memory: ' + ', '.join(f'cycle {mark} {by_cycle[mark]["rss_mb"]:.1f} MB'
-                                        for mark in marks))
-        if 100 in by_cycle and cycles in by_cycle and cycles > 100:
-            print(f'   growth from cycle 100 to {cycles}: '
-                  f'{by_cycle[cycles]["rss_mb"] - by_cycle[100]["rss_mb"]:+.1f} MB')
+        by_cycle = {line['cycle']: line for line in lines if 'rss_mb' in line}
+        for key, label in (('rss_mb', 'resident'), ('in_use_mb', 'after malloc_trim')):
+            marks = ', '.join(f'cycle {cycle} {line[key]:.1f} MB'
+                              for cycle, line in by_cycle.items())
+            growth = ''
+            if 100 in by_cycle and cycles in by_cycle and cycles > 100:
+                growth = (f'; growth from cycle 100 to {cycles}: '
+                          f'{by_cycle[cycles][key] - by_cycle[100][key]:+.1f} MB')
+            print(f'   memory {label}: {marks}{growth}')
         print(f'   live participants: at most {max(line["participants"] for line in lines)} '
               f'while a system ran, at most {max(line["after_close"] for line in lines)} after '
               'it was closed')
@@ -162,7 +159,7 @@ def part_clis(count: int) -> bool:
                                    stderr=subprocess.PIPE, text=True)
             while cli.poll() is None:
                 try:
-                    most = max(most, participants(cli.pid))
+                    most = max(most, live_participants(cli.pid))
                 except OSError:
                     pass
                 if time.monotonic() - start > HANG_S:

@@ -130,6 +130,18 @@ def process_context() -> tuple[Context, bool]:
     return rclpy.utilities.get_default_context(), True
 
 
+def live_participants(pid: int | str = 'self') -> int:
+    """The Fast DDS participants a process has now: each runs one event thread, `dds.ev.<n>`
+    (Linux; for tests and benchmarks that check the one-context rule from outside)."""
+    count = 0
+    for task in Path(f'/proc/{pid}/task').iterdir():
+        try:
+            count += (task / 'comm').read_text().startswith('dds.ev.')
+        except OSError:  # the thread ended meanwhile
+            pass
+    return count
+
+
 def spin_until(executor: Executor, condition: Callable[[], bool], *,
                timeout_s: float) -> bool:
     """Spin until condition() holds or timeout_s of wall time passed; return condition().
