@@ -25,7 +25,8 @@ def _running(traj, service_type, name, request):
 def test_turtle_killed_mid_run_aborts_then_a_new_turtle1_is_driven(traj):
     drawing = _running(traj, DrawShape, 'draw_square', DrawShape.Request(size=2.0))
     traj.call(Kill, '/kill', Kill.Request(name='turtle1'))
-    assert traj.spin_until(drawing.done, timeout_s=5.0)
+    # pose_timeout (0.5 s) of simulated time, then the next control tick: whatever the wall rate
+    assert traj.spin_until(drawing.done, timeout_s=0.6)
     assert not drawing.result().success
     assert 'no pose on /turtle1/pose' in drawing.result().message
     spawned = traj.call(Spawn, '/spawn', Spawn.Request(x=3.0, y=3.0, name='turtle1'))

@@ -137,7 +137,7 @@ class TrajectoryNode(Node):
 
     def _on_control_timer(self) -> None:
         run = self._run
-        if run is None:
+        if run is None or self._aborted_for_silence():
             return
         command = self._loop.command(self.settings.control, self.settings.arena, self.now_s())
         if command is None:
@@ -157,13 +157,24 @@ class TrajectoryNode(Node):
             self._finish(False, f'{self._run.name} aborted: {self._pen.service_name} did not '
                                 f'answer within {self._pen.timeout_s:g} s; is the simulator '
                                 'still running?')
-        if self._run is None:
-            return
+        if self._run is not None:
+            self._aborted_for_silence()
+
+    def _aborted_for_silence(self) -> bool:
+        """End the run if the poses have been silent past pose_timeout; whether it did.
+
+        Checked on each control tick, on the node clock: in lock-step, simulated seconds can
+        pass between two beats of the wall-clock watchdog (a step with no turtle to drive takes
+        microseconds). And on the watchdog's beat, which catches a vanished simulator that also
+        stopped the node clock.
+        """
         silence = self._silence.seconds()
-        if silence > self.settings.pose_timeout_s:
-            self._finish(False, f'{self._run.name} aborted: no pose on {self.pose_topic} for '
-                                f'{silence:.2f} s (pose_timeout {self.settings.pose_timeout_s:g} '
-                                's); is the simulator still running?')
+        if silence <= self.settings.pose_timeout_s:
+            return False
+        self._finish(False, f'{self._run.name} aborted: no pose on {self.pose_topic} for '
+                            f'{silence:.2f} s (pose_timeout {self.settings.pose_timeout_s:g} '
+                            's); is the simulator still running?')
+        return True
 
     def shutdown_turtle(self) -> None:
         """End any trajectory and leave the turtle standing (called on program exit)."""
