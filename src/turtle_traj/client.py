@@ -30,6 +30,7 @@ from turtle_traj.liveness import Liveness
 from turtle_traj.remote_parameters import RemoteParameters, UnknownParameter
 from turtle_traj.runtime import events_executor, process_context
 from turtle_traj.services import (
+    COMMAND_SERVICES,
     DRAW_ACTION,
     DRAW_ACTION_TYPE,
     SERVICE_TYPES,
@@ -56,6 +57,10 @@ INTERRUPTED = 'interrupted'  # why a goal was cancelled on Ctrl-C
 ANSWER_WAIT_S = 2.0  # a request not answered within this is sent again
 REQUEST_ATTEMPTS = 3
 _CLIENT_NUMBERS = itertools.count()
+# The node's services that may be sent twice (`_answer`): its commands, reset and stop (a second
+# ends where the first did). A trajectory's request may not: a second one would be refused as
+# busy, or draw twice.
+_SAFE_TO_REPEAT = frozenset(COMMAND_SERVICES)
 _ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)
 
 
@@ -121,7 +126,8 @@ class TrajClient:
         return self._call(service_type, f'{self.node_name}/{service}',
                           request if request is not None else service_type.Request(),
                           timeout_s, missing=f'no trajectory node answers on {{name}} (waited '
-                                             f'{self.connect_timeout_s:g} s): {_START_ONE}')
+                                             f'{self.connect_timeout_s:g} s): {_START_ONE}',
+                          repeatable=service in _SAFE_TO_REPEAT)
 
     def save_canvas(self, filename: str):
         """Ask our simulator (beside the node, in its namespace) to save its canvas as PNG."""
@@ -131,11 +137,16 @@ class TrajClient:
                           missing='no simulator answers on {name}: it is a service of our '
                                   'simulator (the real turtlesim has none); is it running?')
 
-    def _call(self, service_type: type, name: str, request, timeout_s: float, missing: str):
+    def _call(self, service_type: type, name: str, request, timeout_s: float, missing: str,
+              repeatable: bool = False):
+        """Call a service once; a `repeatable` one again while unanswered (see `_answer`)."""
         client = self._node.create_client(service_type, name)
         try:
             if not self._discovered(client.service_is_ready):
                 raise TrajClientError(missing.format(name=name))
+            if repeatable:
+                return self._answer(lambda: client.call_async(request), name,
+                                    timeout_s=timeout_s)
             return self._wait(client.call_async(request), name, timeout_s)
         finally:
             self._node.destroy_client(client)
@@ -194,28 +205,33 @@ class TrajClient:
             return answer
         return _known_goal(action, goal_id)
 
-    def _answer(self, send: Callable[[], Future], what: str, sent: list[Future] | None = None):
-        """The first answer to a request, sent again while none comes. DDS loses an answer when
-        the server answers before it has matched the client's new endpoints: a client made in a
-        participant that knows the server already sees it ready at once, while the server learns
-        of the client only when its announcement arrives (once in 200 parameter reads with both
-        cores busy). A request sent again must be harmless if the first got through: the same
-        goal id, a cancel, a result request, a parameter read or the same value set again.
+    def _answer(self, send: Callable[[], Future], what: str, sent: list[Future] | None = None,
+                *, timeout_s: float = REQUEST_ATTEMPTS * ANSWER_WAIT_S):
+        """The first answer to a request, sent again (up to REQUEST_ATTEMPTS times, every
+        ANSWER_WAIT_S) while none comes. DDS loses an answer when the server answers before it
+        has matched the client's new endpoints: the client sees the server ready as soon as it
+        has matched the server's, while the server learns of the client only when its
+        announcement arrives; rmw_fastrtps then drops the answer ("client will not receive
+        response"). Seen once in 200 parameter reads with both cores busy, and on a reset. A
+        request sent again must be harmless if the first got through: the same goal id, a
+        cancel, a result request, a parameter read, the same value set again, reset, stop.
 
         :param sent: where the futures of the requests sent are kept, for the caller.
+        :param timeout_s: how long to wait for an answer in all, from the first request.
         """
         sent = [] if sent is None else sent
-        sent_at = -math.inf
+        start, sent_at = time.monotonic(), -math.inf
         while True:
             for future in sent:
                 if future.done():
                     return future.result()
-            if time.monotonic() - sent_at >= ANSWER_WAIT_S:
-                if len(sent) == REQUEST_ATTEMPTS:
-                    raise TrajClientError(f'{what} did not answer ({REQUEST_ATTEMPTS} requests, '
-                                          f'{REQUEST_ATTEMPTS * ANSWER_WAIT_S:g} s)')
+            now = time.monotonic()
+            if sent and now - start >= timeout_s:
+                raise TrajClientError(f'{what} did not answer within {timeout_s:g} s '
+                                      f'({len(sent)} requests)')
+            if len(sent) < REQUEST_ATTEMPTS and now - sent_at >= ANSWER_WAIT_S:
                 sent.append(send())
-                sent_at = time.monotonic()
+                sent_at = now
             self._executor.spin_once(timeout_sec=0.05)
 
     def _follow(self, name: str, handle, liveness: Liveness, timeout_s: float | None):
