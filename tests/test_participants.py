@@ -10,13 +10,19 @@ from tests.web_helpers import free_port
 from turtle_traj.runtime import live_participants
 
 
-def _most_participants_while_it_runs(process: subprocess.Popen, timeout_s: float) -> int:
+def _most_participants_while_it_runs(process: subprocess.Popen, timeout_s: float, *,
+                                     once_up_s: float | None = None) -> int:
+    """The most participants seen in `process` until it ends or `timeout_s` passed; with
+    `once_up_s`, until that long after its first (a program still starting has none)."""
     most, deadline = 0, time.monotonic() + timeout_s
     while process.poll() is None and time.monotonic() < deadline:
         try:
-            most = max(most, live_participants(process.pid))
+            seen = live_participants(process.pid)
         except OSError:  # it just ended
             break
+        if once_up_s is not None and seen and not most:
+            deadline = min(deadline, time.monotonic() + once_up_s)
+        most = max(most, seen)
         time.sleep(0.01)
     return most
 
@@ -34,7 +40,6 @@ def test_each_program_has_one_participant(tmp_path):
         assert 'done: move done' in said[0]
         recording = subprocess.Popen([*cli, 'record', '--output', str(tmp_path / 'bag')],
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        time.sleep(2.0)
-        assert live_participants(recording.pid) == 1
+        assert _most_participants_while_it_runs(recording, 60.0, once_up_s=1.0) == 1
         terminate(recording)
         assert live_participants(system.pid) == 1
