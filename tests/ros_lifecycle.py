@@ -1,4 +1,4 @@
-"""One rclpy context per test process, and a record of what each test left of rclpy.
+"""A record of what each test left of rclpy, destroyed by us and named in a failure.
 
 Every context is one DDS participant (Fast DDS makes it with the context's first node). Several
 participants in one process deadlock inside Fast DDS when one is torn down while another
@@ -39,18 +39,14 @@ def track() -> None:
     """Record every rclpy node and executor made from now on in this process."""
     _wrap_init(Node, _nodes)
     _wrap_init(Executor, _executors)
-    events = rclpy_implementation.EventsExecutor  # C++: made by a factory function
-    original_init, original_shutdown = events.__init__, events.shutdown
-
-    def __init__(self, *args, **kwargs) -> None:
-        original_init(self, *args, **kwargs)
-        with _lock:
-            _executors.append((self, _describe(self)))
+    events = rclpy_implementation.EventsExecutor  # C++, not an Executor: no _is_shutdown
+    _wrap_init(events, _executors)
+    original_shutdown = events.shutdown
 
     def shutdown(self, *args, **kwargs):
         _shut_down.add(id(self))
         return original_shutdown(self, *args, **kwargs)
-    events.__init__, events.shutdown = __init__, shutdown
+    events.shutdown = shutdown
 
 
 def _destroyed(node: Node) -> bool:
