@@ -34,13 +34,16 @@ test: setup
 	$(PY) -m pytest -q -rs -n 2 --dist loadfile
 
 demo: setup
-	$(PY) -m turtle_traj.demo
+	$(PY) -m turtle_traj.apps.demo
 
 bench: setup
 	for script in bench/*_bench.py; do $(PY) $$script || exit 1; done
 
+# ruff, and import-linter's contracts: packages import downwards, the simulator knows no
+# trajectories, the core and the web server load no ROS.
 lint: setup
 	$(VENV)/bin/ruff check src tests bench ros/turtle_traj/setup.py ros/turtle_traj/launch
+	$(VENV)/bin/lint-imports --no-logo  # the architecture: the contracts in pyproject.toml
 
 clean:
 	rm -rf $(VENV) output

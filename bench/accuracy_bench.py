@@ -16,15 +16,15 @@ from geometry_msgs.msg import Twist
 from rclpy.node import Node
 
 from isolation import isolate
-from turtle_traj import planning
-from turtle_traj.demo import prepare, run_example
-from turtle_traj.geometry import drawing
-from turtle_traj.geometry.path import Pose2D, distance_to_polyline
-from turtle_traj.limits import POLYGON_SIDES
-from turtle_traj.services import make_request
-from turtle_traj.system import InProcessSystem
-from turtle_traj.trajectories import TRAJECTORIES
-from turtle_traj.wire import TURTLE_TOPIC_QOS
+from turtle_traj.api.ros_interface import make_request
+from turtle_traj.apps.demo import prepare, run_example
+from turtle_traj.apps.in_process import InProcessSystem
+from turtle_traj.core.geometry import drawing
+from turtle_traj.core.geometry.path import Pose2D, distance_to_polyline
+from turtle_traj.core.planning import planner as planning
+from turtle_traj.core.planning.limits import POLYGON_SIDES
+from turtle_traj.core.registry import TRAJECTORIES
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 LINEAR, ANGULAR = 1.0, 2.0  # the node's default top speeds
 

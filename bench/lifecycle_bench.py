@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 from isolation import isolate
-from turtle_traj.runtime import live_participants
+from turtle_traj.rosutils.runtime import live_participants
 
 HANG_S = 60.0  # no progress for this long: a hang (a cycle takes about 0.2 s)
 
@@ -54,8 +54,8 @@ def run_cycles(cycles: int) -> None:
     import rclpy
     from turtle_traj_interfaces.srv import Move
 
-    from turtle_traj.runtime import process_context
-    from turtle_traj.system import InProcessSystem
+    from turtle_traj.apps.in_process import InProcessSystem
+    from turtle_traj.rosutils.runtime import process_context
 
     context, _ = process_context()
     output = Path(tempfile.mkdtemp(prefix='turtle_traj_lifecycle_'))

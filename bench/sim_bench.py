@@ -23,14 +23,14 @@ from turtle_traj_interfaces.srv import DrawShape
 
 from isolation import isolate
 from process_cpu import cpu_share, wait_until_connected
-from turtle_traj.client import TrajClient
-from turtle_traj.services import make_goal
+from turtle_traj.api.ros_interface import make_goal
+from turtle_traj.apps.in_process import InProcessSystem
+from turtle_traj.client.traj_client import TrajClient
+from turtle_traj.core.registry import BY_NAME
+from turtle_traj.core.turtlesim_contract import STEP_S, WORLD_SIZE_M
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.node import SimNode
 from turtle_traj.sim.physics import World
-from turtle_traj.system import InProcessSystem
-from turtle_traj.trajectories import BY_NAME
-from turtle_traj.turtlesim_contract import STEP_S, WORLD_SIZE_M
 
 SCAN_FILE = Path(__file__).resolve().parents[1] / 'tests' / 'data' / 'turtlesim-pen-scan.json'
 REAL_TURTLESIM_CPU = {'idle': 0.027, 'driven': 0.057}  # issue 25, C++ turtlesim 1.8.2 here

@@ -110,7 +110,7 @@ def measure(tree: Path, prelude: str | None = None, environ: dict | None = None,
     """The simulator of `tree`, idle then driven."""
     env = {**os.environ, 'PYTHONPATH': str(tree / 'src'), **(environ or {})}
     command = [sys.executable, '-c', (prelude or '') +
-               'import sys\nfrom turtle_traj.sim.main import main\nsys.exit(main([]))']
+               'import sys\nfrom turtle_traj.apps.sim import main\nsys.exit(main([]))']
     with tempfile.TemporaryDirectory() as folder:
         sim = subprocess.Popen(command, env=env, cwd=folder, **QUIET)
         driver = None

@@ -27,12 +27,12 @@ from rclpy.parameter import Parameter
 from turtlesim.srv import TeleportAbsolute
 
 from isolation import isolate
-from turtle_traj import runtime
+from turtle_traj.api.ros_interface import make_request, service_type
+from turtle_traj.core.registry import TRAJECTORIES
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 from turtle_traj.node.trajectory_node import TrajectoryNode
-from turtle_traj.services import make_request, service_type
-from turtle_traj.trajectories import TRAJECTORIES
-from turtle_traj.turtlesim_contract import SPAWN_XY_M
-from turtle_traj.wire import TURTLE_TOPIC_QOS
+from turtle_traj.rosutils import runtime
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 CHECKPOINTS = (1, 50, 250, 500)
 

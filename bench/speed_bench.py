@@ -35,8 +35,8 @@ def _lockstep_system(turtles: int):
     from turtle_traj_interfaces.srv import DrawShape
     from turtlesim.srv import Spawn
 
+    from turtle_traj.apps.in_process import SIM_TIME, InProcessSystem
     from turtle_traj.node.trajectory_node import TrajectoryNode
-    from turtle_traj.system import SIM_TIME, InProcessSystem
 
     rclpy.init()
     system = InProcessSystem(output_dir=Path(tempfile.mkdtemp()))
@@ -119,9 +119,9 @@ def measure_node_cpu(seconds: float) -> dict:
     from process_cpu import cpu_share as _share
     from process_cpu import process_cpu_s as _cpu_s
     from process_cpu import wait_until_connected
-    from turtle_traj.client import TrajClient
-    from turtle_traj.services import make_goal
-    from turtle_traj.trajectories import BY_NAME
+    from turtle_traj.api.ros_interface import make_goal
+    from turtle_traj.client.traj_client import TrajClient
+    from turtle_traj.core.registry import BY_NAME
 
     quiet = {'stdout': subprocess.DEVNULL, 'stderr': subprocess.DEVNULL}
     sim = subprocess.Popen([sys.executable, '-m', 'turtle_traj.sim'], **quiet)
@@ -153,7 +153,7 @@ def measure_node_cpu(seconds: float) -> dict:
 def measure_demo() -> dict:
     with tempfile.TemporaryDirectory() as folder:
         start = time.perf_counter()
-        subprocess.run([sys.executable, '-m', 'turtle_traj.demo', '--output-dir', folder],
+        subprocess.run([sys.executable, '-m', 'turtle_traj.apps.demo', '--output-dir', folder],
                        check=True, capture_output=True)
         return {'wall_s': time.perf_counter() - start}
 
@@ -233,7 +233,7 @@ def main() -> None:
             print(f'    {label:54s} old {100 * before[key]:5.1f}%   new {100 * after[key]:5.1f}%')
         if not options.skip_demo:
             before, after = _side_by_side(old, 'demo', 1)
-            print(f'  make demo (python -m turtle_traj.demo) wall time: old '
+            print(f'  make demo (python -m turtle_traj.apps.demo) wall time: old '
                   f'{before["wall_s"]:.1f} s, new {after["wall_s"]:.1f} s '
                   f'({before["wall_s"] / after["wall_s"]:.1f}x faster)')
     finally:

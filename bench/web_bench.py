@@ -72,8 +72,8 @@ def _drive(port_seconds: float) -> None:
     import rclpy
     from geometry_msgs.msg import Twist
 
-    from turtle_traj.runtime import events_executor, spin_until
-    from turtle_traj.wire import TURTLE_TOPIC_QOS
+    from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+    from turtle_traj.rosutils.runtime import events_executor, spin_until
     rclpy.init()
     node = rclpy.create_node('web_bench_driver')
     executor = events_executor()

@@ -70,7 +70,7 @@ def ros_context() -> Iterator[object]:
     """This test process's one rclpy context (one DDS participant while it has nodes)."""
     import rclpy
 
-    from turtle_traj.runtime import process_context
+    from turtle_traj.rosutils.runtime import process_context
 
     context, _ = process_context()
     yield context
@@ -90,7 +90,7 @@ def _nothing_of_rclpy_left() -> Iterator[None]:
 @pytest.fixture
 def sim(ros_context, tmp_path):
     """Our simulator and a sim-time client node in one lock-step executor."""
-    from turtle_traj.system import LockstepSim
+    from turtle_traj.apps.in_process import LockstepSim
 
     harness = LockstepSim(context=ros_context, output_dir=tmp_path / 'output',
                           client_name='test_client')
@@ -103,7 +103,7 @@ def sim(ros_context, tmp_path):
 @pytest.fixture
 def traj(ros_context, tmp_path):
     """Simulator, trajectory node and a pose-recording client in one lock-step executor."""
-    from turtle_traj.system import InProcessSystem
+    from turtle_traj.apps.in_process import InProcessSystem
 
     harness = InProcessSystem(context=ros_context, output_dir=tmp_path / 'output')
     try:
@@ -120,7 +120,7 @@ def running_system(tmp_path_factory):
     fall many simulator steps behind.
     """
     from tests.ros_helpers import program
-    from turtle_traj.client import TrajClient
+    from turtle_traj.client.traj_client import TrajClient
 
     with program('turtle_traj', '--with-sim', '--time-scale', '2',
                  cwd=tmp_path_factory.mktemp('system')) as process:

@@ -8,7 +8,7 @@ from turtle_traj_interfaces.action import Draw
 from turtle_traj_interfaces.srv import DrawShape, GoTo
 
 from tests.geometry_checks import regular_polygon, xy
-from turtle_traj.turtlesim_contract import SPAWN_XY_M
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 
 
 @pytest.fixture

@@ -15,7 +15,7 @@ import pytest
 
 from turtle_traj.bags.reader import Bag
 from turtle_traj.bags.writer import BagError
-from turtle_traj.turtlesim_contract import SPAWN_XY_M
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 
 pytest.importorskip('rosbags')
 
@@ -26,7 +26,7 @@ def recorded(ros_context, tmp_path):
     action feedback: (the bag, the poses the test's own client saw)."""
     from turtle_traj_interfaces.action import Draw
 
-    from turtle_traj.system import InProcessSystem
+    from turtle_traj.apps.in_process import InProcessSystem
     system = InProcessSystem(context=ros_context, output_dir=tmp_path / 'output',
                              record_dir=str(tmp_path / 'bags'))
     try:
@@ -105,8 +105,8 @@ def test_recorded_commands_replayed_in_lockstep_give_the_same_poses_to_the_bit(r
     from geometry_msgs.msg import Twist
     from turtlesim.msg import Pose
 
-    from turtle_traj.system import LockstepSim
-    from turtle_traj.wire import TURTLE_TOPIC_QOS
+    from turtle_traj.apps.in_process import LockstepSim
+    from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
     path, _ = recorded
     with Bag(path) as bag:
         commands = [(m.time_ns, m.raw) for m in bag.messages(['/turtle1/cmd_vel'])]
@@ -238,9 +238,9 @@ def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
     """`turtle-traj record` ended by SIGINT mid-run keeps every pose it received; `turtle-traj
     play` of its cmd_vel into a fresh simulator drives the turtle along the recorded path."""
     from tests.ros_helpers import program
-    from turtle_traj.client import TrajClient
-    from turtle_traj.services import make_goal
-    from turtle_traj.trajectories import BY_NAME
+    from turtle_traj.api.ros_interface import make_goal
+    from turtle_traj.client.traj_client import TrajClient
+    from turtle_traj.core.registry import BY_NAME
     bag = tmp_path / 'run'
     with program('turtle_traj', '--with-sim', cwd=tmp_path):
         with TrajClient(connect_timeout_s=30.0) as client:
@@ -276,8 +276,8 @@ def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
         from rclpy.node import Node
         from turtlesim.msg import Pose
 
-        from turtle_traj.runtime import spin_until
-        from turtle_traj.wire import TURTLE_TOPIC_QOS
+        from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+        from turtle_traj.rosutils.runtime import spin_until
         node = Node('replay_observer', context=ros_context)
         executor = SingleThreadedExecutor(context=ros_context)
         executor.add_node(node)
@@ -292,7 +292,7 @@ def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
         finally:
             executor.shutdown()
             node.destroy_node()
-    from turtle_traj.geometry.path import NearestOnPolyline
+    from turtle_traj.core.geometry.path import NearestOnPolyline
     moved = np.array([(p.x, p.y) for p in replayed if p.linear_velocity > 0])
     assert len(moved) > 100
     # Open loop on the wall clock, a command acts for as long as the next one takes to come. A

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from turtle_traj import cli
-from turtle_traj.client import TrajClient
+from turtle_traj.cli import main as cli
+from turtle_traj.client.traj_client import TrajClient
 
 
 @pytest.mark.parametrize(('argv', 'trajectory', 'fields'), [

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from turtle_traj.client import TrajClient
+from turtle_traj.client.traj_client import TrajClient
 
 # colcon builds both interface packages in the first test's fixture: 55 s quiet here.
 pytestmark = pytest.mark.timeout(300)
@@ -87,7 +87,7 @@ def test_the_launch_file_parses_and_names_installed_executables(install):
 def test_the_launch_files_simulator_arguments_parse():
     """What web:=true/false and gui:=true/false become (--web or --no-web ...) is what the
     simulator program takes."""
-    from turtle_traj.sim.main import build_parser
+    from turtle_traj.apps.sim import build_parser
     from turtle_traj.sim.options import options_from
 
     for gui, web in [('false', 'false'), ('true', 'true'), ('False', 'TRUE')]:
@@ -132,6 +132,6 @@ def test_the_installed_executables_draw_a_square(install, tmp_path):
             assert process.returncode == 0, output[-2000:]
     # and what ran is the installed tree's code, not the venv's editable install
     where = subprocess.run(['sh', '-c', f'. "{install}/setup.sh" && "{sys.executable}" -c '
-                            '"import turtle_traj.sim.main as m; print(m.__file__)"'],
+                            '"import turtle_traj.apps.sim as m; print(m.__file__)"'],
                            capture_output=True, text=True, check=True).stdout
     assert where.startswith(str(install / 'turtle_traj')), where

@@ -11,14 +11,14 @@ import svgelements
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from turtle_traj import planning
-from turtle_traj.control.follower import PathFollower
-from turtle_traj.geometry import drawing, svg, text
-from turtle_traj.geometry.path import Polyline, Pose2D, Turn, distance_to_polyline
-from turtle_traj.geometry.shapes import ShapeError
-from turtle_traj.planning import PlanError
-from turtle_traj.settings import DEFAULT_SETTINGS
-from turtle_traj.trajectories import BY_NAME
+from turtle_traj.core.control.follower import PathFollower
+from turtle_traj.core.geometry import drawing, svg, text
+from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn, distance_to_polyline
+from turtle_traj.core.geometry.shapes import ShapeError
+from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+from turtle_traj.core.planning import planner as planning
+from turtle_traj.core.planning.planner import PlanError
+from turtle_traj.core.registry import BY_NAME
 
 START = Pose2D(1.0, 5.0, 0.0)
 
@@ -213,7 +213,7 @@ def test_the_follower_waits_for_the_pen_before_each_curve():
 
 
 def test_the_menu_asks_for_text_and_sends_enter_as_nothing():
-    from turtle_traj.menu import CHOICES, Live, ask_field
+    from turtle_traj.cli.menu import CHOICES, Live, ask_field
 
     write = next(t for t in CHOICES.values() if t.name == 'text')
     field = next(f for f in write.fields if f.name == 'text')

@@ -9,11 +9,11 @@ from turtle_traj_interfaces.srv import DrawCurve, DrawSvg, DrawText
 from turtlesim.srv import TeleportAbsolute
 
 from tests.geometry_checks import distance_to_polyline, xy
-from turtle_traj import planning
-from turtle_traj.geometry import drawing
-from turtle_traj.services import make_request
-from turtle_traj.settings import DEFAULT_SETTINGS
-from turtle_traj.trajectories import BY_NAME
+from turtle_traj.api.ros_interface import make_request
+from turtle_traj.core.geometry import drawing
+from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+from turtle_traj.core.planning import planner as planning
+from turtle_traj.core.registry import BY_NAME
 
 PEN = DEFAULT_SETTINGS.pen
 INK_CLEARANCE_M = 0.06  # pen-up points this far from any stroke: 3 px of pen and 1 px spare
@@ -154,8 +154,8 @@ def test_a_node_ended_mid_drawing_leaves_the_pen_down(ros_context, tmp_path):
     from turtlesim.msg import Color, Pose
 
     from tests.ros_helpers import program, terminate
-    from turtle_traj.runtime import spin_until
-    from turtle_traj.wire import TURTLE_TOPIC_QOS
+    from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+    from turtle_traj.rosutils.runtime import spin_until
 
     observer = Node('pen_observer', context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)

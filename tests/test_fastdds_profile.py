@@ -4,7 +4,7 @@ import xml.etree.ElementTree as ElementTree
 
 import pytest
 
-from turtle_traj.runtime import use_our_fastdds_profile
+from turtle_traj.rosutils.runtime import use_our_fastdds_profile
 
 NS = {'p': 'http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles'}
 

@@ -12,7 +12,7 @@ from std_srvs.srv import Empty, Trigger
 from turtle_traj_interfaces.srv import DrawShape, GoTo, Move
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
 
-from turtle_traj.turtlesim_contract import SPAWN_XY_M
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 
 
 def _running(traj, service_type, name, request):
@@ -120,8 +120,8 @@ def test_sigterm_mid_run_sends_a_final_stop_command(ros_context, tmp_path):
     from turtlesim.msg import Pose
 
     from tests.ros_helpers import program, terminate
-    from turtle_traj.runtime import spin_until
-    from turtle_traj.wire import TURTLE_TOPIC_QOS
+    from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+    from turtle_traj.rosutils.runtime import spin_until
 
     observer = Node('sigterm_observer', context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)

@@ -15,11 +15,11 @@ from pathlib import Path
 import pytest
 from ament_index_python.packages import get_package_share_directory, get_packages_with_prefixes
 
-from turtle_traj.control.supervisor import Outcome
-from turtle_traj.geometry.path import Pose2D
-from turtle_traj.parameter_table import PARAMETER
-from turtle_traj.services import interface
-from turtle_traj.trajectories import BOOL, FLOAT, INT, POINTS, STRING, TRAJECTORIES
+from turtle_traj.core.control.supervisor import Outcome
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.parameters.table import PARAMETER
+from turtle_traj.core.registry import BOOL, FLOAT, INT, POINTS, STRING, TRAJECTORIES
+from turtle_traj.rosutils.interfaces import interface
 
 SOURCES = Path(__file__).resolve().parents[1] / 'interfaces' / 'turtle_traj_interfaces'
 WIRE_TYPES = {FLOAT: {'float64'}, INT: {'uint8', 'uint32', 'int32', 'int64'}, BOOL: {'bool'},

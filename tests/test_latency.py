@@ -4,12 +4,12 @@ import math
 
 import pytest
 
-from turtle_traj.control.commands import Command
-from turtle_traj.control.latency import LatencyPredictor
-from turtle_traj.geometry.path import Pose2D
+from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.latency import LatencyPredictor
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.physics import World
-from turtle_traj.turtlesim_contract import STEP_S
 
 COMMANDS = [Command(1.0, 0.5), Command(0.8, -1.0), Command(0.6, 2.0), Command(0.3, 0.1)]
 

@@ -7,9 +7,9 @@ from turtle_traj_interfaces.srv import DrawShape, GoTo
 from turtlesim.msg import Pose
 from turtlesim.srv import Spawn
 
+from turtle_traj.apps.in_process import SIM_TIME, InProcessSystem
 from turtle_traj.node.trajectory_node import TrajectoryNode
-from turtle_traj.system import SIM_TIME, InProcessSystem
-from turtle_traj.wire import TURTLE_TOPIC_QOS
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 
 def _pose_stream(context, tmp_path, **sim_parameters) -> list[tuple[float, ...]]:

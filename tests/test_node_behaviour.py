@@ -13,9 +13,9 @@ from std_srvs.srv import Trigger
 from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
 
 from tests.ros_helpers import program, terminate
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
 from turtle_traj.node.trajectory_node import TrajectoryNode
-from turtle_traj.runtime import spin_until
-from turtle_traj.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
+from turtle_traj.rosutils.runtime import spin_until
 
 # Room from the start pose to the right and top edges, after the default 0.3 m wall margin.
 ROOM = WORLD_SIZE_M - 0.3 - SPAWN_XY_M

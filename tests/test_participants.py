@@ -7,7 +7,7 @@ import time
 
 from tests.ros_helpers import program, terminate
 from tests.web_helpers import free_port
-from turtle_traj.runtime import live_participants
+from turtle_traj.rosutils.runtime import live_participants
 
 
 def _most_participants_while_it_runs(process: subprocess.Popen, timeout_s: float, *,

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from turtle_traj.geometry.path import Path, Polyline, Pose2D, Turn, legs_from_polyline
+from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn, legs_from_polyline
 
 CORNER = 0.35  # rad
 
@@ -51,7 +51,7 @@ def test_a_curve_knows_its_length_and_curvature():
 def test_nearest_on_polyline_agrees_with_the_brute_force_distance(seed):
     """Blocks pruned by their boxes never hide the nearest segment (independent check)."""
     from tests.geometry_checks import distance_to_polyline
-    from turtle_traj.geometry.path import NearestOnPolyline
+    from turtle_traj.core.geometry.path import NearestOnPolyline
 
     rng = np.random.default_rng(seed)
     # a long wandering polyline (many blocks), a short one (one block), a single point

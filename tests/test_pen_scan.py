@@ -14,8 +14,8 @@ from std_srvs.srv import Empty
 from turtlesim.msg import Color
 from turtlesim.srv import SetPen, TeleportAbsolute
 
-from turtle_traj.turtlesim_contract import WORLD_SIZE_M
-from turtle_traj.wire import TURTLE_TOPIC_QOS
+from turtle_traj.core.turtlesim_contract import WORLD_SIZE_M
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 SCAN = Path(__file__).with_name('data') / 'turtlesim-pen-scan.json'
 PIXEL_M = WORLD_SIZE_M / 500  # as the file measures it: 11.088889 / 500 m

@@ -9,16 +9,16 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from turtle_traj import planning
-from turtle_traj.control.follower import PathFollower
-from turtle_traj.geometry import shapes
-from turtle_traj.geometry.angles import shortest_angular_distance, wrap_angle
-from turtle_traj.geometry.path import Pose2D
-from turtle_traj.geometry.shapes import Arena
-from turtle_traj.planning import PlanError
-from turtle_traj.settings import DEFAULT_SETTINGS
-from turtle_traj.trajectories import BY_NAME
-from turtle_traj.turtlesim_contract import WORLD_SIZE_M
+from turtle_traj.core.control.follower import PathFollower
+from turtle_traj.core.geometry import shapes
+from turtle_traj.core.geometry.angles import shortest_angular_distance, wrap_angle
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.geometry.shapes import Arena
+from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+from turtle_traj.core.planning import planner as planning
+from turtle_traj.core.planning.planner import PlanError
+from turtle_traj.core.registry import BY_NAME
+from turtle_traj.core.turtlesim_contract import WORLD_SIZE_M
 
 ARENA = Arena(0.0, 0.0, WORLD_SIZE_M, WORLD_SIZE_M, 0.3)
 SHAPES = [name for name, trajectory in BY_NAME.items() if trajectory.command[0] == 'draw']

@@ -22,10 +22,10 @@ from turtlesim.msg import Color, Pose
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute, TeleportRelative
 
 from tests.ros_helpers import program, terminate
-from turtle_traj.runtime import spin_until
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, STEP_S, WORLD_SIZE_M
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+from turtle_traj.rosutils.runtime import spin_until
 from turtle_traj.sim.canvas import to_pixel
-from turtle_traj.turtlesim_contract import SPAWN_XY_M, STEP_S, WORLD_SIZE_M
-from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 
 class PoseRecorder:

@@ -11,14 +11,14 @@ import numpy as np
 import pytest
 
 from tests.geometry_checks import distance_to_polyline, regular_polygon
-from turtle_traj import planning
-from turtle_traj.control.loop import ControlLoop
-from turtle_traj.control.plan import Plan
-from turtle_traj.control.supervisor import SETTLE_PERIODS
-from turtle_traj.geometry.path import Pose2D
-from turtle_traj.settings import DEFAULT_SETTINGS
+from turtle_traj.core.control.loop import ControlLoop
+from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.control.supervisor import SETTLE_PERIODS
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+from turtle_traj.core.planning import planner as planning
+from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.sim.physics import World
-from turtle_traj.turtlesim_contract import STEP_S
 
 SETTINGS = DEFAULT_SETTINGS
 ARENA = SETTINGS.arena

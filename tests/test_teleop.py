@@ -10,7 +10,7 @@ import termios
 import pytest
 
 from tests.ros_helpers import Terminal, program
-from turtle_traj.wire import TURTLE_TOPIC_QOS
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 
 @pytest.fixture
@@ -20,7 +20,7 @@ def turtle(ros_context, tmp_path):
     from rclpy.node import Node
     from turtlesim.msg import Pose
 
-    from turtle_traj.runtime import spin_until
+    from turtle_traj.rosutils.runtime import spin_until
     with program('turtle_traj.sim', cwd=tmp_path):
         node = Node('teleop_observer', context=ros_context)
         executor = SingleThreadedExecutor(context=ros_context)
@@ -50,7 +50,7 @@ def _keys_drive(terminal: Terminal, turtle, keys: str, moved) -> None:
 
 
 def test_keys_drive_as_turtle_teleop_key_and_q_restores_the_terminal(turtle):
-    terminal = Terminal('turtle_traj.teleop')
+    terminal = Terminal('turtle_traj.cli.teleop')
     terminal.expect("'q' to quit.")
     assert not _echoing(terminal)  # a key at a time, not echoed
     _keys_drive(terminal, turtle, '\x1b[A', lambda pose: pose.linear_velocity == 2.0)
@@ -76,7 +76,7 @@ def test_keys_drive_as_turtle_teleop_key_and_q_restores_the_terminal(turtle):
 
 @pytest.mark.parametrize('ending', ['ctrl-c', 'sigterm', 'sighup'])
 def test_every_way_out_restores_the_terminal(turtle, ending):
-    terminal = Terminal('turtle_traj.teleop')
+    terminal = Terminal('turtle_traj.cli.teleop')
     terminal.expect("'q' to quit.")
     assert not _echoing(terminal)
     if ending == 'ctrl-c':
@@ -91,7 +91,7 @@ def test_every_way_out_restores_the_terminal(turtle, ending):
 def test_teleop_needs_a_terminal(tmp_path):
     import subprocess
     import sys
-    done = subprocess.run([sys.executable, '-m', 'turtle_traj.teleop'], stdin=subprocess.PIPE,
+    done = subprocess.run([sys.executable, '-m', 'turtle_traj.cli.teleop'], stdin=subprocess.PIPE,
                           capture_output=True, text=True, timeout=30)
     assert done.returncode == 2
     assert 'teleop reads keys from a terminal' in done.stderr

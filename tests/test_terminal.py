@@ -7,9 +7,9 @@ import math
 import time
 
 from tests.ros_helpers import Terminal
-from turtle_traj import cli
-from turtle_traj.client import TrajClient
-from turtle_traj.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
+from turtle_traj.cli import main as cli
+from turtle_traj.client.traj_client import TrajClient
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
 
 
 def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monkeypatch,
@@ -33,7 +33,7 @@ def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monke
     # the range of a size ends at the largest that fits from the turtle's pose
     room = WORLD_SIZE_M - 0.3 - SPAWN_XY_M
     assert f'-4 is outside 0.01 to {math.floor(room * 100) / 100:g}' in out, said
-    assert 'nan is outside' in out, said
+    assert "'nan' is not a finite number" in out, said
     assert 'please answer y or n' in out, said
     assert 'done: square done' in out, said
     assert 'done: simulator reset; ready' in out, said
@@ -79,9 +79,9 @@ def _standing(client: TrajClient) -> bool:
 
 
 def test_menu_enter_on_speed_keeps_the_nodes_parameter():
-    from turtle_traj.menu import CHOICES, Live, ask_field
-    from turtle_traj.services import make_request
-    from turtle_traj.settings import DEFAULT_SETTINGS
+    from turtle_traj.api.ros_interface import make_request
+    from turtle_traj.cli.menu import CHOICES, Live, ask_field
+    from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 
     square = CHOICES['1']
     speed = next(f for f in square.fields if f.name == 'linear_speed')

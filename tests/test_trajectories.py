@@ -8,7 +8,7 @@ from geometry_msgs.msg import Point
 from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
 
 from tests.geometry_checks import distance_to_polyline, regular_polygon, xy
-from turtle_traj.turtlesim_contract import SPAWN_XY_M
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 
 START = (SPAWN_XY_M, SPAWN_XY_M, 0.0)
 

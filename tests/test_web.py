@@ -19,8 +19,8 @@ from PIL import Image
 
 from tests.ros_helpers import program
 from tests.web_helpers import chromium, free_port, page_canvas, wait_for
-from turtle_traj.client import TrajClient
-from turtle_traj.turtlesim_contract import PIXELS_PER_METER, WORLD_SIZE_M
+from turtle_traj.client.traj_client import TrajClient
+from turtle_traj.core.turtlesim_contract import PIXELS_PER_METER, WORLD_SIZE_M
 
 SPRITE_RADIUS_PX = 33  # a 45 px turtle, turned any way
 
@@ -53,7 +53,7 @@ def observer(ros_context):
     from rclpy.node import Node
     from turtlesim.msg import Pose
 
-    from turtle_traj.wire import TURTLE_TOPIC_QOS
+    from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
     node = Node('web_observer', context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
@@ -62,7 +62,7 @@ def observer(ros_context):
     node.create_subscription(Pose, 'turtle1/pose', node.poses.append, TURTLE_TOPIC_QOS)
 
     def spin_until(condition, timeout_s: float = 20.0) -> bool:
-        from turtle_traj.runtime import spin_until as spin
+        from turtle_traj.rosutils.runtime import spin_until as spin
         return spin(executor, condition, timeout_s=timeout_s)
     node.spin_until = spin_until
     assert spin_until(lambda: bool(node.poses))
@@ -346,8 +346,8 @@ def observer_alone(tmp_path, ros_context):
     from rclpy.node import Node
     from turtlesim.msg import Pose
 
-    from turtle_traj.runtime import spin_until
-    from turtle_traj.wire import TURTLE_TOPIC_QOS
+    from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+    from turtle_traj.rosutils.runtime import spin_until
     with program('turtle_traj.sim', '--web', '--web-port', str(port), '--ros-args', '-r',
                  '__ns:=/alone', cwd=tmp_path):
         node = Node('alone_observer', context=ros_context)

@@ -9,12 +9,22 @@ import json
 import numpy as np
 import pytest
 
+from turtle_traj.client import panel_messages
+from turtle_traj.core.registry import BY_NAME
+from turtle_traj.core.teleop_keys import ARROW_BYTES, ROTATIONS, velocity
+from turtle_traj.sim import live_messages
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.state import Pen, Segment
-from turtle_traj.teleop_keys import ARROW_BYTES, ROTATIONS, velocity
-from turtle_traj.trajectories import BY_NAME
-from turtle_traj.web import protocol
-from turtle_traj.web.protocol import Frame, ProtocolError
+from turtle_traj.web import frames, messages
+from turtle_traj.web.frames import Frame
+from turtle_traj.web.messages import ProtocolError
+
+# The requests of a page with both parts: the simulator's view and the trajectory panel.
+CHECKERS = {**live_messages.CHECKERS, **panel_messages.CHECKERS}
+
+
+def _parse(raw: str) -> dict:
+    return messages.parse(raw, CHECKERS)
 
 
 @pytest.mark.parametrize(('raw', 'reason'), [
@@ -38,19 +48,19 @@ from turtle_traj.web.protocol import Frame, ProtocolError
 ])
 def test_every_bad_request_is_refused_with_the_reason(raw, reason):
     with pytest.raises(ProtocolError, match=None) as refused:
-        protocol.parse(raw)
+        _parse(raw)
     assert reason in str(refused.value)
 
 
 def test_good_requests_come_out_typed():
-    assert protocol.parse('{"type": "key", "turtle": "turtle2", "key": "left"}') == {
+    assert _parse('{"type": "key", "turtle": "turtle2", "key": "left"}') == {
         'type': 'key', 'turtle': 'turtle2', 'key': 'left'}
-    start = protocol.parse(json.dumps({
+    start = _parse(json.dumps({
         'type': 'start', 'trajectory': 'follow_path',
         'fields': {'points': [[1, 2], [3.5, 4]], 'closed': True, 'linear_speed': 1}}))
     assert start['fields'] == {'points': [(1.0, 2.0), (3.5, 4.0)], 'closed': True,
                                'linear_speed': 1.0}
-    assert protocol.parse('{"type": "start", "trajectory": "polygon", "fields": '
+    assert _parse('{"type": "start", "trajectory": "polygon", "fields": '
                           '{"sides": 6.0}}')['fields'] == {'sides': 6}
 
 
@@ -63,7 +73,7 @@ def test_the_teleop_mapping_is_turtlesims():
 
 
 def test_the_hello_lists_every_kind_with_its_fields_defaults_and_ranges():
-    hello = json.loads(protocol.hello_text())
+    hello = panel_messages.hello()
     kinds = {kind['name']: kind for kind in hello['kinds']}
     assert set(kinds) == set(BY_NAME)
     polygon = {field['name']: field for field in kinds['polygon']['fields']}
@@ -80,13 +90,13 @@ def test_a_frame_carries_the_changed_pixels_exactly():
     canvas.draw(Segment((1.0, 1.0), (3.0, 2.0), Pen(255, 0, 0, 5)))
     canvas.take_changes()  # as the bridge does each step: from here on, changes are kept
     snapshot = Frame(1, 0.0, 0.0, (0, 0, 0), [], snapshot=canvas.trails.copy())
-    page = _decode(json.loads(protocol.snapshot_text(snapshot)))
+    page = _decode(json.loads(frames.snapshot_text(snapshot)))
     for step, segment in enumerate([Segment((3.0, 2.0), (3.2, 2.4), Pen(0, 255, 0, 3)),
                                     Segment((5.0, 5.0), (5.0, 5.0), Pen(9, 9, 9, 1)),
                                     Segment((-1.0, 5.0), (0.1, 5.0), Pen(1, 2, 3, 40))]):
         canvas.draw(segment)
         cleared, patches = canvas.take_changes()
-        frame = json.loads(protocol.frame_text(Frame(step + 2, 0.0, 0.0, (0, 0, 0), [],
+        frame = json.loads(frames.frame_text(Frame(step + 2, 0.0, 0.0, (0, 0, 0), [],
                                                      cleared, patches)))
         for row, column, height, width, data in frame['patches']:
             pixels = np.frombuffer(base64.b64decode(data), np.uint8).reshape(height, width, 4)
@@ -109,7 +119,7 @@ def test_a_page_that_falls_behind_loses_frames_then_gets_the_whole_canvas():
     from turtle_traj.web.server import FRAME_QUEUE, WebServer, _Page
 
     async def scenario() -> tuple[list[str], int, bool]:
-        server = WebServer('127.0.0.1', 0, on_request=lambda *_: None)
+        server = WebServer('127.0.0.1', 0, icon_png=bytes)
         page = _Page(1, _Socket())
         server._pages[1] = page
         frames = [Frame(seq, 0.0, 0.0, (1, 2, 3), [('turtle1', 1.0, 2.0, 0.0)])

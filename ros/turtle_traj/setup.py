@@ -30,9 +30,9 @@ setup(
     description='Closed-loop turtle trajectories for ROS 2 Jazzy, with a pure-Python turtlesim',
     license='Apache-2.0',
     entry_points={'console_scripts': [
-        'trajectory_node = turtle_traj.node.main:main',
-        'sim = turtle_traj.sim.main:main',
-        'turtle_traj = turtle_traj.cli:main',
-        'teleop = turtle_traj.teleop:main',
+        'trajectory_node = turtle_traj.apps.node:main',
+        'sim = turtle_traj.apps.sim:main',
+        'turtle_traj = turtle_traj.cli.main:main',
+        'teleop = turtle_traj.cli.teleop:main',
     ]},
 )

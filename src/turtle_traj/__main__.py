@@ -1,5 +1,7 @@
+"""`python -m turtle_traj`: the trajectory node (see `turtle_traj.apps.node`)."""
+
 import sys
 
-from turtle_traj.node.main import main
+from turtle_traj.apps.node import main
 
 sys.exit(main())

@@ -1,1 +1,1 @@
-"""rosbag2 bags: their types, writing, reading, recording, playing and plotting."""
+"""rosbag2 bags of runs: types, writer, reader, recorder, player and plots."""

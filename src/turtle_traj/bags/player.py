@@ -12,7 +12,7 @@ from rosbags.rosbag2.metadata import QosDurability, QosReliability
 
 from turtle_traj.bags.reader import Bag, Message
 from turtle_traj.bags.writer import BagError
-from turtle_traj.services import message_type
+from turtle_traj.rosutils.interfaces import message_type
 
 COMMAND_TYPES = {'geometry_msgs/msg/Twist'}  # played by default: what drives a turtle
 

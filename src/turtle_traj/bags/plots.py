@@ -18,9 +18,9 @@ import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from turtle_traj.bags.reader import Bag  # noqa: E402
-from turtle_traj.geometry.path import NearestOnPolyline  # noqa: E402
-from turtle_traj.parameter_table import DEFAULTS  # noqa: E402
-from turtle_traj.turtlesim_contract import WORLD_SIZE_M  # noqa: E402
+from turtle_traj.core.geometry.path import NearestOnPolyline  # noqa: E402
+from turtle_traj.core.parameters.table import DEFAULTS  # noqa: E402
+from turtle_traj.core.turtlesim_contract import WORLD_SIZE_M  # noqa: E402
 
 PANELS = ('path', 'deviation', 'speeds', 'progress')
 

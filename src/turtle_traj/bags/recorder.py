@@ -17,9 +17,10 @@ from rosbags.rosbag2.metadata import (
     QosTime,
 )
 
+from turtle_traj.api.ros_interface import DRAW_ACTION
 from turtle_traj.bags.types import UnknownType
 from turtle_traj.bags.writer import BagError, BagWriter, Topic
-from turtle_traj.services import DRAW_ACTION, message_type
+from turtle_traj.rosutils.interfaces import message_type
 
 HISTORY_DEPTH = 1000  # messages a subscription keeps before the recorder takes them
 

@@ -1,1 +1,1 @@
-"""The trajectory node: services, parameters and the control timer around the pure core."""
+"""The trajectory node: one service per trajectory, the draw action, timer-driven control."""

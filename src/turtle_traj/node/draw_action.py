@@ -18,12 +18,12 @@ from rclpy.node import Node
 from rclpy.task import Future
 from turtle_traj_interfaces.action import Draw
 
-from turtle_traj.control.supervisor import Outcome, RunSupervisor
-from turtle_traj.geometry.path import Pose2D
+from turtle_traj.api.ros_interface import DRAW_ACTION
+from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.parameters.settings import Settings
+from turtle_traj.core.registry import BY_NAME, TrajectoryKind
 from turtle_traj.node.outcomes import RunRefused, fill_response
-from turtle_traj.services import DRAW_ACTION
-from turtle_traj.settings import Settings
-from turtle_traj.trajectories import BY_NAME, TrajectoryKind
 
 FEEDBACK_PERIOD_S = 0.1  # node clock: 10 Hz
 

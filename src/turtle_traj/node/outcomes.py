@@ -7,8 +7,8 @@ import math
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path as PathMsg
 
-from turtle_traj.control.supervisor import Outcome
-from turtle_traj.geometry.path import Path
+from turtle_traj.core.control.supervisor import Outcome
+from turtle_traj.core.geometry.path import Path
 
 PLAN_FRAME_ID = 'world'
 PLAN_POINTS = 20_000  # most points published on ~/plan

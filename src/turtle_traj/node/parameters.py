@@ -11,15 +11,15 @@ from rcl_interfaces.msg import (
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from turtle_traj.geometry.path import Pose2D
-from turtle_traj.parameter_table import DEFAULTS, PARAMETERS, Spec
-from turtle_traj.settings import (
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.parameters.settings import (
     ARENA_PARAMETERS,
     Settings,
     arena_problem,
     pen_color_problem,
     settings_from_values,
 )
+from turtle_traj.core.parameters.table import DEFAULTS, PARAMETERS, Spec
 
 
 def descriptor(spec: Spec) -> ParameterDescriptor:

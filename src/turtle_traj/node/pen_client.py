@@ -11,7 +11,7 @@ from rclpy.node import Node
 from rclpy.task import Future
 from turtlesim.srv import SetPen
 
-from turtle_traj.turtlesim_contract import PenStyle
+from turtle_traj.core.turtlesim_contract import PenStyle
 
 SET_PEN_TIMEOUT_S = 2.0  # wall clock: a simulator that does not answer set_pen has vanished
 

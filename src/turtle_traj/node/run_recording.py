@@ -7,10 +7,10 @@ from pathlib import Path
 
 from rclpy.node import Node
 
+from turtle_traj.api.ros_interface import DRAW_ACTION
 from turtle_traj.bags.recorder import TopicRecorder
 from turtle_traj.bags.writer import BagError
-from turtle_traj.control.config import ControlConfig
-from turtle_traj.services import DRAW_ACTION
+from turtle_traj.core.control.config import ControlConfig
 
 
 class RunRecording:

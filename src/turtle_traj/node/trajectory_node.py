@@ -23,11 +23,15 @@ from std_msgs.msg import Header
 from std_srvs.srv import Empty, Trigger
 from turtlesim.msg import Pose
 
-from turtle_traj import planning
-from turtle_traj.control.commands import STOP, Command
-from turtle_traj.control.loop import ControlLoop
-from turtle_traj.control.supervisor import Outcome, RunSupervisor
-from turtle_traj.geometry.path import Pose2D
+from turtle_traj.api.ros_interface import service_type
+from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.loop import ControlLoop
+from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.planning import planner as planning
+from turtle_traj.core.planning.planner import PlanError
+from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
+from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.node import parameters
 from turtle_traj.node.async_service import create_async_service
 from turtle_traj.node.draw_action import DrawActionServer
@@ -35,11 +39,7 @@ from turtle_traj.node.outcomes import PLAN_FRAME_ID, RunRefused, fill_response, 
 from turtle_traj.node.pen_client import PenClient
 from turtle_traj.node.pose_silence import PoseSilence
 from turtle_traj.node.waiting import wait_until
-from turtle_traj.planning import PlanError
-from turtle_traj.services import service_type
-from turtle_traj.trajectories import TRAJECTORIES, TrajectoryKind
-from turtle_traj.turtlesim_contract import STEP_S
-from turtle_traj.wire import POSE_READER_QOS, TURTLE_TOPIC_QOS
+from turtle_traj.rosutils.qos import POSE_READER_QOS, TURTLE_TOPIC_QOS
 
 _WATCHDOG_PERIOD_S = 0.05
 _RESET_TIMEOUT_S = 5.0

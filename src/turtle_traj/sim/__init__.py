@@ -1,1 +1,1 @@
-"""A pure-Python turtlesim: physics core, canvas, ROS node and program."""
+"""The simulator: a pure-Python, wire-compatible turtlesim that knows no trajectories."""

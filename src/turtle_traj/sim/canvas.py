@@ -9,9 +9,9 @@ from functools import cache
 import numpy as np
 from PIL import Image, ImageDraw
 
+from turtle_traj.core.turtlesim_contract import CANVAS_HEIGHT_M, CANVAS_SIZE_PX, PIXELS_PER_METER
 from turtle_traj.sim.raster import cosmetic_line, wide_line
 from turtle_traj.sim.state import Segment, Turtle
-from turtle_traj.turtlesim_contract import CANVAS_HEIGHT_M, CANVAS_SIZE_PX, PIXELS_PER_METER
 
 _ICON_SIZE_PX = 45
 _TRANSPARENT_WHITE = (255, 255, 255, 0)

@@ -14,8 +14,8 @@ from turtlesim.action import RotateAbsolute
 from turtlesim.msg import Color, Pose
 from turtlesim.srv import SetPen, TeleportAbsolute, TeleportRelative
 
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 from turtle_traj.sim.rotation_goals import RotationGoals
-from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 
 class TurtleEndpoints:

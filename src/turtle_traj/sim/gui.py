@@ -6,7 +6,7 @@ import os
 
 from PIL import Image
 
-from turtle_traj.turtlesim_contract import CANVAS_SIZE_PX
+from turtle_traj.core.turtlesim_contract import CANVAS_SIZE_PX
 
 
 class GuiUnavailable(RuntimeError):

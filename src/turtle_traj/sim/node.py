@@ -19,6 +19,8 @@ from std_srvs.srv import Empty
 from turtle_traj_interfaces.srv import SaveImage
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
 
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, STEP_S
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.endpoints import TurtleEndpoints
@@ -30,8 +32,6 @@ from turtle_traj.sim.state import (
     SimulationError,
     Turtle,
 )
-from turtle_traj.turtlesim_contract import SPAWN_XY_M, STEP_S
-from turtle_traj.wire import TURTLE_TOPIC_QOS
 
 _FIRST_TURTLE = 'turtle1'
 _CMD_VEL_DEPTH = TURTLE_TOPIC_QOS.depth

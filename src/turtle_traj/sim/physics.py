@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
+from turtle_traj.core.turtlesim_contract import COMMAND_TIMEOUT_S, SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 from turtle_traj.sim.state import (
     NonFiniteCommand,
     Pen,
@@ -28,7 +29,6 @@ from turtle_traj.sim.state import (
     normalize_angle,
     require_finite,
 )
-from turtle_traj.turtlesim_contract import COMMAND_TIMEOUT_S, SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 
 ROTATION_SPEED_RAD_S = 1.0
 ROTATION_TOLERANCE_RAD = 0.02

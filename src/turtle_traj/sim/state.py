@@ -7,7 +7,7 @@ import math
 from dataclasses import dataclass, field
 from enum import Enum
 
-from turtle_traj.turtlesim_contract import DEFAULT_PEN
+from turtle_traj.core.turtlesim_contract import DEFAULT_PEN
 
 _PI = 3.14159265  # turtlesim's own value of pi in its angle normalisation
 

@@ -1,1 +1,1 @@
-"""The simulator's live view in a browser: server, ROS bridge, messages and the page."""
+"""The live view's web server and its messages: plain Python and aiohttp, no ROS."""

@@ -1,31 +1,32 @@
 """The live view's web server: the page, its static files and one WebSocket per page.
 
-aiohttp runs on its own thread and event loop, so rclpy and the server never wait for each
-other: the ROS side hands over frames and replies with `broadcast` and `send` (thread-safe, they
-never block), and hears requests through `on_request`, called on the web thread (it must only
-queue them). Each page has a bounded queue: a page that falls behind loses frames (counted) and
-then gets the whole canvas again.
+It knows no simulator and no trajectory: the parts of the page (`PagePart`: the simulator's
+view, the trajectory panel) are added by the program that composes them. aiohttp runs on its
+own thread and event loop, so rclpy and the server never wait for each other: the ROS side
+hands over frames and replies with `broadcast` and `send` (thread-safe, they never block), and
+hears requests through each part's `request`, called on the web thread (it must only queue
+them). Each page has a bounded queue: a page that falls behind loses frames (counted) and then
+gets the whole canvas again.
 """
 
 from __future__ import annotations
 
 import asyncio
-import io
 import ipaddress
 import logging
 import math
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from aiohttp import WSMsgType, web
 
-from turtle_traj.sim.canvas import turtle_icon
-from turtle_traj.web import protocol
-from turtle_traj.web.protocol import Frame, ProtocolError
+from turtle_traj.web import messages
+from turtle_traj.web.frames import Frame, frame_text, snapshot_text
+from turtle_traj.web.messages import Checker, ProtocolError
 
 STATIC = Path(__file__).with_name('static')
 FRAME_QUEUE = 30  # frames a page may be behind (about half a second) before it loses them
@@ -35,6 +36,17 @@ MAX_FRAME_BACKLOG = 120  # frames waiting for the web thread at all, before all 
 REQUESTS_PER_S = 50.0  # a page sending more (a key held down sends about 30) is refused
 LOCAL_HOSTS = {'localhost', '127.0.0.1', '::1'}
 _log = logging.getLogger(__name__)
+
+
+class PagePart(Protocol):
+    """A part of the page: what it adds to the hello, and the requests it handles."""
+
+    checkers: Mapping[str, Checker]  # request type -> its checker
+
+    def hello(self) -> dict[str, Any]: ...
+
+    def request(self, page: int, request: dict[str, Any]) -> None:
+        """A checked request from `page`, on the web thread: queue it, do not act on it."""
 
 
 @dataclass(eq=False)
@@ -65,10 +77,12 @@ def _is_ip(host: str) -> bool:
 class WebServer:
     """Serves the page on http://host:port/ and streams frames to every page."""
 
-    def __init__(self, host: str, port: int,
-                 on_request: Callable[[int, dict[str, Any]], None]) -> None:
+    def __init__(self, host: str, port: int, icon_png: Callable[[], bytes]) -> None:
         self.host, self.port = host, port
-        self._on_request = on_request
+        self._icon = icon_png
+        self._parts: list[PagePart] = []
+        self._handlers: dict[str, PagePart] = {}
+        self._checkers: dict[str, Checker] = {}
         self._pages: dict[int, _Page] = {}
         self._next_ident = 1
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -82,6 +96,12 @@ class WebServer:
         self.frames_dropped = 0
         self.requests_refused = 0
         self._icon_png: bytes | None = None
+
+    def add(self, part: PagePart) -> None:
+        """A part of the page, added before `start`."""
+        self._parts.append(part)
+        for kind, checker in part.checkers.items():
+            self._handlers[kind], self._checkers[kind] = part, checker
 
     # -- life --------------------------------------------------------------------------------
 
@@ -163,7 +183,7 @@ class WebServer:
 
     def send(self, page: int | None, text: str) -> None:
         """A reply to one page (None: to every page)."""
-        if self._loop is not None:
+        if self._loop is not None and self._loop.is_running():
             self._loop.call_soon_threadsafe(self._reply, page, text)
 
     # -- on the web thread --------------------------------------------------------------------
@@ -191,7 +211,7 @@ class WebServer:
                         self.snapshot_wanted = True
                         self.frames_dropped += page.behind
                         continue
-                    snapshot = snapshot or protocol.snapshot_text(frame)
+                    snapshot = snapshot or snapshot_text(frame)
                     self._clear(page.frames)
                     page.frames.put_nowait(snapshot)
                     page.in_sync, page.behind = True, False
@@ -201,7 +221,7 @@ class WebServer:
                     self.snapshot_wanted = True
                     continue
                 else:
-                    delta = delta or protocol.frame_text(frame)
+                    delta = delta or frame_text(frame)
                     page.frames.put_nowait(delta)
                 page.wake.set()
 
@@ -235,9 +255,7 @@ class WebServer:
     async def _turtle_icon(self, request: web.Request) -> web.Response:
         """The simulator's own turtle, facing up (the page turns it to each heading)."""
         if self._icon_png is None:
-            encoded = io.BytesIO()
-            turtle_icon().save(encoded, format='PNG')
-            self._icon_png = encoded.getvalue()
+            self._icon_png = self._icon()
         return web.Response(body=self._icon_png, content_type='image/png')
 
     def _origin_refusal(self, request: web.Request) -> str | None:
@@ -255,7 +273,7 @@ class WebServer:
             return web.Response(status=403, text=refusal)
         # No per-message deflate: frames are small, and compressing 62 a second per page
         # cost more CPU than everything else the view does.
-        socket = web.WebSocketResponse(max_msg_size=4 * protocol.MAX_MESSAGE_CHARS,
+        socket = web.WebSocketResponse(max_msg_size=4 * messages.MAX_MESSAGE_CHARS,
                                        heartbeat=10.0, compress=False)
         await socket.prepare(request)
         page = _Page(self._next_ident, socket)
@@ -265,7 +283,7 @@ class WebServer:
         if not self._fanning_out:
             self._fanning_out = True
             self._loop.call_soon(self._fan_out_every_period)
-        page.replies.put_nowait(protocol.hello_text())
+        page.replies.put_nowait(self._hello_text())
         sender = asyncio.create_task(self._send(page))
         try:
             async for message in socket:
@@ -287,24 +305,30 @@ class WebServer:
             self.requests_refused += 1
             if now - page.told_too_many_at > 1.0:
                 page.told_too_many_at = now
-                self._reply(page.ident, protocol.error_text(
+                self._reply(page.ident, messages.error_text(
                     f'too many requests: at most {REQUESTS_PER_S:g} a second'))
             return
         page.allowance -= 1.0
         try:
-            request = protocol.parse(raw)
+            request = messages.parse(raw, self._checkers)
         except ProtocolError as error:
             self._refuse(page, str(error))
             return
         try:
-            self._on_request(page.ident, request)
+            self._handlers[request['type']].request(page.ident, request)
         except Exception as error:  # noqa: BLE001 - a page must never take the server down
             _log.exception('live view request failed')
             self._refuse(page, f'request failed: {error}')
 
     def _refuse(self, page: _Page, reason: str) -> None:
         self.requests_refused += 1
-        self._reply(page.ident, protocol.error_text(reason))
+        self._reply(page.ident, messages.error_text(reason))
+
+    def _hello_text(self) -> str:
+        hello: dict[str, Any] = {}
+        for part in self._parts:
+            hello.update(part.hello())
+        return messages.text('hello', **hello)
 
     async def _send(self, page: _Page) -> None:
         """Replies first, then frames, as fast as the page takes them."""

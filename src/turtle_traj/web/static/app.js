@@ -48,7 +48,9 @@ function setTurtles(turtles) {
 const handlers = {
   hello(message) {
     state.world = message.world;
-    state.kinds = message.kinds;
+    state.kinds = message.kinds || [];
+    $('panel').hidden = !message.kinds;  // a simulator's page alone: no trajectory panel
+    if (!message.kinds) return;
     $('kind').replaceChildren(...message.kinds.map((k) => new Option(k.name, k.name)));
     showFields();
     send({type: 'get_params'});
@@ -76,8 +78,8 @@ const handlers = {
   status(message) {
     $('status').textContent = message.node ? 'trajectory node: ready' : message.why;
     $('start').disabled = !message.node || state.goalRunning;
-    $('stats').dataset.dropped = message.dropped;
   },
+  stats(message) { $('stats').dataset.dropped = message.dropped; },
   run(message) {
     const running = message.state === 'running';
     state.goalRunning = running;

@@ -1,0 +1,1 @@
+"""The trajectory node's ROS interface: service and action names, types and requests."""

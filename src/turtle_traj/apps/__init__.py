@@ -1,0 +1,1 @@
+"""Every program: the compositions of nodes into one process, in one place."""

@@ -1,0 +1,167 @@
+"""Our simulator and other nodes in one process, on lock-step simulated time.
+
+For scripts that own their process (the demo, benchmarks, tests): these classes spin their
+executor themselves, so never use them from inside another node's callback.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+from rclpy.action import ActionClient
+from rclpy.client import Client
+from rclpy.context import Context
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from turtlesim.msg import Pose
+
+from turtle_traj.node.trajectory_node import TrajectoryNode
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+from turtle_traj.sim.lockstep import LockstepExecutor
+from turtle_traj.sim.node import SimNode
+
+# Lock-step runs many times faster than real time even on a loaded machine: a wait that has
+# not ended after this much wall time is stuck, not slow (or the simulator was taken away).
+_WALL_SAFETY_MIN_S = 60.0
+# In-process endpoints still meet through DDS discovery: milliseconds when quiet, and once more
+# than 10 s with both cores busy. Only a bound.
+_DISCOVERY_TIMEOUT_S = 60.0
+_WALL_SAFETY_PER_SIM_S = 0.5
+SIM_TIME = Parameter('use_sim_time', value=True)
+
+
+class LockstepSim:
+    """Our simulator and a client node (on simulated time) in one lock-step executor.
+
+    Every wait is bounded in simulated seconds, so no outcome depends on machine load.
+    """
+
+    def __init__(self, *, context: Context | None = None, output_dir: Path = Path('output'),
+                 client_name: str = 'turtle_traj_client',
+                 sim_parameters: dict[str, object] | None = None) -> None:
+        self.nodes: list[Node] = []
+        self.executor: LockstepExecutor | None = None
+        self._service_clients: dict[tuple[type, str], Client] = {}
+        self._action_clients: list[ActionClient] = []
+        with self._closed_on_error():
+            self.sim = SimNode(context=context, lockstep=True, parameter_overrides=[
+                Parameter('output_dir', value=str(output_dir)),
+                *(Parameter(name, value=value) for name, value in (sim_parameters or {}).items())])
+            self.add_node(self.sim)
+            # The client only calls and listens: no parameter services of its own to wait on.
+            self.add_node(Node(client_name, context=context, parameter_overrides=[SIM_TIME],
+                               start_parameter_services=False))
+            self.client = self.nodes[-1]
+            self.executor = LockstepExecutor(self.sim, context=context)
+            for node in self.nodes:
+                self.executor.add_node(node)
+
+    @contextmanager
+    def _closed_on_error(self) -> Iterator[None]:
+        """A constructor that fails destroys what it made (never the garbage collector)."""
+        try:
+            yield
+        except BaseException:
+            self.close()
+            raise
+
+    def add_node(self, node: Node) -> None:
+        """Spin one more node in the same executor (it is destroyed by `close`)."""
+        self.nodes.append(node)
+        if self.executor is not None:
+            self.executor.add_node(node)
+
+    @property
+    def sim_time_s(self) -> float:
+        return self.sim.world.time_s
+
+    def spin_until(self, condition: Callable[[], bool], *, timeout_s: float = 60.0) -> bool:
+        """Spin until condition() holds or `timeout_s` of simulated time passed."""
+        deadline = self.sim_time_s + timeout_s
+        wall_deadline = time.monotonic() + max(_WALL_SAFETY_MIN_S,
+                                               _WALL_SAFETY_PER_SIM_S * timeout_s)
+        while not condition():
+            if self.sim_time_s > deadline or time.monotonic() > wall_deadline:
+                return False
+            self.executor.spin_once(timeout_sec=0.01)
+        return True
+
+    def spin_sim_seconds(self, seconds: float) -> None:
+        """Spin until the simulator has advanced by `seconds` of simulated time."""
+        end = self.sim_time_s + seconds
+        if not self.spin_until(lambda: self.sim_time_s >= end, timeout_s=seconds + 1.0):
+            raise RuntimeError('simulated time did not advance')
+
+    def _resolve(self, name: str) -> str:
+        return name
+
+    def action_client(self, action_type: type, name: str) -> ActionClient:
+        """An action client on the client node, destroyed by `close` (rclpy's destroy_node
+        leaves a node's action clients alive, and with them the node)."""
+        client = ActionClient(self.client, action_type, self._resolve(name))
+        self._action_clients.append(client)
+        return client
+
+    def start(self, service_type, name: str, request=None):
+        """Send a request and return its future."""
+        name = self._resolve(name)
+        client = self._service_clients.get((service_type, name))
+        if client is None:
+            client = self.client.create_client(service_type, name)
+            self._service_clients[service_type, name] = client
+        if not self.spin_until(client.service_is_ready, timeout_s=_DISCOVERY_TIMEOUT_S):
+            raise RuntimeError(f'no service {name}')
+        return client.call_async(request if request is not None else service_type.Request())
+
+    def call(self, service_type, name: str, request=None, *, timeout_s: float = 600.0):
+        """Call a service and return its response; `timeout_s` is simulated time."""
+        future = self.start(service_type, name, request)
+        if not self.spin_until(future.done, timeout_s=timeout_s):
+            raise RuntimeError(f'{name} did not answer within {timeout_s:g} s')
+        return future.result()
+
+    def close(self) -> None:
+        """Shut the executor down, then destroy the nodes, newest first."""
+        if self.executor is not None:
+            self.executor.shutdown()
+        while self._action_clients:
+            self._action_clients.pop().destroy()
+        while self.nodes:
+            self.nodes.pop().destroy_node()
+
+
+class InProcessSystem(LockstepSim):
+    """LockstepSim plus a TrajectoryNode; the client records turtle1's poses in `poses`.
+
+    Relative service names are the trajectory node's: `call(DrawShape, 'draw_square', ...)`.
+    """
+
+    def __init__(self, *, context: Context | None = None, output_dir: Path = Path('output'),
+                 sim_parameters: dict[str, object] | None = None,
+                 **node_parameters: object) -> None:
+        super().__init__(context=context, output_dir=output_dir, sim_parameters=sim_parameters)
+        with self._closed_on_error():
+            self.node = TrajectoryNode(context=context, parameter_overrides=[SIM_TIME] + [
+                Parameter(name, value=value) for name, value in node_parameters.items()])
+            self.add_node(self.node)
+            self.poses: list[Pose] = []
+            self.client.create_subscription(Pose, 'turtle1/pose', self.poses.append,
+                                            TURTLE_TOPIC_QOS)
+            if not self.spin_until(lambda: self.node.ready and bool(self.poses),
+                                   timeout_s=_DISCOVERY_TIMEOUT_S):
+                raise RuntimeError(f'the in-process system did not come up within '
+                                   f'{_DISCOVERY_TIMEOUT_S:g} s')
+
+    def _resolve(self, name: str) -> str:
+        """A relative service name is one of the trajectory node's."""
+        return name if name.startswith('/') else f'{self.node.get_fully_qualified_name()}/{name}'
+
+    def start(self, service_type, name: str, request=None):
+        """Send a request; one to the trajectory node (a relative name) empties `poses` first,
+        so that they then hold exactly the poses of that call."""
+        if not name.startswith('/'):
+            self.poses.clear()
+        return super().start(service_type, name, request)

@@ -1,0 +1,76 @@
+"""`python -m turtle_traj`: run the trajectory node (add --with-sim for our simulator too)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.utilities import remove_ros_args
+
+from turtle_traj.node.trajectory_node import TrajectoryNode
+from turtle_traj.rosutils.runtime import fail, run_nodes
+from turtle_traj.sim.options import SimOptions, SimUnavailable, add_sim_options, options_from
+
+
+@dataclass(frozen=True)
+class Options:
+    """What to run: the node, and our simulator beside it when `sim` is given."""
+
+    sim: SimOptions | None = None
+    ros_args: Sequence[str] = field(default_factory=list)  # argv with ROS arguments, for rclpy
+
+    def problem(self) -> str | None:
+        return self.sim.problem() if self.sim is not None else None
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog='python -m turtle_traj',
+        description='Run the turtle_traj trajectory node. ROS arguments (--ros-args -p '
+                    'linear_speed:=1.5 -r __ns:=/sim1 ...) are passed through.')
+    parser.add_argument('--with-sim', action='store_true',
+                        help='also run our simulator in this process (no launch file needed)')
+    add_sim_options(parser, 'with --with-sim: ')
+    return parser
+
+
+def main(args: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv if args is None else ['turtle_traj', *args])
+    parsed = build_parser().parse_args(remove_ros_args(argv)[1:])
+    with_sim = options_from(parsed)
+    if with_sim != SimOptions() and not parsed.with_sim:
+        return fail('--time-scale, --gui, --web and --snapshot need --with-sim')
+    return run(Options(sim=with_sim if parsed.with_sim else None, ros_args=argv))
+
+
+def run(options: Options) -> int:
+    """Spin the node (and the simulator) until Ctrl-C, SIGTERM or the window closes."""
+    if (problem := options.problem()) is not None:
+        return fail(problem)
+    sim_time = options.sim is not None and options.sim.time_scale is not None
+    beside = None
+    if options.sim is not None:  # the simulator is loaded only when asked for
+        from turtle_traj.apps.sim_beside import SimBeside
+        beside = SimBeside(options.sim)
+    controllers: list[TrajectoryNode] = []
+
+    def create_nodes(stop: Callable[[], None]) -> list[Node]:
+        nodes: list[Node] = beside.create(stop) if beside is not None else []
+        controllers.append(TrajectoryNode(
+            parameter_overrides=[Parameter('use_sim_time', value=True)] if sim_time else []))
+        return [*nodes, *controllers]
+
+    def on_exit() -> None:
+        for controller in controllers:
+            controller.shutdown_turtle()
+        if beside is not None:
+            beside.save_snapshot()
+
+    try:
+        return run_nodes(create_nodes, args=options.ros_args or None, on_exit=on_exit)
+    except SimUnavailable as error:
+        return fail(str(error))

@@ -1,0 +1,102 @@
+"""`python -m turtle_traj.sim`: run the simulator, like `ros2 run turtlesim turtlesim_node`."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.utilities import remove_ros_args
+
+from turtle_traj.rosutils.runtime import fail, run_nodes
+from turtle_traj.sim.gui import GuiUnavailable, Window
+from turtle_traj.sim.node import SimNode
+from turtle_traj.sim.options import SimOptions, SimUnavailable, add_sim_options, options_from
+
+GUI_FRAME_PERIOD_S = 1.0 / 30.0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog='python -m turtle_traj.sim',
+        description='Pure-Python, wire-compatible stand-in for turtlesim_node. ROS arguments '
+                    '(--ros-args -r __ns:=/sim1 -p background_r:=0 ...) are passed through.')
+    add_sim_options(parser)
+    parser.add_argument('--holonomic', action='store_true',
+                        help='start with the holonomic parameter set')
+    parser.add_argument('--output-dir', type=Path, metavar='DIR',
+                        help='folder the save_image service writes into (default: ./output)')
+    return parser
+
+
+def parameter_overrides(options: SimOptions) -> list[Parameter]:
+    """The options as parameter overrides of the simulator node."""
+    overrides = []
+    if options.time_scale is not None:
+        overrides += [Parameter('time_scale', value=options.time_scale),
+                      Parameter('publish_clock', value=True)]
+    if options.holonomic:
+        overrides.append(Parameter('holonomic', value=True))
+    if options.output_dir is not None:
+        overrides.append(Parameter('output_dir', value=str(options.output_dir)))
+    return overrides
+
+
+def create_sim(options: SimOptions, stop: Callable[[], None]) -> list[Node]:
+    """The simulator node (first), with its window when asked (closing the window calls
+    `stop`) and its live view.
+
+    :raises SimUnavailable: the window cannot open, or the live view cannot listen.
+    """
+    node = SimNode(parameter_overrides=parameter_overrides(options))
+    nodes: list[Node] = [node]
+    if options.web:  # aiohttp is loaded only when asked for
+        from turtle_traj.apps.live_view import create_web
+        nodes.extend(create_web(options, node))
+    if options.gui:
+        try:
+            window = Window()
+        except GuiUnavailable as error:
+            for created in nodes:
+                created.destroy_node()
+            raise SimUnavailable(f'--gui: {error}') from None
+
+        def on_frame() -> None:
+            window.show(node.render())
+            if window.closed:
+                stop()
+
+        node.create_timer(GUI_FRAME_PERIOD_S, on_frame)
+    return nodes
+
+
+def save_snapshot(node: SimNode, path: Path | None) -> None:
+    """Write the simulator canvas to `path`, if one was asked for."""
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        node.render().save(path)
+        print(f'saved {path}')
+
+
+def main(args: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv if args is None else ['turtle_traj.sim', *args])
+    options = options_from(build_parser().parse_args(remove_ros_args(argv)[1:]))
+    if (problem := options.problem()) is not None:
+        return fail(problem)
+    nodes: list[Node] = []
+
+    def create_nodes(stop: Callable[[], None]) -> list[Node]:
+        nodes.extend(create_sim(options, stop))
+        return nodes
+
+    try:
+        # What the simulator relies on of the EventsExecutor (timer, subscriptions, services,
+        # parameters, rotate_absolute with its awaited future and cancel, SIGTERM) is tested
+        # through this program in tests/test_sim_node.py.
+        return run_nodes(create_nodes, args=argv,
+                         on_exit=lambda: save_snapshot(nodes[0], options.snapshot))
+    except SimUnavailable as error:
+        return fail(str(error))

@@ -1,0 +1,1 @@
+"""The command line: turtle-traj, its menu, and turtlesim's keyboard teleop."""

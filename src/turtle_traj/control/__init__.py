@@ -1,1 +1,0 @@
-"""Pure control: pose in, velocity command out."""

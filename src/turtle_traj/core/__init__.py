@@ -1,0 +1,1 @@
+"""Pure Python, never rclpy: turtlesim's numbers, geometry, control, parameters, planning."""

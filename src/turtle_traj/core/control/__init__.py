@@ -1,0 +1,1 @@
+"""Control: a plan and poses in, velocity commands out (follower, supervisor, loop)."""

@@ -1,0 +1,245 @@
+"""One path follower for every trajectory: in-place turns and continuous polyline tracking.
+
+Pure Python: `PathFollower.update(pose, config)` returns the next velocity command. It steers
+from the pose predicted for the moment that command takes effect (see `latency`), so the
+latency between pose and command is accounted for, not guessed. Curves are tracked with
+curvature feed-forward plus a heading set-point that steers back onto the path
+(`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
+towards the end of the polyline and, near the end, by the predicted remaining distance per
+control period, so the turtle stops on the end point. A turtle facing more than
+`turn_first_angle` away from the path turns in place first.
+"""
+
+from __future__ import annotations
+
+import math
+
+from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.latency import LatencyPredictor
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
+
+_WINDOW_BEHIND = 3  # segments searched behind the last match
+_WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
+
+
+def _braking_speed(remaining: float, deceleration: float, period_s: float,
+                   latency: LatencyPredictor) -> float:
+    """Fastest speed from which the turtle still stops within `remaining`.
+
+    Near the end a command covers what remains of the predicted remainder in one period, so it
+    lands on the end point (deadbeat) when the latency is steady. When the latency varies by
+    `spread` periods, a command may act that much longer: it covers only its share of the
+    remainder then, and a misjudged period is corrected by the next command (backing up if
+    needed: the remainder is signed).
+    """
+    return min(math.sqrt(2.0 * deceleration * remaining),
+               remaining / ((1 + latency.spread) * period_s))
+
+
+def _finished(arrived: bool, latency: LatencyPredictor) -> Command | None:
+    """None when a leg is over: the predicted pose is there, and the turtle itself too.
+
+    Until then the commands on their way carry the turtle, so hold with a stop. When the
+    latency varies, the turtle must also stand still: a command acting a period longer than
+    predicted would carry it on.
+    """
+    if arrived and (latency.spread == 0 or latency.still):
+        return None
+    return STOP
+
+
+def _clamp(value: float, limit: float) -> float:
+    return max(-limit, min(limit, value))
+
+
+class _TurnTracker:
+    """Turns by the leg's sweep, counting the rotation actually made (it may exceed pi)."""
+
+    def __init__(self, turn: Turn, pose: Pose2D) -> None:
+        self.turn = turn
+        self.turned = wrap_angle(pose.theta - turn.start_heading)
+        self.previous = pose.theta
+
+    @property
+    def fraction(self) -> float:
+        """How much of the turn is made, 0 to 1."""
+        return min(max(self.turned / self.turn.sweep_rad, 0.0), 1.0)
+
+    def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
+               latency: LatencyPredictor) -> Command | None:
+        self.turned += wrap_angle(pose.theta - self.previous)
+        self.previous = pose.theta
+        remaining = self.turn.sweep_rad - self.turned
+        error = remaining - wrap_angle(predicted.theta - pose.theta)
+        if abs(error) < config.heading_tolerance:
+            return _finished(abs(remaining) < config.heading_tolerance, latency)
+        rate = min(config.angular_speed,
+                   _braking_speed(max(abs(error) - latency.overrun()[1], 0.0),
+                                  config.angular_deceleration, config.period_s, latency))
+        return Command(0.0, math.copysign(rate, error))
+
+
+class _PolylineTracker:
+    """Tracks a polyline, keeping its place along it from one update to the next."""
+
+    def __init__(self, polyline: Polyline, end_tolerance: float) -> None:
+        self.polyline = polyline
+        self.end_tolerance = end_tolerance
+        self.segment = 0
+        self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
+        # Plain floats: a projection looks at a few segments, too few for numpy to pay.
+        self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
+
+    def _candidates(self) -> list[int] | range:
+        """The segments searched: a window around the last match (wrapping on a loop)."""
+        count = len(self._xs) - 1
+        first, last = self.segment - _WINDOW_BEHIND, self.segment + _WINDOW_AHEAD
+        if self.polyline.repeat:
+            return [index % count for index in range(first, last + 1)]
+        return range(min(max(first, 0), count - 1), min(max(last, 0), count - 1) + 1)
+
+    def _project(self, pose: Pose2D) -> tuple[int, float, float]:
+        """Nearest segment near the last one: index, fraction along it, signed offset."""
+        xs, ys, px, py = self._xs, self._ys, pose.x, pose.y
+        best = None
+        for index in self._candidates():
+            ax, ay = xs[index], ys[index]
+            dx, dy = xs[index + 1] - ax, ys[index + 1] - ay
+            rx, ry = px - ax, py - ay
+            squared = dx * dx + dy * dy
+            squared = 1e-18 if squared < 1e-18 else squared
+            fraction = (rx * dx + ry * dy) / squared
+            fraction = 0.0 if fraction < 0.0 else 1.0 if fraction > 1.0 else fraction
+            distance = math.hypot(px - (ax + dx * fraction), py - (ay + dy * fraction))
+            if best is None or distance < best[0]:
+                best = (distance, index, fraction, (dx * ry - dy * rx) / math.sqrt(squared))
+        _, index, fraction, offset = best
+        return index, fraction, offset
+
+    def _remaining(self, pose: Pose2D, segment: int, fraction: float) -> float:
+        """Distance left to the end (inf on a repeating polyline), signed: negative past it."""
+        polyline = self.polyline
+        if polyline.repeat:
+            return math.inf
+        last = len(polyline.points) - 2
+        end = polyline.points[-1]
+        heading = polyline.headings[last]
+        to_end = (end[0] - pose.x) * math.cos(heading) + (end[1] - pose.y) * math.sin(heading)
+        along_rest = polyline.length - polyline.cumulative_length[segment + 1]
+        return along_rest + (to_end if segment == last else
+                             (1.0 - fraction) * polyline.segment_lengths[segment])
+
+    def _arrived(self, pose: Pose2D, segment: int, remaining: float) -> bool:
+        if self.polyline.repeat:
+            return False
+        end = self.polyline.points[-1]
+        return abs(remaining) <= self.end_tolerance or (
+            segment == len(self.polyline.points) - 2
+            and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
+
+    def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
+               latency: LatencyPredictor) -> Command | None:
+        """Steer from the predicted pose; progress and arrival are the actual pose's."""
+        polyline = self.polyline
+        actual_segment, actual_fraction, _ = self._project(pose)
+        self.fraction = (polyline.cumulative_length[actual_segment] + actual_fraction
+                         * polyline.segment_lengths[actual_segment]) / max(polyline.length, 1e-12)
+        self.segment, fraction, offset = self._project(predicted)
+        remaining = self._remaining(predicted, self.segment, fraction)
+        if self._arrived(predicted, self.segment, remaining):
+            arrived = self._arrived(pose, actual_segment,
+                                    self._remaining(pose, actual_segment, actual_fraction))
+            return _finished(arrived, latency)
+        pose = predicted
+
+        facing = pose.theta + (math.pi if polyline.reverse else 0.0)
+        path_heading = float(polyline.headings[self.segment])
+        curvature = float(polyline.curvatures[self.segment])
+        heading_error = wrap_angle(path_heading - facing)
+
+        speed = config.linear_speed
+        if abs(curvature) > 1e-9:
+            speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
+        if remaining != math.inf:
+            speed = min(speed, _braking_speed(max(abs(remaining) - latency.overrun()[0], 0.0),
+                                              config.deceleration, config.period_s, latency))
+            speed = math.copysign(speed, remaining)
+        if abs(heading_error) > config.turn_first_angle:
+            speed = 0.0
+        else:
+            speed *= math.cos(heading_error)
+        # turtlesim turns first and then moves along the new heading, so on an arc the motion
+        # leads the heading by the turn of one period: aim half a chord behind the tangent.
+        lead = abs(speed) * curvature * config.period_s / 2.0
+        target = path_heading - lead - math.atan(config.cross_track_gain * offset)
+        steering = config.heading_gain * wrap_angle(target - facing)
+        angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
+        linear = -speed if polyline.reverse else speed
+        return Command(linear, angular)
+
+
+class PathFollower:
+    """Drives a Path leg by leg; `done` once the last leg is finished.
+
+    With `manage_pen`, a polyline starts only once the pen is as it needs (`Polyline.pen`):
+    until the caller reports that state in `pen_down`, the follower holds the turtle with STOP
+    and names the state it waits for in `pen_wanted`. The pen's state is unknown (None) at
+    first.
+    """
+
+    def __init__(self, path: Path, *, end_tolerance: float | None = None,
+                 latency: LatencyPredictor | None = None, manage_pen: bool = False) -> None:
+        """:param latency: what the caller knows of the commands it sent (it records them and
+            the pose echoes); without it the follower assumes each command acts at once."""
+        self.path = path
+        self.manage_pen = manage_pen
+        self.pen_down: bool | None = None
+        self.pen_wanted: bool | None = None
+        self.leg_index = 0
+        self._end_tolerance = end_tolerance
+        self._tracker: _TurnTracker | _PolylineTracker | None = None
+        self._latency = latency
+
+    @property
+    def done(self) -> bool:
+        return self.leg_index >= len(self.path.legs)
+
+    def progress(self, config: ControlConfig) -> float:
+        """How much of the path is driven, 0 to 1, each leg weighted by its time at top speed
+        (so turns in place count); an endless path shows the progress of its current lap."""
+        costs = [leg.length / config.linear_speed if isinstance(leg, Polyline)
+                 else abs(leg.sweep_rad) / config.angular_speed for leg in self.path.legs]
+        done = sum(costs[:self.leg_index])
+        if self._tracker is not None and not self.done:
+            done += self._tracker.fraction * costs[self.leg_index]
+        return min(done / max(sum(costs), 1e-12), 1.0)
+
+    def update(self, pose: Pose2D, config: ControlConfig) -> Command:
+        """The command for this control period, steered from where the commands still on their
+        way will take the turtle; STOP once done."""
+        if self._latency is None:
+            self._latency = LatencyPredictor(config.period_s)
+        return self._next_command(pose, self._latency.predict(pose), config)
+
+    def _next_command(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig) -> Command:
+        while not self.done:
+            leg = self.path.legs[self.leg_index]
+            if self._tracker is None:
+                if self.manage_pen and isinstance(leg, Polyline) and leg.pen != self.pen_down:
+                    self.pen_wanted = leg.pen
+                    return STOP
+                self.pen_wanted = None
+                last = self.leg_index == len(self.path.legs) - 1
+                tolerance = config.position_tolerance
+                if last and self._end_tolerance is not None:
+                    tolerance = self._end_tolerance
+                self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
+                                 else _PolylineTracker(leg, tolerance))
+            command = self._tracker.update(pose, predicted, config, self._latency)
+            if command is not None:
+                return command
+            self.leg_index += 1
+            self._tracker = None
+        return STOP

@@ -1,0 +1,102 @@
+"""Latency compensation: where the turtle will be when the next command takes effect.
+
+A command acts one or more simulator steps after the pose it was computed from (pose ->
+controller -> simulator), more under load. turtlesim's pose echoes the velocities in effect at
+its step (the linear one as a magnitude, in float32), so the newest command sent whose values
+match the echo is the one acting; those sent after it are still on their way. Replaying them
+with turtlesim's own integration (heading first, then position along the new heading) predicts
+the pose from which the next command will act. Pure Python: no ROS.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+
+from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import Pose2D
+
+_HISTORY = 32  # commands remembered: far more than any latency we can steer through
+_SPREAD_WINDOW = 128  # telling observations over which the latency's variation is judged
+
+
+def _as_echoed(command: Command) -> tuple[float, float]:
+    """The (linear_velocity, angular_velocity) a turtlesim pose reports for `command`."""
+    return float(np.float32(abs(command.linear))), float(np.float32(command.angular))
+
+
+class LatencyPredictor:
+    """Commands sent but not yet in effect, and the pose they will lead to.
+
+    :param period_s: how long each command acts (the simulator step, turtlesim's 16 ms).
+    """
+
+    def __init__(self, period_s: float) -> None:
+        self.period_s = period_s
+        self._sent: deque[Command] = deque(maxlen=_HISTORY)
+        self._sent_echoes: deque[tuple[float, float]] = deque(maxlen=_HISTORY)  # _as_echoed
+        self.in_flight = 0  # commands sent after the one the last pose showed in effect
+        self._seen_in_effect = False
+        self._recent: deque[int] = deque(maxlen=_SPREAD_WINDOW)
+        self._echo = (0.0, 0.0)
+
+    def sent(self, command: Command) -> None:
+        """Record a command as it is published."""
+        self._sent.append(command)
+        self._sent_echoes.append(_as_echoed(command))
+
+    def observe(self, linear_echo: float, angular_echo: float) -> int:
+        """Update the count of commands in flight from a pose's velocity echo; return it.
+
+        A run of identical commands matches more than once; the match nearest the previous
+        count wins, as latency changes slowly. An echo that matches nothing means, before any
+        command was seen in effect, that all are still in flight; later it is someone else's
+        command (a stale one, the 1 s timeout) and the last count stands.
+        """
+        echo = (linear_echo, angular_echo)
+        matches = [back for back, sent in enumerate(reversed(self._sent_echoes))
+                   if sent == echo]
+        if matches:
+            # Between two poses one command is sent and one takes effect: the count holds.
+            self.in_flight = min(matches, key=lambda back: abs(back - self.in_flight))
+            self._seen_in_effect = True
+            if len(matches) == 1:  # a run of equal commands tells nothing of the latency
+                self._recent.append(self.in_flight)
+        elif not self._seen_in_effect:
+            self.in_flight = len(self._sent)
+        self._echo = echo
+        return self.in_flight
+
+    @property
+    def spread(self) -> int:
+        """How many periods the latency varied by lately: 0 when it is steady (lock-step, or
+        a fixed delay), so that the prediction is exact; more under jitter."""
+        return max(self._recent) - min(self._recent) if self._recent else 0
+
+    def overrun(self) -> tuple[float, float]:
+        """How far (m, rad) the turtle may move beyond the prediction: a command may arrive up
+        to `spread` periods late, and until then the one before it goes on acting."""
+        late_s = self.spread * self.period_s
+        acting = [Command(*self._echo), *self._pending()]
+        return (max(abs(command.linear) for command in acting) * late_s,
+                max(abs(command.angular) for command in acting) * late_s)
+
+    @property
+    def still(self) -> bool:
+        """Nothing moves the turtle: it stands, and every command on its way is a stop."""
+        return self._echo == (0.0, 0.0) and all(command == STOP for command in self._pending())
+
+    def _pending(self) -> list[Command]:
+        return list(self._sent)[len(self._sent) - self.in_flight:] if self.in_flight else []
+
+    def predict(self, pose: Pose2D) -> Pose2D:
+        """The pose after every command in flight has acted for one period."""
+        x, y, theta = pose.x, pose.y, pose.theta
+        for command in self._pending():
+            theta += command.angular * self.period_s
+            x += command.linear * math.cos(theta) * self.period_s
+            y += command.linear * math.sin(theta) * self.period_s
+        return Pose2D(x, y, wrap_angle(theta))

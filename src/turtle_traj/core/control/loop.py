@@ -1,0 +1,70 @@
+"""The control loop of one turtle: a pose in, a command out, latency bookkeeping inside.
+
+Pure Python. The trajectory node feeds it from its pose subscription and control timer; the pure
+tests and the benchmarks feed it from `sim.physics.World`, thousands of times faster than ROS.
+The latency predictor lives across runs: how late commands take effect is a property of the link,
+known before the next trajectory starts.
+"""
+
+from __future__ import annotations
+
+from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.latency import LatencyPredictor
+from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.control.supervisor import RunSupervisor
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.geometry.shapes import Arena
+
+
+class ControlLoop:
+    """One turtle's poses, the commands sent to it, and the run being driven (if any).
+
+    :param step_s: how long each command acts: the simulator's step (turtlesim's 16 ms), not
+        the control period, which may differ.
+    """
+
+    def __init__(self, step_s: float) -> None:
+        self.latency = LatencyPredictor(step_s)
+        self.run: RunSupervisor | None = None
+        self.pose: Pose2D | None = None
+        self.standing = True  # the last pose reported zero velocity
+
+    def observe(self, pose: Pose2D, linear_echo: float, angular_echo: float) -> None:
+        """A pose as turtlesim reports it, with the velocities in effect at its step."""
+        self.pose = pose
+        self.standing = linear_echo == 0.0 and angular_echo == 0.0
+        if self.run is not None:
+            self.run.observe(pose)
+        self.latency.observe(linear_echo, angular_echo)
+
+    def forget_pose(self) -> None:
+        """The turtle is gone (a reset): no pose until the next one is observed."""
+        self.pose = None
+        self.standing = True
+
+    def start(self, plan: Plan, *, arena: Arena, now_s: float) -> RunSupervisor:
+        """Begin driving `plan` from the last pose observed."""
+        if self.pose is None:
+            raise RuntimeError('no pose observed yet')
+        self.run = RunSupervisor(plan, start=self.pose, arena=arena, started_s=now_s,
+                                 latency=self.latency)
+        return self.run
+
+    def take_run(self) -> RunSupervisor | None:
+        """Detach the run (it has ended) and return it."""
+        run, self.run = self.run, None
+        return run
+
+    def command(self, config: ControlConfig, arena: Arena, now_s: float) -> Command | None:
+        """This period's command for the run; None when there is nothing to send: no run, no
+        pose yet, or the run has just ended (whoever ends it sends the stop)."""
+        run = self.run
+        if run is None or self.pose is None:
+            return None
+        command = run.command(self.pose, self.standing, config, arena, now_s)
+        return None if run.ending is not None else command
+
+    def sent(self, command: Command) -> None:
+        """Record a command as it is published (every one, the stops included)."""
+        self.latency.sent(command)

@@ -1,0 +1,32 @@
+"""A planned run: a checked path, its per-run speed overrides, end tolerance and pen."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.geometry.path import Path
+from turtle_traj.core.turtlesim_contract import PenStyle
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A checked path plus its per-run speed overrides and end tolerance."""
+
+    trajectory: str
+    path: Path
+    linear_speed: float | None = None  # None: the node's parameter, read live
+    angular_speed: float | None = None
+    end_tolerance: float | None = None
+    pen: PenStyle | None = None  # a drawing's pen: the node sets it, and restores its own after
+    pen_up_unordered: float = 0.0  # pen-up distance had the strokes not been reordered [m]
+
+    def control(self, config: ControlConfig) -> ControlConfig:
+        """The node's control config with this run's speeds."""
+        return replace(config, linear_speed=self.linear_speed or config.linear_speed,
+                       angular_speed=self.angular_speed or config.angular_speed)
+
+    def lower_bound_s(self, config: ControlConfig) -> float:
+        """Kinematic lower bound of the run's duration at its top speeds (under `config`)."""
+        run = self.control(config)
+        return self.path.lower_bound_s(run.linear_speed, run.angular_speed)

@@ -1,0 +1,191 @@
+"""The rules that end a trajectory run, and how it is reported. Pure Python.
+
+A `RunSupervisor` wraps the follower of one plan. It aborts when the pose jumps (a teleport,
+a reset, a second simulator), stops a turtle heading into a wall it did not start next to,
+lets the turtle settle once the path is done, and assembles the `Outcome` the services report.
+The node feeds it poses, the control tick and requests; times are the node clock's seconds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.follower import PathFollower
+from turtle_traj.core.control.latency import LatencyPredictor
+from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
+from turtle_traj.core.geometry.shapes import Arena
+
+SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
+# Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.
+MAX_POSE_JUMP_M = 0.5
+_MEASURE_BATCH = 16  # poses measured against the path together, at most
+
+
+@dataclass
+class Outcome:
+    """How a trajectory ended, as the service response reports it."""
+
+    success: bool
+    message: str
+    pose: Pose2D | None = None
+    elapsed_s: float = 0.0
+    path_length: float = 0.0
+    max_deviation: float = 0.0
+    final_error: float = 0.0
+    final_heading_error: float = 0.0
+    pen_up_length: float = 0.0
+    pen_up_unordered: float = 0.0
+
+
+def wall_clearance(arena: Arena, pose: Pose2D) -> float:
+    """Distance from the pose to the nearest edge of the arena (before its margin)."""
+    return min(pose.x - arena.min_x, arena.max_x - pose.x,
+               pose.y - arena.min_y, arena.max_y - pose.y)
+
+
+class RunSupervisor:
+    """One plan being driven: its follower, and the verdict once the run is over.
+
+    `ending` is None while the run goes on, then (success, message); after that `command`
+    returns STOP only. Single-threaded by design: the node calls it from one executor thread.
+    """
+
+    def __init__(self, plan: Plan, *, start: Pose2D, arena: Arena, started_s: float,
+                 latency: LatencyPredictor | None = None) -> None:
+        self.plan = plan
+        self.follower = PathFollower(plan.path, end_tolerance=plan.end_tolerance,
+                                     latency=latency, manage_pen=plan.pen is not None)
+        self.started_s = started_s
+        self.ending: tuple[bool, str] | None = None
+        self._start_clearance = wall_clearance(arena, start)
+        self._settled_periods = 0
+        self._pose = start
+        self._path_done_s: float | None = None  # when the follower reached the path's end
+        self._drawn = NearestOnPolyline(plan.path.points())
+        self.distance = 0.0  # driven so far, pose to pose
+        # Poses not yet measured against the path: measured together, when asked or in batches
+        # (one numpy pass for many poses costs about what one pose costs).
+        self._unmeasured: list[tuple[float, float]] = []
+        self._deviation = 0.0
+        self._max_deviation = 0.0
+        self._config: tuple[ControlConfig, ControlConfig] | None = None  # node's, this run's
+
+    @property
+    def name(self) -> str:
+        return self.plan.trajectory
+
+    def end(self, success: bool, message: str) -> None:
+        """Decide the verdict (the first decision stands)."""
+        if self.ending is None:
+            self.ending = (success, message)
+
+    def request_stop(self) -> None:
+        """A stop request: success for an endless trajectory (it ends only this way)."""
+        self.end(self.plan.path.endless, f'{self.name} stopped by request')
+
+    @property
+    def pen_wanted(self) -> bool | None:
+        """The pen state (True: down) the run waits for before it moves on; None: none."""
+        return self.follower.pen_wanted
+
+    def pen_is(self, down: bool) -> None:
+        """The simulator confirmed this pen state."""
+        self.follower.pen_down = down
+
+    def progress(self, config: ControlConfig) -> float:
+        """How much of the plan is driven, 0 to 1 (see `PathFollower.progress`)."""
+        return self.follower.progress(self.plan.control(config))
+
+    def distance_from_path(self, pose: Pose2D) -> float:
+        """Distance from the planned path as drawn (every leg; a turn is its point)."""
+        return self._drawn.distance(pose.x, pose.y)
+
+    @property
+    def deviation(self) -> float:
+        """Distance from the path as drawn, at the last pose."""
+        self._measure()
+        return self._deviation
+
+    @property
+    def max_deviation(self) -> float:
+        """The largest distance from the path as drawn, over every pose so far."""
+        self._measure()
+        return self._max_deviation
+
+    def _measure(self) -> None:
+        if self._unmeasured:
+            distances = self._drawn.distances(np.array(self._unmeasured))
+            self._unmeasured.clear()
+            self._deviation = float(distances[-1])
+            self._max_deviation = max(self._max_deviation, float(distances.max()))
+
+    def observe(self, pose: Pose2D) -> None:
+        """A new pose: measured against the path; a jump from the last one aborts the run."""
+        jump = math.dist((self._pose.x, self._pose.y), (pose.x, pose.y))
+        self._pose = pose
+        if jump <= MAX_POSE_JUMP_M:
+            self.distance += jump
+            self._unmeasured.append((pose.x, pose.y))
+            if len(self._unmeasured) >= _MEASURE_BATCH:
+                self._measure()
+        else:
+            self.end(False, f'{self.name} aborted: the turtle jumped {jump:.2f} m between two '
+                            'poses (teleported, reset, respawned, a second simulator in this '
+                            'ROS domain, or this node fell behind the simulator)')
+
+    def command(self, pose: Pose2D, standing: bool, config: ControlConfig, arena: Arena,
+                now_s: float) -> Command:
+        """The command for this control period; may decide the verdict.
+
+        :param standing: the turtle reports zero velocity.
+        :param config: the node's control settings (the plan's speeds override them).
+        :param now_s: the node clock, seconds.
+        """
+        if self.ending is not None:
+            return STOP
+        if self.follower.done:
+            if self._path_done_s is None:
+                self._path_done_s = now_s
+            self._settled_periods += 1
+            if standing or self._settled_periods > SETTLE_PERIODS:
+                self.end(True, f'{self.name} done')
+            return STOP
+        clearance = wall_clearance(arena, pose)
+        if clearance < arena.margin / 2 and clearance < self._start_clearance:
+            self.end(False, f'{self.name} stopped: the turtle came within {clearance:.3f} m of '
+                            f'the wall at ({pose.x:.2f}, {pose.y:.2f})')
+            return STOP
+        if self._config is None or self._config[0] is not config:
+            self._config = (config, self.plan.control(config))  # once per settings change
+        return self.follower.update(pose, self._config[1])
+
+    def outcome(self, pose: Pose2D | None, now_s: float) -> Outcome:
+        """The report of the run once `ending` is decided.
+
+        Elapsed time runs to the path's end (not the settling after it) or to the stop. A run
+        that reached its end reports the miss of its end point and end heading; one ended
+        early reports its distance from the path, and no heading error.
+        """
+        success, message = self.ending or (False, f'{self.name} still running')
+        path = self.plan.path
+        ended_s = self._path_done_s if self._path_done_s is not None else now_s
+        outcome = Outcome(
+            success, message, pose, elapsed_s=ended_s - self.started_s,
+            path_length=self.distance if path.endless else path.length,
+            max_deviation=self.max_deviation, final_error=math.nan,
+            pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered)
+        if pose is None:
+            return outcome
+        if self.follower.done:
+            outcome.final_error = math.dist((pose.x, pose.y), path.end)
+            outcome.final_heading_error = wrap_angle(pose.theta - path.end_heading)
+        else:
+            outcome.final_error = self.distance_from_path(pose)
+        return outcome

@@ -1,0 +1,1 @@
+"""Plane geometry: poses, paths of curves and turns, shapes, text and SVG strokes."""

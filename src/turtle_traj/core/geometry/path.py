@@ -1,0 +1,241 @@
+"""Paths as legs: curves tracked continuously and turns made in place.
+
+Every trajectory is a Path: a polygon is straight curves joined by turns, a circle one sampled
+curve, a go-to a turn and a straight curve. One follower (turtle_traj.core.control) drives
+them all.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from turtle_traj.core.geometry.angles import shortest_angular_distance, wrap_angle, wrap_angles
+
+
+@dataclass(frozen=True)
+class Pose2D:
+    """A planar pose in the turtlesim world frame: metres and radians."""
+
+    x: float
+    y: float
+    theta: float
+
+
+@dataclass(frozen=True, eq=False)
+class Polyline:
+    """A polyline tracked continuously, with no corner sharper than the planner allowed.
+
+    :param points: (N, 2) array, N >= 2, metres.
+    :param reverse: driven backwards (the turtle faces away from the direction of travel).
+    :param repeat: an endless loop (points[-1] == points[0]); the follower never finishes it.
+    :param pen: drawn with the pen down; False: a pen-up move between strokes of a drawing.
+    """
+
+    points: np.ndarray
+    reverse: bool = False
+    repeat: bool = False
+    pen: bool = True
+
+    @cached_property
+    def segment_lengths(self) -> np.ndarray:
+        return np.hypot(*np.diff(self.points, axis=0).T)
+
+    @cached_property
+    def cumulative_length(self) -> np.ndarray:
+        """Arc length at each point, starting at 0."""
+        return np.concatenate(([0.0], np.cumsum(self.segment_lengths)))
+
+    @property
+    def length(self) -> float:
+        return float(self.cumulative_length[-1])
+
+    @cached_property
+    def headings(self) -> np.ndarray:
+        """Direction of travel of each segment."""
+        delta = np.diff(self.points, axis=0)
+        return np.arctan2(delta[:, 1], delta[:, 0])
+
+    @cached_property
+    def curvatures(self) -> np.ndarray:
+        """Signed curvature around each segment (1/m), from the heading change at its ends."""
+        turn = wrap_angles(np.diff(self.headings))
+        mean_length = 0.5 * (self.segment_lengths[:-1] + self.segment_lengths[1:])
+        at_vertices = turn / np.maximum(mean_length, 1e-9)
+        if self.repeat and len(at_vertices):
+            closing = wrap_angle(self.headings[0] - self.headings[-1])
+            edge = closing / max(0.5 * (self.segment_lengths[0] + self.segment_lengths[-1]),
+                                 1e-9)
+            padded = np.concatenate(([edge], at_vertices, [edge]))
+        else:
+            padded = np.concatenate(([0.0], at_vertices, [0.0]))
+        return 0.5 * (padded[:-1] + padded[1:])
+
+    @property
+    def end(self) -> tuple[float, float]:
+        return float(self.points[-1, 0]), float(self.points[-1, 1])
+
+
+@dataclass(frozen=True)
+class Turn:
+    """Turn in place at (x, y) by `sweep_rad` (signed, may exceed pi) from `start_heading`."""
+
+    x: float
+    y: float
+    start_heading: float
+    sweep_rad: float
+
+    @property
+    def end(self) -> tuple[float, float]:
+        return self.x, self.y
+
+
+Leg = Polyline | Turn
+
+
+@dataclass(frozen=True)
+class Path:
+    """A planned trajectory: legs in order, plus what the report needs to know."""
+
+    legs: tuple[Leg, ...]
+    closed: bool = False
+    endless: bool = False
+
+    @property
+    def end(self) -> tuple[float, float]:
+        return self.legs[-1].end
+
+    @property
+    def end_heading(self) -> float:
+        """The turtle's heading at the end: a last turn's final heading, else the direction of
+        the last segment (the opposite one when driven backwards)."""
+        leg = self.legs[-1]
+        if isinstance(leg, Turn):
+            return wrap_angle(leg.start_heading + leg.sweep_rad)
+        return wrap_angle(float(leg.headings[-1]) + (math.pi if leg.reverse else 0.0))
+
+    @property
+    def length(self) -> float:
+        return sum(leg.length for leg in self.legs if isinstance(leg, Polyline))
+
+    @property
+    def pen_up_length(self) -> float:
+        """Length driven with the pen up (between the strokes of a drawing)."""
+        return sum(leg.length for leg in self.legs if isinstance(leg, Polyline) and not leg.pen)
+
+    @property
+    def turning(self) -> float:
+        """Total in-place turning, radians."""
+        return sum(abs(leg.sweep_rad) for leg in self.legs if isinstance(leg, Turn))
+
+    def points(self) -> np.ndarray:
+        """Every point the turtle is meant to visit, (N, 2)."""
+        parts = [leg.points if isinstance(leg, Polyline) else np.array([[leg.x, leg.y]])
+                 for leg in self.legs]
+        return np.concatenate(parts) if parts else np.empty((0, 2))
+
+    def lower_bound_s(self, linear_speed: float, angular_speed: float) -> float:
+        """Kinematic lower bound of the time to drive it at the given top speeds."""
+        return self.length / linear_speed + self.turning / angular_speed
+
+
+def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: float,
+                       reverse: bool = False, pen: bool = True) -> list[Leg]:
+    """Split a polyline into curves at corners sharper than `corner_angle_rad`.
+
+    The turtle starts at `start`; a turn in place (shortest direction) is inserted wherever the
+    direction of travel changes by more than the corner angle, including before the first
+    segment. Zero-length segments are dropped. `pen` marks the polylines (see `Polyline`).
+    """
+    points = np.asarray(points, dtype=float)
+    keep = np.concatenate(([True], np.hypot(*np.diff(points, axis=0).T) > 1e-9))
+    points = points[keep]
+    legs: list[Leg] = []
+    heading = start.theta + (math.pi if reverse else 0.0)
+    current: list[np.ndarray] = [points[0]]
+    for a, b in zip(points[:-1], points[1:], strict=True):
+        direction = math.atan2(b[1] - a[1], b[0] - a[0])
+        change = shortest_angular_distance(heading, direction)
+        if abs(change) > corner_angle_rad:
+            if len(current) > 1:
+                legs.append(Polyline(np.array(current), reverse=reverse, pen=pen))
+            facing = heading - (math.pi if reverse else 0.0)
+            legs.append(Turn(float(a[0]), float(a[1]), wrap_angle(facing), change))
+            current = [a]
+        current.append(b)
+        heading = direction
+    if len(current) > 1:
+        legs.append(Polyline(np.array(current), reverse=reverse, pen=pen))
+    return legs
+
+
+def distance_to_polyline(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
+    """Distance of each of `points` (P, 2) to the nearest segment of `vertices` (K, 2)."""
+    a, b = vertices[:-1], vertices[1:]
+    ab = b - a
+    ap = points[:, None, :] - a[None, :, :]
+    lengths = np.maximum(np.einsum('kj,kj->k', ab, ab), 1e-18)
+    t = np.clip(np.einsum('pkj,kj->pk', ap, ab) / lengths, 0.0, 1.0)
+    nearest = a[None] + t[..., None] * ab[None]
+    return np.min(np.linalg.norm(points[:, None, :] - nearest, axis=2), axis=1)
+
+
+class NearestOnPolyline:
+    """Distances of single points to a fixed polyline (K, 2), its segments prepared once.
+
+    Exact, and quick for long polylines (a drawing has thousands of segments, and the distance
+    is asked for at every pose): the segments are grouped in blocks with a bounding box each,
+    and a block is searched only while its box is nearer than the nearest segment found.
+    """
+
+    _BLOCK = 256  # numpy calls cost more than their arithmetic below a few hundred
+
+    def __init__(self, vertices: np.ndarray) -> None:
+        vertices = np.asarray(vertices, dtype=float)
+        if len(vertices) == 1:
+            vertices = np.repeat(vertices, 2, axis=0)  # one point: a segment of no length
+        self._starts = vertices[:-1]
+        self._edges = np.diff(vertices, axis=0)
+        self._squared = np.maximum(np.einsum('kj,kj->k', self._edges, self._edges), 1e-18)
+        count = len(self._starts)
+        self._blocks = [(first, min(first + self._BLOCK, count))
+                        for first in range(0, count, self._BLOCK)]
+        self._low = np.array([vertices[a:b + 1].min(axis=0)
+                              for a, b in self._blocks])
+        self._high = np.array([vertices[a:b + 1].max(axis=0) for a, b in self._blocks])
+
+    def _within(self, x: float, y: float, first: int, stop: int) -> float:
+        offsets = np.array([x, y]) - self._starts[first:stop]
+        edges = self._edges[first:stop]
+        along = np.clip(np.einsum('kj,kj->k', offsets, edges) / self._squared[first:stop],
+                        0.0, 1.0)
+        gaps = offsets - along[:, None] * edges
+        return float(np.sqrt(np.min(np.einsum('kj,kj->k', gaps, gaps))))
+
+    def distances(self, points: np.ndarray) -> np.ndarray:
+        """Distance of each point (N, 2) to the nearest segment: all at once for a polyline
+        of one block (numpy's cost per call, not its arithmetic, dominates there)."""
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        if len(self._blocks) > 1:
+            return np.array([self.distance(x, y) for x, y in points.tolist()])
+        offsets = points[:, None, :] - self._starts[None, :, :]
+        along = np.clip(np.einsum('nkj,kj->nk', offsets, self._edges) / self._squared, 0.0, 1.0)
+        gaps = offsets - along[:, :, None] * self._edges[None, :, :]
+        return np.sqrt(np.min(np.einsum('nkj,nkj->nk', gaps, gaps), axis=1))
+
+    def distance(self, x: float, y: float) -> float:
+        """Distance of (x, y) to the nearest segment."""
+        if len(self._blocks) == 1:
+            return self._within(x, y, 0, len(self._starts))
+        point = np.array([x, y])
+        outside = np.maximum(np.maximum(self._low - point, point - self._high), 0.0)
+        bounds = np.hypot(outside[:, 0], outside[:, 1])
+        nearest = math.inf
+        for block in np.argsort(bounds, kind='stable').tolist():
+            if not bounds[block] < nearest:
+                break  # this box, and every later one, is no nearer than what was found
+            nearest = min(nearest, self._within(x, y, *self._blocks[block]))
+        return nearest

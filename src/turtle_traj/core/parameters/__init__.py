@@ -1,0 +1,1 @@
+"""The trajectory node's parameters: the table (names, ranges) and the settings."""

@@ -1,0 +1,85 @@
+"""The trajectory node's parameters as one table: name, default, unit, range and whether each
+can change at run time. Pure data (no numpy, no Pillow): the node declares it
+(`node.parameters`), `settings` turns values into Settings, and the command line shows it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib.resources import files
+
+from turtle_traj.core.turtlesim_contract import DEFAULT_PEN, WORLD_SIZE_M
+
+
+@dataclass(frozen=True)
+class Spec:
+    """One parameter: default, unit, allowed range and whether it can change at run time."""
+
+    name: str
+    default: float | int | str
+    description: str
+    unit: str = ''
+    low: float | None = None
+    high: float | None = None
+    read_only: bool = False
+
+
+PARAMETERS = (
+    Spec('turtle_name', 'turtle1', 'Turtle to drive: topics <turtle_name>/pose and /cmd_vel',
+         read_only=True),
+    Spec('linear_speed', 1.0, 'Top forward speed, used when a request leaves it 0', 'm/s',
+         0.01, 10.0),
+    Spec('angular_speed', 2.0, 'Top turn rate, used when a request leaves it 0', 'rad/s',
+         0.01, 10.0),
+    Spec('heading_gain', 8.0, 'Turn rate per radian of heading error', '1/s', 0.1, 50.0),
+    Spec('cross_track_gain', 2.5, 'How hard curves pull back onto the path', '1/m', 0.0, 50.0),
+    Spec('deceleration', 20.0, 'Braking towards the end of a curve', 'm/s^2', 0.1, 100.0),
+    Spec('angular_deceleration', 50.0, 'Braking towards the end of a turn', 'rad/s^2',
+         0.1, 100.0),
+    Spec('position_tolerance', 0.0005, 'End of a segment reached (corners)', 'm', 0.0005, 0.5),
+    Spec('heading_tolerance', 0.0005, 'End of an in-place turn reached', 'rad', 0.0002, 0.5),
+    Spec('goal_tolerance', 0.01, 'Go-to: arrived, when a request leaves it 0', 'm', 0.001, 1.0),
+    Spec('corner_angle', 0.35, 'Direction changes sharper than this are turned in place',
+         'rad', 0.01, 3.0),
+    Spec('turn_first_angle', 0.6, 'Heading error beyond which the turtle turns before driving',
+         'rad', 0.05, 3.14159),
+    Spec('control_rate', 62.5, 'Control timer rate (node clock)', 'Hz', 1.0, 500.0,
+         read_only=True),
+    Spec('wall_margin', 0.3, 'Planned paths keep this far from the walls; a turtle closer '
+         'than half of it is stopped', 'm', 0.0, 3.0),
+    Spec('arena_min_x', 0.0, 'Arena left edge', 'm', -1000.0, 1000.0),
+    Spec('arena_min_y', 0.0, 'Arena bottom edge', 'm', -1000.0, 1000.0),
+    Spec('arena_max_x', WORLD_SIZE_M, 'Arena right edge', 'm', -1000.0, 1000.0),
+    Spec('arena_max_y', WORLD_SIZE_M, 'Arena top edge', 'm', -1000.0, 1000.0),
+    Spec('pose_timeout', 0.5, 'Time without a pose after which a trajectory aborts (node '
+         'clock; wall clock while a simulated clock stands still)', 's', 0.05, 60.0),
+    Spec('default_side_length', 2.0, 'Polygon side when a request leaves size 0', 'm',
+         0.01, 50.0),
+    Spec('default_radius', 1.5, 'Circle radius when a request leaves size 0', 'm', 0.01, 50.0),
+    Spec('default_spiral_start_radius', 0.3, 'Spiral start radius when size is 0', 'm',
+         0.01, 50.0),
+    Spec('default_spiral_growth', 0.4, 'Spiral growth per turn when growth is 0', 'm',
+         0.01, 50.0),
+    Spec('default_sine_amplitude', 0.5, 'Sine amplitude when size is 0', 'm', 0.01, 50.0),
+    Spec('default_sine_frequency', 0.5, 'Sine frequency when frequency is 0', 'cycles/m',
+         0.01, 20.0),
+    Spec('default_sine_length', 4.0, 'Sine length when length is 0', 'm', 0.01, 100.0),
+    Spec('default_curve_width', 3.0, 'Width of a heart, lemniscate, rose or Lissajous curve '
+         'when size is 0', 'm', 0.01, 50.0),
+    Spec('default_text_height', 1.0, 'Height of capitals when a text request leaves height 0',
+         'm', 0.01, 50.0),
+    Spec('default_svg_size', 4.0, 'Larger side of an SVG drawing when size is 0', 'm',
+         0.01, 50.0),
+    Spec('pen_color', DEFAULT_PEN.hex, 'Pen colour of drawings (text, SVG) when a request '
+         'gives none, and the colour the pen is left with: a name (red) or #rrggbb; '
+         f"turtlesim's own is {DEFAULT_PEN.hex}"),
+    Spec('pen_width', DEFAULT_PEN.width, 'Pen width of drawings when a request leaves it 0 '
+         f'(turtlesim: {DEFAULT_PEN.width})', 'px', 1, 255),
+    Spec('svg_dir', str(files('turtle_traj') / 'drawings'), 'Folder the draw_svg service reads '
+         'files from (requests name them relative to it)', read_only=True),
+    Spec('record_dir', '', 'Record every run as a rosbag2 bag (MCAP) in this folder, named '
+         'after the trajectory and the time (empty: no recording)', read_only=True),
+)
+
+
+PARAMETER = {spec.name: spec for spec in PARAMETERS}  # by name
+DEFAULTS = {spec.name: spec.default for spec in PARAMETERS}

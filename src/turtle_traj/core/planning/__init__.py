@@ -1,0 +1,1 @@
+"""Requests to checked plans: the limits of a request, each kind's sketch, the planner."""

@@ -1,0 +1,102 @@
+"""Requests to checked plans: validate the numbers, build the path, check it against the arena.
+
+Pure Python (no ROS). A request is read by attribute only, so a service request, an action goal
+or a plain namespace plan alike, in the node and in a client estimating a call's duration.
+Each trajectory kind has a sketch function (`sketches/`; `trajectories.py` names the kinds): it
+validates the request and returns the path as a function of its one scalable size; `plan`
+checks that path against the arena, and `largest_size` finds the largest size that fits from a
+pose.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from typing import Any
+
+from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.geometry import shapes
+from turtle_traj.core.geometry.path import Path, Pose2D
+from turtle_traj.core.geometry.shapes import Arena, ShapeError
+from turtle_traj.core.parameters.settings import Settings
+from turtle_traj.core.planning.limits import POLYGON_SIDES
+from turtle_traj.core.planning.sketches import curves, drawings, motions
+from turtle_traj.core.planning.sketches.base import (
+    PlanError,
+    Sketch,
+    SketchFunction,
+    arena_diagonal,
+    fits_in_arena,
+)
+
+__all__ = ['SKETCHES', 'PlanError', 'largest_size', 'plan']
+
+
+def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings) -> Plan:
+    """Validate a request of this kind of trajectory (a registry name), build its path and check
+    it against the arena; PlanError if not."""
+    try:
+        drawn = SKETCHES[trajectory](request, start, settings)
+        checked = _checked(drawn, settings.arena, start)
+        path = drawn.drive(drawn.size) if drawn.drive is not None else checked
+    except ShapeError as error:
+        raise PlanError(str(error)) from None
+    if not path.legs:  # the follower and the report need at least one leg
+        raise PlanError('nothing to drive: the turtle is already there')
+    return Plan(trajectory, path, drawn.linear_speed, drawn.angular_speed, drawn.end_tolerance,
+                drawn.pen, drawn.pen_up_unordered)
+
+
+def largest_size(trajectory: str, request: Any, start: Pose2D,
+                 settings: Settings) -> float | None:
+    """Largest size of this request that fits from `start`, or None when nothing scales."""
+    try:
+        drawn = SKETCHES[trajectory](request, start, settings)
+    except (PlanError, ShapeError):
+        return None
+    if not drawn.size_unit:
+        return None
+    return shapes.largest_fitting(drawn.build, lambda p: fits_in_arena(p, settings.arena, start),
+                                  arena_diagonal(settings.arena))
+
+
+def _checked(sketch: Sketch, arena: Arena, start: Pose2D) -> Path:
+    """The sketch's path if it fits in the arena; else PlanError naming the largest size that
+    fits from here (a size beyond the arena's diagonal is refused unbuilt)."""
+    diagonal = arena_diagonal(arena)
+    if sketch.size <= diagonal or not sketch.size_unit:
+        path = sketch.build(sketch.size)
+        if not path.legs and sketch.size_unit:
+            raise PlanError(f'the {sketch.what} is too small to drive')
+        if fits_in_arena(path, arena, start):
+            return path
+    message = (f'the {sketch.what} would leave the arena ({arena.describe()}, after the wall '
+               f'margin) from ({start.x:.2f}, {start.y:.2f})')
+    if sketch.size_unit:
+        largest = shapes.largest_fitting(sketch.build, lambda p: fits_in_arena(p, arena, start),
+                                         min(sketch.size, diagonal))
+        message += (f'; the largest that fits from here is {largest:.2f} {sketch.size_unit}'
+                    if largest > 1e-3 else '; nothing of this kind fits from here: move the '
+                                           'turtle away from the wall first')
+    raise PlanError(message)
+
+
+# Each kind of trajectory in the registry (`trajectories`), by name, and its sketch.
+SKETCHES: dict[str, SketchFunction] = {
+    **{name: partial(motions.sketch_polygon, sides=sides, name=name)
+       for name, sides in POLYGON_SIDES.items()},
+    'polygon': motions.sketch_polygon,
+    'circle': motions.sketch_circle,
+    'spiral': motions.sketch_spiral,
+    'sine': motions.sketch_sine,
+    'star': curves.sketch_star,
+    'heart': curves.sketch_heart,
+    'lemniscate': curves.sketch_lemniscate,
+    'rose': curves.sketch_rose,
+    'lissajous': curves.sketch_lissajous,
+    'text': drawings.sketch_text,
+    'svg': drawings.sketch_svg,
+    'go_to': motions.sketch_go_to,
+    'move': motions.sketch_move,
+    'rotate': motions.sketch_rotation,
+    'follow_path': motions.sketch_follow,
+}

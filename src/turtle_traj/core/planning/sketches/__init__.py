@@ -1,0 +1,1 @@
+"""One sketch function per kind of trajectory: a request to a path."""

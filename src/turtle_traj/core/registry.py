@@ -1,0 +1,360 @@
+"""The registry of trajectory kinds: one entry per kind, from which everything else is made.
+
+The node's services, the command line, the menu, the demo and the benchmarks all iterate over
+`TRAJECTORIES`. Adding a trajectory is one entry here plus its geometry and its sketch
+function in `planning.SKETCHES`.
+Pure: service types are named by their ROS type string and resolved by the ROS layers.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from turtle_traj.core.parameters.table import PARAMETER
+from turtle_traj.core.planning.limits import (
+    MAX_FREQUENCY_RATIO,
+    MAX_PETALS,
+    MAX_POINTS,
+    MAX_SIDES,
+    MAX_TEXT_CHARS,
+    MAX_TIPS,
+)
+
+if TYPE_CHECKING:
+    from turtle_traj.core.parameters.settings import Settings
+
+FLOAT, INT, BOOL, POINTS, STRING = 'float', 'int', 'bool', 'points', 'string'
+
+
+@dataclass(frozen=True)
+class Field:
+    """One request field as people enter it, on the command line and in the menu.
+
+    A field backed by a node `parameter` sends 0 unless given, which the node reads as "use
+    my parameter"; its range and unit are the parameter's (`parameter_table`).
+    """
+
+    name: str  # the request's field
+    help: str
+    unit: str = ''  # as entered; 'deg' is sent in radians
+    type: str = FLOAT  # FLOAT, INT, BOOL, POINTS or STRING
+    default: float | None = 0.0  # sent when not given; None: optional (see `given`)
+    parameter: str = ''
+    low: float | None = None
+    high: float | None = None
+    positional: bool = False
+    fits: bool = False  # the size that scales: its upper bound is what fits from the pose
+    negate: str = ''  # command-line flag that sends the value negated ('backward')
+    given: str = ''  # request flag set true when this optional field is given ('use_theta')
+    flag: str = ''  # command-line option, when not --<name>
+    menu: bool = True  # asked in the menu (False: command line only)
+    axis: str = ''  # 'x' or 'y': a coordinate, within the arena's bounds on that axis
+    excludes: str = ''  # a field sent as 0, not its default, when this flag is true
+
+    def __post_init__(self) -> None:
+        if self.parameter:
+            spec = PARAMETER[self.parameter]
+            object.__setattr__(self, 'unit', self.unit or spec.unit)
+            object.__setattr__(self, 'low', spec.low if self.low is None else self.low)
+            object.__setattr__(self, 'high', spec.high if self.high is None else self.high)
+
+    def bounds(self, settings: Settings) -> tuple[float, float]:
+        """The range a person may enter (a coordinate: inside the arena, after its margin)."""
+        if self.axis:
+            arena = settings.arena
+            low, high = getattr(arena, f'min_{self.axis}'), getattr(arena, f'max_{self.axis}')
+            return low + arena.margin, high - arena.margin
+        return self.low, self.high
+
+    @property
+    def option(self) -> str:
+        return '--' + (self.flag or self.name).replace('_', '-')
+
+    def to_request(self, value: Any) -> Any:
+        """A value as entered, in the request's units (degrees to radians)."""
+        return math.radians(value) if self.unit == 'deg' else value
+
+    def parse(self, given: Any) -> Any:
+        """A value of this field's type from what a person entered: text (the command line,
+        the menu) or a JSON value (the live view). The one parser of each type; ranges are the
+        node's to check, which says why in its own words.
+
+        :raises FieldError: a value that is not of the field's type, with the reason.
+        """
+        if self.type == BOOL:
+            if isinstance(given, bool):
+                return given
+            answer = str(given).strip().lower()
+            if answer in _YES or answer in _NO:
+                return answer in _YES
+            raise FieldError(f'{self.name}: {given!r}: please answer y or n (true or false)')
+        if self.type == STRING:
+            if not isinstance(given, str) or len(given) > MAX_TEXT_CHARS:
+                raise FieldError(f'{self.name} must be a text of at most {MAX_TEXT_CHARS} '
+                                 'characters')
+            return given
+        if self.type == POINTS:
+            points = parse_points(given) if isinstance(given, str) else given
+            if not isinstance(points, list | tuple) or len(points) > MAX_POINTS:
+                raise FieldError(f'{self.name} must be a list of at most {MAX_POINTS} '
+                                 '[x, y] pairs')
+            return [parse_point(point) for point in points]
+        number = parse_number(given, self.name)
+        if self.type == INT:
+            if number != int(number):
+                raise FieldError(f'{self.name}: {given!r} is not a whole number')
+            return int(number)
+        return number
+
+
+class FieldError(ValueError):
+    """A value that is not of its field's type; the message says why."""
+
+
+_YES, _NO = ('y', 'yes', 'true', '1'), ('n', 'no', 'false', '0')
+
+
+def parse_number(given: Any, name: str) -> float:
+    """A finite number from a number or its text."""
+    try:
+        number = float(given) if not isinstance(given, bool) else math.nan
+    except (TypeError, ValueError):
+        raise FieldError(f'{name}: {given!r} is not a number') from None
+    if not math.isfinite(number):
+        raise FieldError(f'{name}: {given!r} is not a finite number')
+    return number
+
+
+def parse_point(given: Any) -> tuple[float, float]:
+    """A point from text `x,y` (or `x y`) or a pair [x, y]."""
+    parts = given.replace(',', ' ').split() if isinstance(given, str) else given
+    if not isinstance(parts, list | tuple) or len(parts) != 2:
+        raise FieldError(f'a point must be [x, y] or x,y (e.g. 2.5,8), got {given!r}')
+    return parse_number(parts[0], 'x'), parse_number(parts[1], 'y')
+
+
+def parse_points(text: str) -> list[tuple[float, float]]:
+    """Points from text: `x,y` separated by spaces, or one `x,y` (or `x y`) per line; blank
+    lines and # comments skipped (a file of points)."""
+    points = []
+    for line in text.splitlines():
+        line = line.split('#', 1)[0].strip()
+        if not line:
+            continue
+        words = line.split()
+        if ',' not in line and len(words) == 2:  # `x y`: one point to a line
+            points.append(parse_point(words))
+        else:
+            points.extend(parse_point(word) for word in line.replace(', ', ',').split())
+    return points
+
+
+@dataclass(frozen=True)
+class Example:
+    """A request worth showing: the demo draws it, the benchmarks measure it."""
+
+    start: tuple[float, float, float]  # where the turtle starts: x, y [m], heading [rad]
+    given: Mapping[str, Any]  # values as entered (see `TrajectoryKind.request_values`)
+
+
+@dataclass(frozen=True)
+class TrajectoryKind:
+    """One kind of trajectory: its names, its service type and its fields (data only: the
+    planner maps the name to its geometry, `planning.SKETCHES`)."""
+
+    name: str  # as an action goal names it ('square')
+    service: str  # the node's service ('draw_square')
+    service_type: str  # ROS type of the service ('turtle_traj_interfaces/srv/DrawShape')
+    summary: str
+    fields: tuple[Field, ...]
+    command: tuple[str, ...]  # command-line words ('draw', 'square')
+    example: Example
+
+    def excluded(self, given: Mapping[str, Any]) -> set[str]:
+        """Fields that flags given true exclude (`forever` excludes a circle's `turns`)."""
+        return {item.excludes for item in self.fields if item.excludes and given.get(item.name)}
+
+    def request_values(self, given: Mapping[str, Any]) -> dict[str, Any]:
+        """Request field values from values as entered (missing ones take their defaults)."""
+        values = {}
+        excluded = self.excluded(given)
+        for item in self.fields:
+            value = given.get(item.name)
+            if value is None:
+                if item.name in excluded:
+                    values[item.name] = 0.0
+                elif item.default is not None:
+                    values[item.name] = item.to_request(item.default)
+                if item.given:
+                    values[item.given] = False
+                continue
+            if item.negate and given.get(item.negate):
+                value = -value
+            values[item.name] = item.to_request(value)
+            if item.given:
+                values[item.given] = True
+        return values
+
+
+# -- the fields people enter, shared by several kinds -----------------------------------------
+
+def _size(help_text: str, parameter: str) -> Field:
+    return Field('size', help_text, parameter=parameter, fits=True)
+
+
+CLOCKWISE = Field('clockwise', 'turn clockwise', type=BOOL, default=False)
+LINEAR_SPEED = Field('linear_speed', 'top speed', parameter='linear_speed', flag='speed')
+ANGULAR_SPEED = Field('angular_speed', 'top turn rate (corners)', parameter='angular_speed',
+                      menu=False)
+_SHAPE_SPEEDS = (LINEAR_SPEED, ANGULAR_SPEED)
+_DRAW_SHAPE = 'turtle_traj_interfaces/srv/DrawShape'
+_DRAW_CURVE = 'turtle_traj_interfaces/srv/DrawCurve'
+_PEN = (Field('pen_color', "pen colour: a name (red) or #rrggbb; default: the node's "
+              'pen_color', type=STRING, default='', menu=False),
+        Field('pen_width', "pen width [px]; default: the node's pen_width", type=INT,
+              default=0, low=0, high=255, menu=False))
+
+
+def _curve(name: str, summary: str, fields: tuple[Field, ...], example: Example) -> TrajectoryKind:
+    """A parametric curve (DrawCurve): its width (`size`), its own fields and the speeds."""
+    return TrajectoryKind(name, f'draw_{name}', _DRAW_CURVE, summary,
+                      (_size('width', 'default_curve_width'), *fields, *_SHAPE_SPEEDS),
+                      ('draw', name), example)
+
+
+def _polygon(name: str, example: Example) -> TrajectoryKind:
+    return TrajectoryKind(
+        name, f'draw_{name}', _DRAW_SHAPE, f'draw a {name} from where the turtle stands',
+        (_size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
+        ('draw', name), example)
+
+
+def _move(name: str, summary: str, amount: Field, speed: str,
+          example: Example) -> TrajectoryKind:
+    """A Move request: a signed amount and its top speed (the node's `speed` parameter)."""
+    return TrajectoryKind(
+        name, name, 'turtle_traj_interfaces/srv/Move', summary,
+        (amount, Field('speed', PARAMETER[speed].description.split(',')[0].lower(),
+                       parameter=speed, menu=False)),
+        (name,), example)
+
+
+TRAJECTORIES: tuple[TrajectoryKind, ...] = (
+    _polygon('square', Example((4.0, 4.0, 0.0), {'size': 3.0})),
+    _polygon('triangle', Example((3.5, 3.5, 0.0), {'size': 4.0})),
+    _polygon('hexagon', Example((4.5, 2.5, 0.0), {'size': 2.0})),
+    TrajectoryKind(
+        'polygon', 'draw_polygon', _DRAW_SHAPE,
+        'draw a regular polygon with any number of sides',
+        (Field('sides', 'number of sides', type=INT, default=5, low=3, high=MAX_SIDES),
+         _size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
+        ('draw', 'polygon'),
+        Example((4.5, 8.5, 0.0), {'sides': 7, 'size': 2.0, 'clockwise': True})),
+    TrajectoryKind(
+        'circle', 'draw_circle', _DRAW_SHAPE,
+        'drive a circle to the left (or right) of the turtle',
+        (_size('radius', 'default_radius'), CLOCKWISE,
+         Field('forever', 'circle until stopped (Ctrl-C, cancel or the stop service)',
+               type=BOOL, default=False, excludes='turns'),
+         Field('turns', 'number of turns', 'turns', default=1.0, low=0.01, high=100.0),
+         *_SHAPE_SPEEDS),
+        ('draw', 'circle'), Example((5.5, 3.0, 0.0), {'size': 2.5})),
+    TrajectoryKind(
+        'spiral', 'draw_spiral', _DRAW_SHAPE,
+        'drive an outward spiral; it ends at max_radius, after its turns, or before the wall',
+        (_size('start radius', 'default_spiral_start_radius'),
+         Field('growth', 'radius gained per turn', parameter='default_spiral_growth'),
+         Field('turns', 'number of turns (0: until max_radius or the wall)', 'turns',
+               low=0.0, high=100.0),
+         Field('max_radius', 'radius at which it ends (0: the wall)', 'm', low=0.0, high=50.0,
+               menu=False),
+         CLOCKWISE, *_SHAPE_SPEEDS),
+        ('draw', 'spiral'), Example((5.5, 5.2, 0.0), {'size': 0.3, 'growth': 0.6, 'turns': 6.0,
+                                             'linear_speed': 2.0})),
+    TrajectoryKind(
+        'sine', 'draw_sine', _DRAW_SHAPE,
+        'drive a sine wave along the heading',
+        (Field('size', 'amplitude', parameter='default_sine_amplitude'),
+         Field('frequency', 'cycles per metre', parameter='default_sine_frequency'),
+         Field('length', 'length along the heading', parameter='default_sine_length',
+               fits=True),
+         *_SHAPE_SPEEDS),
+        ('draw', 'sine'),
+        Example((1.0, 5.5, 0.0), {'size': 1.5, 'frequency': 0.4, 'length': 9.0})),
+    TrajectoryKind(
+        'star', 'draw_star', _DRAW_CURVE,
+        'draw a star, upright, from its top tip',
+        (_size('outer radius', 'default_radius'),
+         Field('tips', 'number of points', type=INT, default=5, low=3, high=MAX_TIPS),
+         Field('inner_radius', 'radius of the inner corners (default: 0.382 x size)', 'm',
+               low=0.0, high=50.0, menu=False),
+         *_SHAPE_SPEEDS),
+        ('draw', 'star'), Example((5.5, 8.5, 0.0), {'size': 3.0, 'tips': 5})),
+    _curve('heart', 'draw a heart, upright, from its bottom tip', (),
+           Example((5.5, 1.5, 0.0), {'size': 7.0})),
+    _curve('lemniscate',
+           'draw the infinity sign (lemniscate of Bernoulli), from its crossing', (),
+           Example((5.5, 5.5, 0.0), {'size': 9.0})),
+    _curve('rose',
+           'draw a rose r = sin(k t), from its centre (size: the circle through its tips)',
+           (Field('petals', 'number of petals (odd, or a multiple of 4)', type=INT, default=5,
+                  low=1, high=MAX_PETALS),),
+           Example((5.5, 5.5, 0.0), {'size': 9.0, 'petals': 5})),
+    _curve('lissajous',
+           'draw a Lissajous curve x = sin(a t + phase), y = sin(b t)',
+           (Field('a', 'x frequency', type=INT, default=3, low=1, high=MAX_FREQUENCY_RATIO),
+            Field('b', 'y frequency', type=INT, default=2, low=1, high=MAX_FREQUENCY_RATIO),
+            Field('phase', 'phase of x', 'deg', default=90.0, low=-360.0, high=360.0)),
+           Example((9.5, 5.5, 0.0), {'size': 8.0, 'a': 3, 'b': 2, 'phase': 90.0})),
+    TrajectoryKind(
+        'text', 'draw_text', 'turtle_traj_interfaces/srv/DrawText',
+        'write text in a single-stroke font, along the heading from where the turtle stands',
+        (Field('text', 'what to write', type=STRING, default='', positional=True),
+         Field('height', 'height of capitals', parameter='default_text_height', fits=True),
+         *_PEN, *_SHAPE_SPEEDS),
+        ('write',), Example((1.5, 5.0, 0.0), {'text': 'Hello ROS', 'height': 1.0,
+                                     'pen_color': 'white'})),
+    TrajectoryKind(
+        'svg', 'draw_svg', 'turtle_traj_interfaces/srv/DrawSvg',
+        "draw SVG paths: a file in the node's svg_dir, or path data (--d)",
+        (Field('file', "SVG file, relative to the node's svg_dir (turtle.svg, wave.svg ship "
+               'with it)', type=STRING, default='', positional=True),
+         Field('path_data', 'SVG path data instead of a file ("M 0 0 C 1 2 3 2 4 0")',
+               type=STRING, default='', flag='d'),
+         _size('larger side', 'default_svg_size'), *_PEN, *_SHAPE_SPEEDS),
+        ('draw', 'svg'), Example((1.0, 2.5, 0.0), {'file': 'turtle.svg', 'size': 9.0,
+                                          'pen_color': 'white'})),
+    TrajectoryKind(
+        'go_to', 'go_to', 'turtle_traj_interfaces/srv/GoTo',
+        'drive to a point (turn, drive straight, optionally turn to a heading)',
+        (Field('x', 'goal x', 'm', default=8.0, positional=True, axis='x'),
+         Field('y', 'goal y', 'm', default=8.0, positional=True, axis='y'),
+         Field('theta', 'final heading (default: none)', 'deg', default=None,
+               given='use_theta', low=-180.0, high=180.0, menu=False),
+         Field('tolerance', 'arrival tolerance', parameter='goal_tolerance', menu=False),
+         LINEAR_SPEED),
+        ('go-to',), Example((1.5, 1.5, 0.0), {'x': 9.5, 'y': 9.0, 'theta': 180.0})),
+    _move('move', 'drive straight along the heading',
+          Field('distance', 'distance (negative: backwards)', 'm', default=2.0, low=-50.0,
+                high=50.0, positional=True, negate='backward'),
+          'linear_speed', Example((2.5, 5.5, 0.0), {'distance': 6.0})),
+    _move('rotate',
+          'turn in place (counter-clockwise; negative or --clockwise: clockwise)',
+          Field('angle', 'angle (negative: clockwise)', 'deg', default=90.0, low=-36000.0,
+                high=36000.0, positional=True, negate='clockwise'),
+          'angular_speed', Example((5.5, 5.5, 0.0), {'angle': -180.0})),
+    TrajectoryKind(
+        'follow_path', 'follow_path', 'turtle_traj_interfaces/srv/FollowPath',
+        'drive through points in order (x,y x,y ...)',
+        (Field('points', f'points as x,y pairs (at most {MAX_POINTS})', 'm', type=POINTS,
+               default=None, positional=True),
+         Field('closed', 'return to the first point', type=BOOL, default=False),
+         LINEAR_SPEED),
+        ('follow-path',), Example((2.5, 2.5, 0.0), {
+            'points': [(8.5, 2.5), (8.5, 8.5), (5.5, 5.5), (2.5, 8.5)], 'closed': True})),
+)
+BY_NAME = {trajectory.name: trajectory for trajectory in TRAJECTORIES}
+BY_SERVICE = {trajectory.service: trajectory for trajectory in TRAJECTORIES}

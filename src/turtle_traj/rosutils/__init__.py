@@ -1,0 +1,1 @@
+"""Small ROS utilities every program shares: QoS, interfaces by name, running nodes."""

@@ -1,1 +1,0 @@
-"""One sketch function per kind of trajectory (see `planning`)."""
