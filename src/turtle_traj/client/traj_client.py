@@ -6,17 +6,14 @@ Not for use inside another node's callbacks (it spins); that is what async clien
 from __future__ import annotations
 
 import itertools
-import math
 import os
 import time
 import uuid
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import rclpy
 from action_msgs.msg import GoalStatus
 from rclpy.action import ActionClient
-from rclpy.action.client import ClientGoalHandle
 from rclpy.context import Context
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.task import Future
@@ -31,15 +28,18 @@ from turtle_traj.api.ros_interface import (
     DRAW_ACTION_TYPE,
     SERVICE_TYPES,
 )
+from turtle_traj.client.answers import (
+    ANSWER_WAIT_S,
+    REQUEST_ATTEMPTS,
+    TrajClientError,
+    first_answer,
+)
+from turtle_traj.client.goals import DrawOutcome, goal_handle, known_goal
 from turtle_traj.client.liveness import Liveness
 from turtle_traj.client.remote_parameters import RemoteParameters, UnknownParameter
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.rosutils.interfaces import interface
-from turtle_traj.rosutils.runtime import events_executor, process_context
-
-
-class TrajClientError(RuntimeError):
-    """The call could not be made or did not finish; the message says why."""
+from turtle_traj.rosutils.runtime import events_executor, process_context, spin_until
 
 
 class Interrupted(TrajClientError):
@@ -54,30 +54,12 @@ class GoalRejected(TrajClientError):
 _START_ONE = ('start one with `python -m turtle_traj --with-sim` (or `turtle-traj up`), and '
               'check ROS_DOMAIN_ID')
 INTERRUPTED = 'interrupted'  # why a goal was cancelled on Ctrl-C
-ANSWER_WAIT_S = 2.0  # a request not answered within this is sent again
-REQUEST_ATTEMPTS = 3
 _CLIENT_NUMBERS = itertools.count()
 # The node's services that may be sent twice (`_answer`): its commands, reset and stop (a second
 # ends where the first did). A trajectory's request may not: a second one would be refused as
 # busy, or draw twice.
 _SAFE_TO_REPEAT = frozenset(COMMAND_SERVICES)
 _ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)
-
-
-@dataclass(frozen=True)
-class DrawOutcome:
-    """How a draw goal ended: its result (Draw.Result), its GoalStatus, and, when this client
-    cancelled it, why."""
-
-    result: object
-    status: int
-    cancelled: str = ''
-
-
-def _known_goal(action: ActionClient, goal_id: UUID) -> ClientGoalHandle:
-    """A handle for a goal the server has under this id, though its answer never came."""
-    accepted = interface(DRAW_ACTION_TYPE).Impl.SendGoalService.Response(accepted=True)
-    return ClientGoalHandle(action, goal_id, accepted)
 
 
 class TrajClient:
@@ -183,7 +165,7 @@ class TrajClient:
             handle = self._answer(
                 lambda: action.send_goal_async(goal, feedback_callback=feedback,
                                                goal_uuid=goal_id), 'the draw action', sent)
-            handle = self._goal_handle(action, goal_id, handle, repeated=len(sent) > 1)
+            handle = goal_handle(action, goal_id, handle, repeated=len(sent) > 1)
             if not handle.accepted:
                 raise GoalRejected(f'{self.node_name} rejected the goal')
             result = self._follow(goal.trajectory, handle, liveness, timeout_s)
@@ -195,44 +177,9 @@ class TrajClient:
             raise GoalRejected(f'{self.node_name} does not know the goal it was sent')
         return DrawOutcome(result.result, result.status)
 
-    @staticmethod
-    def _goal_handle(action: ActionClient, goal_id: UUID, answer: ClientGoalHandle,
-                     repeated: bool) -> ClientGoalHandle:
-        """The handle of the goal sent. A repeated request carries the same goal id, and an
-        action server rejects an id it already has: the first request got through and its
-        answer was lost, so the goal runs and is followed by its id."""
-        if answer.accepted or not repeated:
-            return answer
-        return _known_goal(action, goal_id)
-
     def _answer(self, send: Callable[[], Future], what: str, sent: list[Future] | None = None,
                 *, timeout_s: float = REQUEST_ATTEMPTS * ANSWER_WAIT_S):
-        """The first answer to a request, sent again (up to REQUEST_ATTEMPTS times, every
-        ANSWER_WAIT_S) while none comes. DDS loses an answer when the server answers before it
-        has matched the client's new endpoints: the client sees the server ready as soon as it
-        has matched the server's, while the server learns of the client only when its
-        announcement arrives; rmw_fastrtps then drops the answer ("client will not receive
-        response"). Seen once in 200 parameter reads with both cores busy, and on a reset. A
-        request sent again must be harmless if the first got through: the same goal id, a
-        cancel, a result request, a parameter read, the same value set again, reset, stop.
-
-        :param sent: where the futures of the requests sent are kept, for the caller.
-        :param timeout_s: how long to wait for an answer in all, from the first request.
-        """
-        sent = [] if sent is None else sent
-        start, sent_at = time.monotonic(), -math.inf
-        while True:
-            for future in sent:
-                if future.done():
-                    return future.result()
-            now = time.monotonic()
-            if sent and now - start >= timeout_s:
-                raise TrajClientError(f'{what} did not answer within {timeout_s:g} s '
-                                      f'({len(sent)} requests)')
-            if len(sent) < REQUEST_ATTEMPTS and now - sent_at >= ANSWER_WAIT_S:
-                sent.append(send())
-                sent_at = now
-            self._executor.spin_once(timeout_sec=0.05)
+        return first_answer(self._executor, send, what, sent, timeout_s=timeout_s)
 
     def _follow(self, name: str, handle, liveness: Liveness, timeout_s: float | None):
         """Spin until the goal's result arrives and return it; TimeoutError after `timeout_s`;
@@ -264,14 +211,13 @@ class TrajClient:
                 why: str) -> DrawOutcome:
         """Cancel the goal sent and wait for its end; a goal never answered is cancelled by its
         id all the same, in case the request got through."""
-        deadline = time.monotonic() + ANSWER_WAIT_S
-        while not any(future.done() for future in sent) and time.monotonic() < deadline:
-            self._executor.spin_once(timeout_sec=0.05)
+        spin_until(self._executor, lambda: any(future.done() for future in sent),
+                   timeout_s=ANSWER_WAIT_S)
         answers = [future.result() for future in sent if future.done()]
         if not answers:
-            _known_goal(action, goal_id).cancel_goal_async()
+            known_goal(action, goal_id).cancel_goal_async()
             raise Interrupted(f'{why} before the node answered the goal: it was cancelled')
-        handle = self._goal_handle(action, goal_id, answers[0], repeated=len(sent) > 1)
+        handle = goal_handle(action, goal_id, answers[0], repeated=len(sent) > 1)
         if not handle.accepted:
             raise Interrupted(f'{why}; the goal had been rejected: nothing runs')
         self._answer(handle.cancel_goal_async, 'the cancel request')
@@ -287,19 +233,11 @@ class TrajClient:
     def _discovered(self, ready: Callable[[], bool]) -> bool:
         """Wait up to `connect_timeout_s` for `ready()`, looking every 10 ms (rclpy's own
         wait_for_service looks every 250 ms: a quarter second lost on every command)."""
-        deadline = time.monotonic() + self.connect_timeout_s
-        while not ready():
-            if time.monotonic() > deadline:
-                return False
-            self._executor.spin_once(timeout_sec=0.01)
-        return True
+        return spin_until(self._executor, ready, timeout_s=self.connect_timeout_s)
 
     def _wait(self, future, what: str, timeout_s: float = 5.0):
-        deadline = time.monotonic() + timeout_s
-        while not future.done():
-            if time.monotonic() > deadline:
-                raise TrajClientError(f'{what} did not answer within {timeout_s:g} s')
-            self._executor.spin_once(timeout_sec=0.1)
+        if not spin_until(self._executor, future.done, timeout_s=timeout_s):
+            raise TrajClientError(f'{what} did not answer within {timeout_s:g} s')
         return future.result()
 
     def _remote_parameters(self) -> RemoteParameters:
