@@ -165,3 +165,30 @@ def test_a_spin_with_a_task_awaiting_sleeps_instead_of_spinning(ros_context):
         release.set_result(None)
         executor.shutdown()
         server.destroy_node()
+
+
+@pytest.mark.filterwarnings('ignore:coroutine .* was never awaited:RuntimeWarning')
+def test_the_events_executor_of_this_rclpy_cannot_answer_a_coroutine_service(ros_context):
+    """Why node.async_service exists (ros2/rclpy#1473): a plain service with a coroutine
+    handler gets no answer on this rclpy's EventsExecutor. When this fails, the pinned rclpy
+    answers it itself: create_async_service can go."""
+    executor = EventsExecutor(context=ros_context)
+    server = Node('plain_server', context=ros_context)
+
+    async def handler(request, response):
+        response.success = True
+        return response
+    server.create_service(Trigger, 'plain', handler)
+    client = server.create_client(Trigger, 'plain')
+    executor.add_node(server)
+    try:
+        assert client.wait_for_service(timeout_sec=5.0)
+        answer = client.call_async(Trigger.Request())
+        try:
+            executor.spin_until_future_complete(answer, timeout_sec=2.0)
+        except TypeError:
+            pass  # rclpy's send_response refuses the coroutine object, out of spin
+        assert not answer.done()
+    finally:
+        executor.shutdown()
+        server.destroy_node()

@@ -20,7 +20,9 @@ def create_async_service(node: Node, srv_type: type, name: str,
     EventsExecutor (rclpy 7.1.6) sends whatever the handler returned at once, here a coroutine
     object, which `send_response` refuses. The response is therefore sent through this
     service's own `send_response`, which runs a coroutine as a task of the node's executor
-    first and answers when the task is done. tests/test_lockstep_contract.py pins both paths.
+    first and answers when the task is done. tests/test_lockstep_contract.py pins both paths,
+    and the failure itself: ros2/rclpy#1473, fixed upstream (#1478) and backported to Jazzy
+    (#1613) after 7.1.6, the only Jazzy rclpy on PyPI. Remove this when the pin moves past it.
     """
     service = node.create_service(srv_type, name, handler, **kwargs)
     send_now = service.send_response

@@ -24,6 +24,7 @@ from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import Settings
 from turtle_traj.core.registry import BY_NAME, TrajectoryKind
 from turtle_traj.node.outcomes import RunRefused, fill_response
+from turtle_traj.node.waiting import completion
 
 FEEDBACK_PERIOD_S = 0.1  # node clock: 10 Hz
 
@@ -85,7 +86,7 @@ class DrawActionServer:
         feedback = node.create_timer(FEEDBACK_PERIOD_S,
                                      lambda: goal_handle.publish_feedback(self._feedback(run)))
         try:
-            outcome = await finished
+            outcome = await completion(node, finished)
         finally:
             node.destroy_timer(feedback)
             del self._runs[goal_id]

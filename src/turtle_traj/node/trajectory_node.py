@@ -8,8 +8,11 @@ stop arriving (see `PoseSilence`).
 from __future__ import annotations
 
 import math
-from functools import partial
+import threading
+from collections.abc import Callable
+from functools import partial, wraps
 from pathlib import Path
+from typing import Any, TypeVar
 
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Path as PathMsg
@@ -38,11 +41,21 @@ from turtle_traj.node.draw_action import DrawActionServer
 from turtle_traj.node.outcomes import PLAN_FRAME_ID, RunRefused, fill_response, plan_message
 from turtle_traj.node.pen_client import PenClient
 from turtle_traj.node.pose_silence import PoseSilence
-from turtle_traj.node.waiting import wait_until
+from turtle_traj.node.waiting import completion, wait_until
 from turtle_traj.rosutils.qos import POSE_READER_QOS, TURTLE_TOPIC_QOS
 
 _WATCHDOG_PERIOD_S = 0.05
 _RESET_TIMEOUT_S = 5.0
+_Method = TypeVar('_Method', bound=Callable[..., Any])
+
+
+def _serialized(method: _Method) -> _Method:
+    """Run `method` holding the node's state lock (see TrajectoryNode.__init__)."""
+    @wraps(method)
+    def locked(self: TrajectoryNode, *args: Any, **kwargs: Any) -> Any:
+        with self._state_lock:
+            return method(self, *args, **kwargs)
+    return locked  # type: ignore[return-value]
 
 
 class TrajectoryNode(Node):
@@ -62,10 +75,13 @@ class TrajectoryNode(Node):
         turtle = self.get_parameter('turtle_name').value
 
         self._silence = PoseSilence(self.get_clock(), _WATCHDOG_PERIOD_S)
-        # The future the run's service handler awaits. One executor thread calls everything
-        # here, and a handler checks `_run` and claims it without an `await` in between, so
-        # two requests can never both start a run.
+        # The future the run's service handler awaits.
         self._run_done: Future | None = None
+        # Every change of the run's state (a pose, a tick, a request's check-and-claim, a stop,
+        # a reset, the pen's answer) holds this lock: the handlers are reentrant, and on a
+        # MultiThreadedExecutor they run beside the timers and each other. Uncontended on the
+        # single-threaded executors. Reentrant: a pose can end the run it updates.
+        self._state_lock = threading.RLock()
 
         self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
         self.create_subscription(Pose, f'{turtle}/pose', self._on_pose, POSE_READER_QOS)
@@ -105,6 +121,7 @@ class TrajectoryNode(Node):
     def _on_parameters_set(self, _parameters) -> None:
         self.settings = parameters.read_settings(self)
 
+    @_serialized
     def _on_pose(self, msg: Pose) -> None:
         self._loop.observe(Pose2D(msg.x, msg.y, msg.theta), msg.linear_velocity,
                            msg.angular_velocity)
@@ -135,6 +152,7 @@ class TrajectoryNode(Node):
 
     # -- control -----------------------------------------------------------------------------
 
+    @_serialized
     def _on_control_timer(self) -> None:
         run = self._run
         if run is None or self._aborted_for_silence():
@@ -147,10 +165,12 @@ class TrajectoryNode(Node):
         wanted = run.pen_wanted
         if wanted is not None and not self._pen.busy:
             def answered(ok: bool) -> None:
-                if ok and run is self._run:
-                    run.pen_is(wanted)
+                with self._state_lock:
+                    if ok and run is self._run:
+                        run.pen_is(wanted)
             self._pen.set(run.plan.pen, down=wanted, then=answered)
 
+    @_serialized
     def _on_watchdog(self) -> None:
         self._silence.beat()
         if self._pen.give_up_if_late() and self._run is not None:
@@ -176,6 +196,7 @@ class TrajectoryNode(Node):
                             's); is the simulator still running?')
         return True
 
+    @_serialized
     def shutdown_turtle(self) -> None:
         """End any trajectory and leave the turtle standing (called on program exit)."""
         if self._run is not None:
@@ -188,6 +209,7 @@ class TrajectoryNode(Node):
         twist.linear.x, twist.angular.z = command.linear, command.angular
         self._cmd_vel.publish(twist)
 
+    @_serialized
     def _finish(self, success: bool, message: str) -> None:
         """End the run now with this verdict (unless it already had one)."""
         if self._run is not None:
@@ -243,6 +265,7 @@ class TrajectoryNode(Node):
         self.get_logger().warning(reason)
         return RunRefused(reason)
 
+    @_serialized
     def start_run(self, kind: TrajectoryKind, request) -> tuple[RunSupervisor, Future]:
         """Plan `request` and drive it: the run, and the future of its Outcome.
 
@@ -270,6 +293,7 @@ class TrajectoryNode(Node):
             f'deg of turns in place, at least {plan.lower_bound_s(self.settings.control):.1f} s')
         return run, done
 
+    @_serialized
     def stop_run(self, run: RunSupervisor) -> None:
         """End `run` at once as stopped by request, if it is still the one running."""
         if run is self._run:
@@ -282,10 +306,11 @@ class TrajectoryNode(Node):
             _run, finished = self.start_run(kind, request)
         except RunRefused as refusal:
             return fill_response(response, Outcome(False, str(refusal), self._loop.pose))
-        return fill_response(response, await finished)
+        return fill_response(response, await completion(self, finished))
 
     # -- services ----------------------------------------------------------------------------
 
+    @_serialized
     def _handle_stop(self, request: Trigger.Request, response: Trigger.Response):
         run = self._run
         self._publish(STOP)
@@ -311,14 +336,16 @@ class TrajectoryNode(Node):
             return response
         # The simulator made a new turtle: forget the old one's pose and wait until the new
         # one's topics are connected, so that a trajectory requested next starts at once.
-        self._loop.forget_pose()
-        self._silence.forget()
+        with self._state_lock:
+            self._loop.forget_pose()
+            self._silence.forget()
         if await wait_until(self, self._connected, _RESET_TIMEOUT_S):
             response.success, response.message = True, 'simulator reset; ready'
         else:
             response.message = f'simulator reset, but not ready: {self._refusal()}'
         return response
 
+    @_serialized
     def _connected(self) -> bool:
         """A fresh pose is in, the simulator acknowledged a stop command (it hears us) and its
         set_pen is found (drawings need it).

@@ -1,15 +1,42 @@
-"""Awaiting a condition inside a node's coroutine, on simulated and wall time alike."""
+"""Awaiting inside a node's coroutines: a future a timer completes, or a condition, on
+simulated and wall time alike, and on every executor the node may be composed in.
+
+rclpy 7.1.6's Python executors poll a coroutine that awaits a pending future on every pass
+(ros2/rclpy#1405: they re-run pending tasks instead of waiting for their futures). The
+SingleThreadedExecutor survives that at some CPU cost; on the MultiThreadedExecutor each pass
+also hands the task to the thread pool, and the polling starved the simulator's timer in the same
+process until the turtle stalled at its first corner (tests/test_multithreaded.py). There a
+handler blocks its own pool thread instead, as rclpy's documentation has reentrant callbacks do
+on that executor: the task counts as executing and is not polled, and the other threads run the
+timers that complete it. The EventsExecutor (the programs' default) resumes a task only when
+woken, and stays with `await`.
+"""
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable
+from typing import Any
 
 from rclpy.clock import Clock, ClockType
+from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.task import Future
 
 POLL_PERIOD_S = 0.005
+
+
+async def completion(node: Node, future: Future, *, timeout_s: float | None = None) -> Any:
+    """The result of `future`, which another callback of `node` completes (None if
+    `timeout_s` passed first on a MultiThreadedExecutor, where that is checked here)."""
+    if isinstance(node.executor, MultiThreadedExecutor) and not future.done():
+        completed = threading.Event()
+        future.add_done_callback(lambda _: completed.set())
+        if not completed.wait(timeout_s):
+            return None
+        return future.result()
+    return await future
 
 
 async def wait_until(node: Node, condition: Callable[[], bool], timeout_s: float) -> bool:
@@ -34,7 +61,9 @@ async def wait_until(node: Node, condition: Callable[[], bool], timeout_s: float
               node.create_timer(POLL_PERIOD_S, poll, clock=steady)]
     try:
         poll()
-        return await waited
+        # (the margin: a pool so busy that no timer ran by the deadline still ends the wait)
+        met = await completion(node, waited, timeout_s=timeout_s + 1.0)
+        return bool(met) if met is not None else condition()
     finally:
         for timer in timers:
             node.destroy_timer(timer)

@@ -91,7 +91,8 @@ def run_nodes(
         while rclpy.ok() and not stop.is_set():
             # Not spin_once: the EventsExecutor (rclpy 7.1.6) runs every task still awaiting
             # something at the start of each spin_once, so a loop of them never sleeps while a
-            # service handler awaits its trajectory (a whole core). A future that never
+            # service handler awaits its trajectory (a whole core; ros2/rclpy#1405, pinned by
+            # tests/test_lockstep_contract.py). A future that never
             # completes (a new one each time: each call leaves a callback on it) lets it
             # run whatever comes for the whole timeout instead.
             executor.spin_until_future_complete(Future(), timeout_sec=_SIGNAL_LATENCY_S)
