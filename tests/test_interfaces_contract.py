@@ -16,9 +16,10 @@ import pytest
 from ament_index_python.packages import get_package_share_directory, get_packages_with_prefixes
 
 from turtle_traj.core.control.supervisor import Outcome
+from turtle_traj.core.fields import BOOL, FLOAT, INT, POINTS, STRING
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.table import PARAMETER
-from turtle_traj.core.registry import BOOL, FLOAT, INT, POINTS, STRING, TRAJECTORIES
+from turtle_traj.core.registry import TRAJECTORIES
 from turtle_traj.rosutils.interfaces import interface
 
 SOURCES = Path(__file__).resolve().parents[1] / 'interfaces' / 'turtle_traj_interfaces'

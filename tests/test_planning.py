@@ -5,12 +5,13 @@ from types import SimpleNamespace
 
 import pytest
 
+from turtle_traj.core.fields import POINTS
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS, arena_problem
 from turtle_traj.core.parameters.table import DEFAULTS, PARAMETERS
 from turtle_traj.core.planning import planner as planning
 from turtle_traj.core.planning.planner import PlanError
-from turtle_traj.core.registry import BY_NAME, POINTS, TRAJECTORIES
+from turtle_traj.core.registry import BY_NAME, TRAJECTORIES
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
 
 SPAWN = Pose2D(SPAWN_XY_M, SPAWN_XY_M, 0.0)

@@ -12,7 +12,8 @@ from typing import Any
 
 from geometry_msgs.msg import Point
 
-from turtle_traj.core.registry import POINTS, TRAJECTORIES, TrajectoryKind
+from turtle_traj.core.fields import POINTS
+from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
 from turtle_traj.rosutils.interfaces import interface
 
 

@@ -15,17 +15,16 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from turtle_traj.core.registry import (
+from turtle_traj.core.fields import (
     BOOL,
     POINTS,
     STRING,
-    TRAJECTORIES,
     Field,
     FieldError,
-    TrajectoryKind,
     parse_point,
     parse_points,
 )
+from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
 from turtle_traj.sim.options import add_sim_options, options_from
 
 if TYPE_CHECKING:

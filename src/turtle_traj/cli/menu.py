@@ -19,20 +19,11 @@ from typing import Any
 from turtle_traj.api.ros_interface import make_goal
 from turtle_traj.cli.console import ProgressLine, report
 from turtle_traj.client.traj_client import GoalRejected, TrajClient, TrajClientError
+from turtle_traj.core.fields import BOOL, FLOAT, INT, POINTS, STRING, Field, FieldError
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import Settings, settings_from_values
 from turtle_traj.core.planning.planner import largest_size
-from turtle_traj.core.registry import (
-    BOOL,
-    FLOAT,
-    INT,
-    POINTS,
-    STRING,
-    TRAJECTORIES,
-    Field,
-    FieldError,
-    TrajectoryKind,
-)
+from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
 
 RESET_KEY, EXIT_KEY = 'r', '0'
 CHOICES: dict[str, TrajectoryKind] = {str(index): trajectory

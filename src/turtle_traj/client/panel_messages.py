@@ -6,8 +6,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from turtle_traj.core.fields import FieldError
 from turtle_traj.core.planning.limits import MAX_TEXT_CHARS
-from turtle_traj.core.registry import BY_NAME, TRAJECTORIES, FieldError
+from turtle_traj.core.registry import BY_NAME, TRAJECTORIES
 from turtle_traj.web.messages import Checker, ProtocolError, name, number
 
 

@@ -7,6 +7,8 @@ import math
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path as PathMsg
 
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import Outcome
 from turtle_traj.core.geometry.path import Path
 
@@ -50,3 +52,17 @@ def plan_message(path: Path, header) -> PathMsg:
         stamped.pose.position.x, stamped.pose.position.y = (float(v) for v in points[index])
         msg.poses.append(stamped)
     return msg
+
+
+def summary(outcome: Outcome) -> str:
+    """The outcome in one log line, with its figures."""
+    return (f'{outcome.message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
+            f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m, '
+            f'heading error {outcome.final_heading_error:.4f} rad)')
+
+
+def describe(plan: Plan, control: ControlConfig) -> str:
+    """A plan in one log line: its length, its turns in place, its least duration."""
+    path = plan.path
+    return (f'{path.length:.2f} m of path, {math.degrees(path.turning):.0f} deg of turns in '
+            f'place, at least {plan.lower_bound_s(control):.1f} s')

@@ -7,12 +7,9 @@ stop arriving (see `PoseSilence`).
 
 from __future__ import annotations
 
-import math
 import threading
-from collections.abc import Callable
-from functools import partial, wraps
+from functools import partial
 from pathlib import Path
-from typing import Any, TypeVar
 
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Path as PathMsg
@@ -23,39 +20,26 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.task import Future
 from std_msgs.msg import Header
-from std_srvs.srv import Empty, Trigger
 from turtlesim.msg import Pose
 
-from turtle_traj.api.ros_interface import service_type
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.loop import ControlLoop
-from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
+from turtle_traj.core.control.supervisor import RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.planning import planner as planning
 from turtle_traj.core.planning.planner import PlanError
 from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
 from turtle_traj.core.turtlesim_contract import STEP_S
-from turtle_traj.node import parameters
-from turtle_traj.node.async_service import create_async_service
+from turtle_traj.node import outcomes, parameters
+from turtle_traj.node.commands import CommandServices
 from turtle_traj.node.draw_action import DrawActionServer
-from turtle_traj.node.outcomes import PLAN_FRAME_ID, RunRefused, fill_response, plan_message
 from turtle_traj.node.pen_client import PenClient
 from turtle_traj.node.pose_silence import PoseSilence
-from turtle_traj.node.waiting import completion, wait_until
+from turtle_traj.node.state_lock import serialized
+from turtle_traj.node.trajectory_services import TrajectoryServices
 from turtle_traj.rosutils.qos import POSE_READER_QOS, TURTLE_TOPIC_QOS
 
 _WATCHDOG_PERIOD_S = 0.05
-_RESET_TIMEOUT_S = 5.0
-_Method = TypeVar('_Method', bound=Callable[..., Any])
-
-
-def _serialized(method: _Method) -> _Method:
-    """Run `method` holding the node's state lock (see TrajectoryNode.__init__)."""
-    @wraps(method)
-    def locked(self: TrajectoryNode, *args: Any, **kwargs: Any) -> Any:
-        with self._state_lock:
-            return method(self, *args, **kwargs)
-    return locked  # type: ignore[return-value]
 
 
 class TrajectoryNode(Node):
@@ -75,12 +59,9 @@ class TrajectoryNode(Node):
         turtle = self.get_parameter('turtle_name').value
 
         self._silence = PoseSilence(self.get_clock(), _WATCHDOG_PERIOD_S)
-        # The future the run's service handler awaits.
-        self._run_done: Future | None = None
-        # Every change of the run's state (a pose, a tick, a request's check-and-claim, a stop,
-        # a reset, the pen's answer) holds this lock: the handlers are reentrant, and on a
-        # MultiThreadedExecutor they run beside the timers and each other. Uncontended on the
-        # single-threaded executors. Reentrant: a pose can end the run it updates.
+        self._run_done: Future | None = None  # what the run's handler awaits
+        # Held by every change of the run's state: the handlers are reentrant, and on a
+        # MultiThreadedExecutor run beside the timers and each other (a pose can end its run).
         self._state_lock = threading.RLock()
 
         self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
@@ -92,20 +73,15 @@ class TrajectoryNode(Node):
 
         # Handlers await the end of a trajectory, so they must not block the timer's group.
         group = ReentrantCallbackGroup()
-        for kind in TRAJECTORIES:
-            create_async_service(self, service_type(kind), f'~/{kind.service}',
-                                 partial(self._execute, kind), callback_group=group)
+        TrajectoryServices(self, group)  # ~/draw_square, ...: one per registry entry
         self._draw_action = DrawActionServer(self, group)
-        self.create_service(Trigger, '~/stop', self._handle_stop, callback_group=group)
-        create_async_service(self, Trigger, '~/reset', self._handle_reset, callback_group=group)
-        self.stop_service = self.resolve_service_name('~/stop')
-        self._sim_reset = self.create_client(Empty, 'reset', callback_group=group)
+        self._commands = CommandServices(self, group)  # ~/stop and ~/reset
+        self.stop_service = self._commands.stop_service
         self._pen = PenClient(self, turtle, callback_group=group)  # drawings lift the pen
         self._recording = None  # each run a bag, when record_dir is set (rosbags loaded then)
-        if self.get_parameter('record_dir').value:
+        if record_dir := self.get_parameter('record_dir').value:
             from turtle_traj.node.run_recording import RunRecording
-            self._recording = RunRecording(self, turtle,
-                                           Path(self.get_parameter('record_dir').value))
+            self._recording = RunRecording(self, turtle, Path(record_dir))
 
         self.create_timer(1.0 / self.get_parameter('control_rate').value,
                           self._on_control_timer)
@@ -116,12 +92,10 @@ class TrajectoryNode(Node):
             f'serving {len(TRAJECTORIES)} trajectories on {name}/<service> and the action '
             f'{self._draw_action.name}; driving {self.pose_topic.removesuffix("/pose")}')
 
-    # -- inputs ------------------------------------------------------------------------------
-
     def _on_parameters_set(self, _parameters) -> None:
         self.settings = parameters.read_settings(self)
 
-    @_serialized
+    @serialized
     def _on_pose(self, msg: Pose) -> None:
         self._loop.observe(Pose2D(msg.x, msg.y, msg.theta), msg.linear_velocity,
                            msg.angular_velocity)
@@ -148,11 +122,9 @@ class TrajectoryNode(Node):
     @property
     def ready(self) -> bool:
         """A fresh pose is in and nothing is running: a request would be accepted."""
-        return self._refusal() is None
+        return self.refusal() is None
 
-    # -- control -----------------------------------------------------------------------------
-
-    @_serialized
+    @serialized
     def _on_control_timer(self) -> None:
         run = self._run
         if run is None or self._aborted_for_silence():
@@ -162,46 +134,55 @@ class TrajectoryNode(Node):
             self._finish_if_ended()  # which sends the stop
             return
         self._publish(command)
-        wanted = run.pen_wanted
-        if wanted is not None and not self._pen.busy:
-            def answered(ok: bool) -> None:
-                with self._state_lock:
-                    if ok and run is self._run:
-                        run.pen_is(wanted)
-            self._pen.set(run.plan.pen, down=wanted, then=answered)
+        if run.pen_wanted is not None and not self._pen.busy:
+            self._pen.set(run.plan.pen, down=run.pen_wanted,
+                          then=partial(self._pen_answered, run, run.pen_wanted))
 
-    @_serialized
+    @serialized
+    def _pen_answered(self, run: RunSupervisor, down: bool, answered: bool) -> None:
+        if answered and run is self._run:
+            run.pen_is(down)
+
+    @serialized
     def _on_watchdog(self) -> None:
         self._silence.beat()
-        if self._pen.give_up_if_late() and self._run is not None:
-            self._finish(False, f'{self._run.name} aborted: {self._pen.service_name} did not '
-                                f'answer within {self._pen.timeout_s:g} s; is the simulator '
-                                'still running?')
+        if self._pen.give_up_if_late():
+            self.abort_run(f'{self._pen.service_name} did not answer within '
+                           f'{self._pen.timeout_s:g} s; is the simulator still running?')
         if self._run is not None:
             self._aborted_for_silence()
 
     def _aborted_for_silence(self) -> bool:
-        """End the run if the poses have been silent past pose_timeout; whether it did.
+        """End the run if the poses have been silent past pose_timeout; whether it did. Checked
+        on each tick (node clock: in lock-step, simulated seconds pass between two wall-clock
+        beats) and each beat of the watchdog (a vanished simulator stops the node clock too)."""
+        silence, timeout_s = self._silence.seconds(), self.settings.pose_timeout_s
+        if silence > timeout_s:
+            self.abort_run(f'no pose on {self.pose_topic} for {silence:.2f} s (pose_timeout '
+                           f'{timeout_s:g} s); is the simulator still running?')
+        return silence > timeout_s
 
-        Checked on each control tick, on the node clock: in lock-step, simulated seconds can
-        pass between two beats of the wall-clock watchdog (a step with no turtle to drive takes
-        microseconds). And on the watchdog's beat, which catches a vanished simulator that also
-        stopped the node clock.
-        """
-        silence = self._silence.seconds()
-        if silence <= self.settings.pose_timeout_s:
-            return False
-        self._finish(False, f'{self._run.name} aborted: no pose on {self.pose_topic} for '
-                            f'{silence:.2f} s (pose_timeout {self.settings.pose_timeout_s:g} '
-                            's); is the simulator still running?')
-        return True
-
-    @_serialized
+    @serialized
     def shutdown_turtle(self) -> None:
         """End any trajectory and leave the turtle standing (called on program exit)."""
-        if self._run is not None:
-            self._finish(False, f'{self._run.name} aborted: the node is shutting down')
+        self.abort_run('the node is shutting down')
         self._publish(STOP)
+
+    @serialized
+    def abort_run(self, why: str) -> None:
+        """End the run, if one runs, as failed: '<trajectory> aborted: <why>'."""
+        if self._run is not None:
+            self._finish(False, f'{self._run.name} aborted: {why}')
+
+    @serialized
+    def stop(self) -> str:
+        """Stop the turtle, and the run if one runs; what was stopped."""
+        run = self._run
+        self._publish(STOP)
+        if run is None:
+            return 'nothing was running; turtle stopped'
+        self.stop_run(run)
+        return f'stopped {run.name}'
 
     def _publish(self, command: Command) -> None:
         self._loop.sent(command)
@@ -209,7 +190,7 @@ class TrajectoryNode(Node):
         twist.linear.x, twist.angular.z = command.linear, command.angular
         self._cmd_vel.publish(twist)
 
-    @_serialized
+    @serialized
     def _finish(self, success: bool, message: str) -> None:
         """End the run now with this verdict (unless it already had one)."""
         if self._run is not None:
@@ -226,14 +207,11 @@ class TrajectoryNode(Node):
         if self._recording is not None:
             self._recording.stop()
         outcome = run.outcome(self._loop.pose, self.now_s())
-        summary = (f'{outcome.message} (elapsed {outcome.elapsed_s:.2f} s, max deviation '
-                   f'{outcome.max_deviation:.4f} m, final error {outcome.final_error:.4f} m, '
-                   f'heading error {outcome.final_heading_error:.4f} rad)')
         # Two call sites: rclpy refuses one call site logging at two severities.
         if outcome.success:
-            self.get_logger().info(summary)
+            self.get_logger().info(outcomes.summary(outcome))
         else:
-            self.get_logger().warning(summary)
+            self.get_logger().warning(outcomes.summary(outcome))
         if run.plan.pen is None:
             done.set_result(outcome)
         else:  # a drawing answers once the pen is down again, as turtlesim starts it
@@ -244,9 +222,8 @@ class TrajectoryNode(Node):
         """The node clock, seconds."""
         return self.get_clock().now().nanoseconds * 1e-9
 
-    # -- running a trajectory ----------------------------------------------------------------
-
-    def _refusal(self) -> str | None:
+    def refusal(self) -> str | None:
+        """Why a request would be refused now (None: it would be accepted)."""
         if self._run is not None:
             return (f'busy: {self._run.name} is running; wait for it or call '
                     f'{self.stop_service} (std_srvs/srv/Trigger) to stop it')
@@ -260,18 +237,18 @@ class TrajectoryNode(Node):
                     f'running and turtle_name right?')
         return None
 
-    def refuse(self, reason: str) -> RunRefused:
+    def refuse(self, reason: str) -> outcomes.RunRefused:
         """The refusal of a request, logged."""
         self.get_logger().warning(reason)
-        return RunRefused(reason)
+        return outcomes.RunRefused(reason)
 
-    @_serialized
+    @serialized
     def start_run(self, kind: TrajectoryKind, request) -> tuple[RunSupervisor, Future]:
         """Plan `request` and drive it: the run, and the future of its Outcome.
 
         :raises RunRefused: busy, a request that cannot be planned, or no simulator (logged).
         """
-        refusal = self._refusal()
+        refusal = self.refusal()
         if refusal is not None:
             raise self.refuse(refusal)
         try:
@@ -283,77 +260,35 @@ class TrajectoryNode(Node):
                               f'simulator service {self._pen.service_name} is not available')
         run = self._loop.start(plan, arena=self.settings.arena, now_s=self.now_s())
         self._run_done = done = Future()
-        path = plan.path
         if self._recording is not None:
             self._recording.start(kind.name, self.settings.control)
-        self._plan.publish(plan_message(path, Header(frame_id=PLAN_FRAME_ID,
-                                                     stamp=self.get_clock().now().to_msg())))
-        self.get_logger().info(
-            f'{kind.name}: {path.length:.2f} m of path, {math.degrees(path.turning):.0f} '
-            f'deg of turns in place, at least {plan.lower_bound_s(self.settings.control):.1f} s')
+        self._plan.publish(outcomes.plan_message(plan.path, Header(
+            frame_id=outcomes.PLAN_FRAME_ID, stamp=self.get_clock().now().to_msg())))
+        self.get_logger().info(f'{kind.name}: {outcomes.describe(plan, self.settings.control)}')
         return run, done
 
-    @_serialized
+    @serialized
     def stop_run(self, run: RunSupervisor) -> None:
         """End `run` at once as stopped by request, if it is still the one running."""
         if run is self._run:
             run.request_stop()
             self._finish_if_ended()
 
-    async def _execute(self, kind: TrajectoryKind, request, response):
-        """A trajectory service: refuse, or drive to the end; the response is filled either way."""
-        try:
-            _run, finished = self.start_run(kind, request)
-        except RunRefused as refusal:
-            return fill_response(response, Outcome(False, str(refusal), self._loop.pose))
-        return fill_response(response, await completion(self, finished))
+    @serialized
+    def forget_turtle(self) -> None:
+        """The simulator made a new turtle: no pose until its first one (a reset)."""
+        self._loop.forget_pose()
+        self._silence.forget()
 
-    # -- services ----------------------------------------------------------------------------
+    @property
+    def pen_ready(self) -> bool:
+        """The simulator's set_pen is found (drawings need it)."""
+        return self._pen.ready
 
-    @_serialized
-    def _handle_stop(self, request: Trigger.Request, response: Trigger.Response):
-        run = self._run
-        self._publish(STOP)
-        if run is None:
-            response.success, response.message = True, 'nothing was running; turtle stopped'
-        else:
-            self.stop_run(run)
-            response.success, response.message = True, f'stopped {run.name}'
-        return response
-
-    async def _handle_reset(self, request: Trigger.Request, response: Trigger.Response):
-        if self._run is not None:
-            self._finish(False, f'{self._run.name} aborted: reset requested')
-        if not self._sim_reset.service_is_ready():
-            response.message = (f'the simulator service {self._sim_reset.srv_name} is not '
-                                 'available')
-            return response
-        future = self._sim_reset.call_async(Empty.Request())
-        if not await wait_until(self, future.done, _RESET_TIMEOUT_S):
-            future.cancel()
-            response.message = (f'{self._sim_reset.srv_name} did not answer in '
-                                f'{_RESET_TIMEOUT_S:g} s')
-            return response
-        # The simulator made a new turtle: forget the old one's pose and wait until the new
-        # one's topics are connected, so that a trajectory requested next starts at once.
-        with self._state_lock:
-            self._loop.forget_pose()
-            self._silence.forget()
-        if await wait_until(self, self._connected, _RESET_TIMEOUT_S):
-            response.success, response.message = True, 'simulator reset; ready'
-        else:
-            response.message = f'simulator reset, but not ready: {self._refusal()}'
-        return response
-
-    @_serialized
-    def _connected(self) -> bool:
-        """A fresh pose is in, the simulator acknowledged a stop command (it hears us) and its
-        set_pen is found (drawings need it).
-
-        Sends that stop (harmless: no trajectory runs) while no acknowledgement is in.
-        """
-        if self._refusal() is not None or not self._pen.ready:
-            return False
+    @serialized
+    def commands_heard(self) -> bool:
+        """The simulator acknowledged every command sent; a stop is sent (harmless while no
+        trajectory runs) when not, for the next check."""
         if self._cmd_vel.wait_for_all_acked(Duration()):
             return True
         self._publish(STOP)

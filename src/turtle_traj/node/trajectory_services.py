@@ -1,0 +1,37 @@
+"""The trajectory node's services, one per registry entry (`~/draw_square`, `~/go_to`, ...):
+each request is refused at once or driven to its end, and its response filled either way."""
+
+from __future__ import annotations
+
+from functools import partial
+from typing import TYPE_CHECKING
+
+from rclpy.callback_groups import CallbackGroup
+
+from turtle_traj.api.ros_interface import service_type
+from turtle_traj.core.control.supervisor import Outcome
+from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
+from turtle_traj.node.async_service import create_async_service
+from turtle_traj.node.outcomes import RunRefused, fill_response
+from turtle_traj.node.waiting import completion
+
+if TYPE_CHECKING:
+    from turtle_traj.node.trajectory_node import TrajectoryNode
+
+
+class TrajectoryServices:
+    """The services of `node`, their handlers in `group` (they await the run's end)."""
+
+    def __init__(self, node: TrajectoryNode, group: CallbackGroup) -> None:
+        self._node = node
+        for kind in TRAJECTORIES:
+            create_async_service(node, service_type(kind), f'~/{kind.service}',
+                                 partial(self._execute, kind), callback_group=group)
+
+    async def _execute(self, kind: TrajectoryKind, request, response):
+        node = self._node
+        try:
+            _run, finished = node.start_run(kind, request)
+        except RunRefused as refusal:
+            return fill_response(response, Outcome(False, str(refusal), node.pose))
+        return fill_response(response, await completion(node, finished))
