@@ -116,11 +116,12 @@ class _Socket:
 
 
 def test_a_page_that_falls_behind_loses_frames_then_gets_the_whole_canvas():
-    from turtle_traj.web.server import FRAME_QUEUE, WebServer, _Page
+    from turtle_traj.web.pages import FRAME_QUEUE, Page
+    from turtle_traj.web.server import WebServer
 
     async def scenario() -> tuple[list[str], int, bool]:
         server = WebServer('127.0.0.1', 0, icon_png=bytes)
-        page = _Page(1, _Socket())
+        page = Page(1, _Socket())
         server._pages[1] = page
         frames = [Frame(seq, 0.0, 0.0, (1, 2, 3), [('turtle1', 1.0, 2.0, 0.0)])
                   for seq in range(1, FRAME_QUEUE + 3)]

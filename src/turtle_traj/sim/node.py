@@ -4,11 +4,9 @@ from __future__ import annotations
 
 from collections import deque
 from collections.abc import Callable
-from pathlib import Path
 
 from geometry_msgs.msg import Twist
 from PIL import Image
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
 from rclpy.exceptions import NameValidationException
@@ -24,6 +22,7 @@ from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.endpoints import TurtleEndpoints
+from turtle_traj.sim.parameters import declare_parameters
 from turtle_traj.sim.physics import World
 from turtle_traj.sim.rotation_goals import RotationGoals
 from turtle_traj.sim.state import (
@@ -35,10 +34,6 @@ from turtle_traj.sim.state import (
 
 _FIRST_TURTLE = 'turtle1'
 _CMD_VEL_DEPTH = TURTLE_TOPIC_QOS.depth
-
-
-def _color_range() -> list[IntegerRange]:
-    return [IntegerRange(from_value=0, to_value=255, step=1)]
 
 
 class SimNode(Node):
@@ -56,36 +51,11 @@ class SimNode(Node):
         self.rotations = RotationGoals(self, self.world)
         self._background: tuple[int, int, int] | None = None
         self.add_post_set_parameters_callback(self._apply_parameters)
-        self.declare_parameter('background_r', 69, ParameterDescriptor(
-            description='Red channel of the background color', integer_range=_color_range()))
-        self.declare_parameter('background_g', 86, ParameterDescriptor(
-            description='Green channel of the background color', integer_range=_color_range()))
-        self.declare_parameter('background_b', 255, ParameterDescriptor(
-            description='Blue channel of the background color', integer_range=_color_range()))
-        self.declare_parameter('holonomic', False, ParameterDescriptor(
-            description='If true, then turtles will be holonomic'))
-        time_scale = self.declare_parameter('time_scale', 1.0, ParameterDescriptor(
-            description='Simulated seconds per wall-clock second (turtle_traj extension)',
-            read_only=True,
-            floating_point_range=[FloatingPointRange(from_value=0.1, to_value=1000.0)])).value
-        publish_clock = self.declare_parameter('publish_clock', False, ParameterDescriptor(
-            description='Publish simulated time on /clock, for nodes with use_sim_time '
-                        '(turtle_traj extension)', read_only=True)).value
-        self.output_dir = Path(self.declare_parameter('output_dir', 'output', ParameterDescriptor(
-            description='Folder that save_image writes into (turtle_traj extension)',
-            read_only=True)).value).resolve()
-        self._command_delay = CommandDelay(
-            self.declare_parameter('command_delay', 0.0, ParameterDescriptor(
-                description='Apply each cmd_vel this long after it arrives [s] (turtle_traj '
-                            'extension for latency tests; simulated time)', read_only=True,
-                floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1.0)])).value,
-            self.declare_parameter('command_jitter', 0.0, ParameterDescriptor(
-                description='Plus a random extra delay of up to this much [s], order kept '
-                            '(turtle_traj extension)', read_only=True,
-                floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1.0)])).value,
-            seed=self.declare_parameter('command_jitter_seed', 0, ParameterDescriptor(
-                description='Seed of the jitter, so runs repeat (turtle_traj extension)',
-                read_only=True)).value)
+        declared = declare_parameters(self)
+        time_scale, publish_clock = declared.time_scale, declared.publish_clock
+        self.output_dir = declared.output_dir
+        self._command_delay = CommandDelay(declared.command_delay_s, declared.command_jitter_s,
+                                           seed=declared.command_jitter_seed)
 
         self.canvas = Canvas()
         # Called after every step, once its poses are published and its strokes drawn (the

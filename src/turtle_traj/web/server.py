@@ -12,13 +12,10 @@ gets the whole canvas again.
 from __future__ import annotations
 
 import asyncio
-import ipaddress
 import logging
-import math
 import threading
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -27,14 +24,12 @@ from aiohttp import WSMsgType, web
 from turtle_traj.web import messages
 from turtle_traj.web.frames import Frame, frame_text, snapshot_text
 from turtle_traj.web.messages import Checker, ProtocolError
+from turtle_traj.web.pages import REQUESTS_PER_S, Page
+from turtle_traj.web.security import LOCAL_HOSTS, host_refusal, origin_refusal
 
 STATIC = Path(__file__).with_name('static')
-FRAME_QUEUE = 30  # frames a page may be behind (about half a second) before it loses them
-REPLY_QUEUE = 256  # replies waiting for a page, at most
 FAN_OUT_PERIOD_S = 0.016  # the simulator's step: frames leave at its rate
 MAX_FRAME_BACKLOG = 120  # frames waiting for the web thread at all, before all pages resync
-REQUESTS_PER_S = 50.0  # a page sending more (a key held down sends about 30) is refused
-LOCAL_HOSTS = {'localhost', '127.0.0.1', '::1'}
 _log = logging.getLogger(__name__)
 
 
@@ -49,31 +44,6 @@ class PagePart(Protocol):
         """A checked request from `page`, on the web thread: queue it, do not act on it."""
 
 
-@dataclass(eq=False)
-class _Page:
-    """One connected page: its socket and what waits to go to it."""
-
-    ident: int
-    socket: web.WebSocketResponse
-    frames: asyncio.Queue = field(default_factory=lambda: asyncio.Queue(FRAME_QUEUE))
-    replies: asyncio.Queue = field(default_factory=lambda: asyncio.Queue(REPLY_QUEUE))
-    wake: asyncio.Event = field(default_factory=asyncio.Event)
-    allowance: float = 0.0  # requests it may still send now (refilled at REQUESTS_PER_S)
-    allowance_at: float = 0.0
-    told_too_many_at: float = -math.inf
-    in_sync: bool = False  # has had a snapshot, and every frame since
-    behind: bool = False  # lost a frame, and waits for the next snapshot
-    frames_sent: int = 0
-
-
-def _is_ip(host: str) -> bool:
-    try:
-        ipaddress.ip_address(host.strip('[]'))
-    except ValueError:
-        return False
-    return True
-
-
 class WebServer:
     """Serves the page on http://host:port/ and streams frames to every page."""
 
@@ -83,7 +53,7 @@ class WebServer:
         self._parts: list[PagePart] = []
         self._handlers: dict[str, PagePart] = {}
         self._checkers: dict[str, Checker] = {}
-        self._pages: dict[int, _Page] = {}
+        self._pages: dict[int, Page] = {}
         self._next_ident = 1
         self._loop: asyncio.AbstractEventLoop | None = None
         self._runner: web.AppRunner | None = None
@@ -212,7 +182,7 @@ class WebServer:
                         self.frames_dropped += page.behind
                         continue
                     snapshot = snapshot or snapshot_text(frame)
-                    self._clear(page.frames)
+                    page.clear_frames()
                     page.frames.put_nowait(snapshot)
                     page.in_sync, page.behind = True, False
                 elif page.frames.full():
@@ -224,11 +194,6 @@ class WebServer:
                     delta = delta or frame_text(frame)
                     page.frames.put_nowait(delta)
                 page.wake.set()
-
-    @staticmethod
-    def _clear(queue: asyncio.Queue) -> None:
-        while not queue.empty():
-            queue.get_nowait()
 
     def _reply(self, ident: int | None, text: str) -> None:
         pages = self._pages.values() if ident is None else [self._pages.get(ident)]
@@ -242,11 +207,9 @@ class WebServer:
 
     @web.middleware
     async def _check_host(self, request: web.Request, handler):
-        """Only names this server is reached by: a page from another site that points its own
-        name at this machine (DNS rebinding) is refused."""
-        host = request.url.host or ''
-        if host not in LOCAL_HOSTS and host != self.host and not _is_ip(host):
-            return web.Response(status=403, text=f'host {host!r} refused')
+        refusal = host_refusal(request, self.host)
+        if refusal is not None:
+            return web.Response(status=403, text=refusal)
         return await handler(request)
 
     async def _index(self, request: web.Request) -> web.FileResponse:
@@ -258,16 +221,8 @@ class WebServer:
             self._icon_png = self._icon()
         return web.Response(body=self._icon_png, content_type='image/png')
 
-    def _origin_refusal(self, request: web.Request) -> str | None:
-        """Why a WebSocket may not open: a page of another origin (cross-site WebSocket
-        hijacking). A client that is not a browser sends no Origin."""
-        origin = request.headers.get('Origin')
-        if origin is not None and origin != f'{request.scheme}://{request.host}':
-            return f'origin {origin!r} refused: only this server\'s own page may connect'
-        return None
-
     async def _websocket(self, request: web.Request) -> web.StreamResponse:
-        refusal = self._origin_refusal(request)
+        refusal = origin_refusal(request)
         if refusal is not None:
             _log.warning('live view: %s', refusal)
             return web.Response(status=403, text=refusal)
@@ -276,7 +231,7 @@ class WebServer:
         socket = web.WebSocketResponse(max_msg_size=4 * messages.MAX_MESSAGE_CHARS,
                                        heartbeat=10.0, compress=False)
         await socket.prepare(request)
-        page = _Page(self._next_ident, socket)
+        page = Page(self._next_ident, socket)
         self._next_ident += 1
         self._pages[page.ident] = page
         self.snapshot_wanted = True
@@ -296,19 +251,14 @@ class WebServer:
             sender.cancel()
         return socket
 
-    def _receive(self, page: _Page, raw: str) -> None:
-        now = time.monotonic()
-        page.allowance = min(page.allowance + (now - page.allowance_at) * REQUESTS_PER_S,
-                             REQUESTS_PER_S)
-        page.allowance_at = now
-        if page.allowance < 1.0:  # said once a second at most: a flood gets no flood back
+    def _receive(self, page: Page, raw: str) -> None:
+        allowed, tell = page.take_request(time.monotonic())
+        if not allowed:  # said once a second at most: a flood gets no flood back
             self.requests_refused += 1
-            if now - page.told_too_many_at > 1.0:
-                page.told_too_many_at = now
+            if tell:
                 self._reply(page.ident, messages.error_text(
                     f'too many requests: at most {REQUESTS_PER_S:g} a second'))
             return
-        page.allowance -= 1.0
         try:
             request = messages.parse(raw, self._checkers)
         except ProtocolError as error:
@@ -320,7 +270,7 @@ class WebServer:
             _log.exception('live view request failed')
             self._refuse(page, f'request failed: {error}')
 
-    def _refuse(self, page: _Page, reason: str) -> None:
+    def _refuse(self, page: Page, reason: str) -> None:
         self.requests_refused += 1
         self._reply(page.ident, messages.error_text(reason))
 
@@ -330,7 +280,7 @@ class WebServer:
             hello.update(part.hello())
         return messages.text('hello', **hello)
 
-    async def _send(self, page: _Page) -> None:
+    async def _send(self, page: Page) -> None:
         """Replies first, then frames, as fast as the page takes them."""
         try:
             while not page.socket.closed:
