@@ -9,7 +9,6 @@ at once).
 
 from __future__ import annotations
 
-import queue
 from collections.abc import Coroutine
 from typing import Any
 
@@ -24,7 +23,7 @@ from turtle_traj.client import panel_messages
 from turtle_traj.client.remote_parameters import parameter_from_text
 from turtle_traj.core.registry import BY_NAME
 from turtle_traj.rosutils.interfaces import interface
-from turtle_traj.web.messages import error_text, text
+from turtle_traj.web.messages import QueuedPart, error_text, text
 from turtle_traj.web.server import WebServer
 
 STATUS_PERIOD_S = 1.0
@@ -33,15 +32,15 @@ TRAJECTORY_NODE = 'turtle_traj'  # relative: the node beside the simulator, in i
 _START_ONE = 'start one with `python -m turtle_traj` (or run `turtle-traj up --web`)'
 
 
-class TrajectoryPanel(Node):
+class TrajectoryPanel(QueuedPart, Node):
     """Connects `server`'s panel to the trajectory node in this node's namespace."""
 
     checkers = panel_messages.CHECKERS
+    hello_fields = staticmethod(panel_messages.hello)
 
     def __init__(self, server: WebServer, **kwargs) -> None:
         super().__init__('turtle_traj_web', **kwargs)
         self._server = server
-        self._requests: queue.SimpleQueue[tuple[int, dict[str, Any]]] = queue.SimpleQueue()
         self.create_timer(REQUEST_PERIOD_S, self._handle_requests)
         node = self.resolve_service_name(TRAJECTORY_NODE)
         self._node_name = node
@@ -55,19 +54,8 @@ class TrajectoryPanel(Node):
         self._draw.destroy()  # destroy_node leaves action clients
         super().destroy_node()
 
-    def hello(self) -> dict[str, Any]:
-        return panel_messages.hello()
-
-    def request(self, page: int, request: dict[str, Any]) -> None:
-        """Queue a page's request for the ROS thread (called on the web thread)."""
-        self._requests.put((page, request))
-
     def _handle_requests(self) -> None:
-        while True:
-            try:
-                page, request = self._requests.get_nowait()
-            except queue.Empty:
-                return
+        for page, request in self.inbox.take():
             handler = getattr(self, f'_on_{request["type"]}')
             try:
                 handler(page, request)

@@ -10,7 +10,6 @@ at once).
 from __future__ import annotations
 
 import io
-import queue
 import time
 from typing import Any
 
@@ -26,7 +25,7 @@ from turtle_traj.sim import live_messages
 from turtle_traj.sim.canvas import turtle_icon
 from turtle_traj.sim.node import SimNode
 from turtle_traj.web.frames import Frame
-from turtle_traj.web.messages import error_text, text
+from turtle_traj.web.messages import QueuedPart, error_text, text
 from turtle_traj.web.server import WebServer
 
 STATS_PERIOD_S = 1.0
@@ -42,15 +41,15 @@ def turtle_icon_png() -> bytes:
     return encoded.getvalue()
 
 
-class SimLiveView(Node):
+class SimLiveView(QueuedPart, Node):
     """Shows `sim` on `server`'s pages and drives its turtles with the pages' keys."""
 
     checkers = live_messages.CHECKERS
+    hello_fields = staticmethod(live_messages.hello)
 
     def __init__(self, sim: SimNode, server: WebServer, **kwargs) -> None:
         super().__init__('turtlesim_web', **kwargs)
         self._sim, self._server = sim, server
-        self._requests: queue.SimpleQueue[tuple[int, dict[str, Any]]] = queue.SimpleQueue()
         self.create_timer(REQUEST_PERIOD_S, self._handle_keys)
         self._seq = 0
         self._shown: tuple | None = None  # background and poses of the last frame sent
@@ -70,13 +69,6 @@ class SimLiveView(Node):
         for action in self._rotations.values():  # destroy_node leaves them
             action.destroy()
         super().destroy_node()
-
-    def hello(self) -> dict[str, Any]:
-        return live_messages.hello()
-
-    def request(self, page: int, request: dict[str, Any]) -> None:
-        """Queue a page's key for the ROS thread (called on the web thread)."""
-        self._requests.put((page, request))
 
     # -- out: a frame per simulator step ------------------------------------------------------
 
@@ -107,11 +99,7 @@ class SimLiveView(Node):
     # -- in: the pages' keys ------------------------------------------------------------------
 
     def _handle_keys(self) -> None:
-        while True:
-            try:
-                page, request = self._requests.get_nowait()
-            except queue.Empty:
-                break
+        for page, request in self.inbox.take():
             turtle = request['turtle']
             if turtle not in self._sim.world.turtles:
                 self._server.send(page, error_text(

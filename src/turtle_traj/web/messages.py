@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import json
 import math
+import queue
 import re
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from typing import Any
 
 MAX_MESSAGE_CHARS = 16_384  # a request longer than this is refused (a path of points fits)
@@ -64,3 +65,41 @@ def parse(raw: str, checkers: Mapping[str, Checker]) -> dict[str, Any]:
     if checker is None:
         raise ProtocolError(f'unknown message type {kind!r}')
     return {'type': kind, **checker(message)}
+
+
+class Inbox:
+    """Checked requests handed from the web thread to the ROS thread, in order of arrival."""
+
+    def __init__(self) -> None:
+        self._queue: queue.SimpleQueue[tuple[int, dict[str, Any]]] = queue.SimpleQueue()
+
+    def put(self, page: int, request: dict[str, Any]) -> None:
+        """On the web thread: never blocks."""
+        self._queue.put((page, request))
+
+    def take(self) -> Iterator[tuple[int, dict[str, Any]]]:
+        """On the ROS thread: each (page, request) that arrived, until none is left."""
+        while True:
+            try:
+                yield self._queue.get_nowait()
+            except queue.Empty:
+                return
+
+
+class QueuedPart:
+    """A part of the page whose checked requests wait in `inbox` for the ROS thread; its
+    `hello_fields` go into the page's hello."""
+
+    checkers: Mapping[str, Checker] = {}
+    hello_fields: Callable[[], dict[str, Any]] = staticmethod(dict)
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.inbox = Inbox()
+
+    def hello(self) -> dict[str, Any]:
+        return self.hello_fields()
+
+    def request(self, page: int, request: dict[str, Any]) -> None:
+        """Queue a page's request for the ROS thread (called on the web thread)."""
+        self.inbox.put(page, request)
