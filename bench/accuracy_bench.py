@@ -15,12 +15,13 @@ import rclpy
 from geometry_msgs.msg import Twist
 from rclpy.node import Node
 
+from checks import distance_to_polyline, drawn_strokes, ink_at, pen_up_moves
 from isolation import isolate
 from turtle_traj.api.ros_interface import make_request
 from turtle_traj.apps.demo import prepare, run_example
 from turtle_traj.apps.in_process import InProcessSystem
 from turtle_traj.core.geometry import drawing
-from turtle_traj.core.geometry.path import Pose2D, distance_to_polyline
+from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.planning import planner as planning
 from turtle_traj.core.planning.limits import POLYGON_SIDES
 from turtle_traj.core.registry import TRAJECTORIES
@@ -86,12 +87,12 @@ def drawing_figures(system: InProcessSystem, plan) -> str:
     """A drawing's accuracy from the recorded poses and the saved canvas: stroke ends missed,
     deviation while the pen is down, ink pixels along the pen-up moves."""
     poses = np.array([(p.x, p.y) for p in system.poses])
-    strokes = drawing.drawn_strokes(plan.path)
+    strokes = drawn_strokes(plan.path)
     ends = np.array([end for stroke in strokes for end in (stroke[0], stroke[-1])])
     end_miss = max(np.hypot(*(poses - end).T).min() for end in ends)
     # Pen-down poses: those nearer a stroke than any pen-up move (ties at stroke ends count).
     to_strokes = np.min([distance_to_polyline(poses, stroke) for stroke in strokes], axis=0)
-    moves = drawing.pen_up_moves(plan.path)
+    moves = pen_up_moves(plan.path)
     to_moves = (np.min([distance_to_polyline(poses, move) for move in moves], axis=0)
                 if moves else np.full(len(poses), np.inf))
     stroke_deviation = to_strokes[to_strokes <= to_moves].max()
@@ -100,7 +101,7 @@ def drawing_figures(system: InProcessSystem, plan) -> str:
         else np.empty((0, 2))
     clear = np.min([distance_to_polyline(travel, stroke) for stroke in strokes], axis=0) > 0.06 \
         if len(travel) else np.zeros(0, bool)
-    ink = int(system.sim.canvas.ink_at(travel[clear], (pen.r, pen.g, pen.b)).sum())
+    ink = int(ink_at(system.sim.canvas, travel[clear], (pen.r, pen.g, pen.b)).sum())
     return (f'{len(strokes)} strokes, ends missed by <= {1000 * end_miss:.2f} mm, deviation '
             f'along strokes <= {1000 * stroke_deviation:.2f} mm, pen up '
             f'{plan.path.pen_up_length:.2f} m (given order {plan.pen_up_unordered:.2f} m), ink '

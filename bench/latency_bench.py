@@ -18,10 +18,10 @@ import rclpy
 from nav_msgs.msg import Path as PathMsg
 from rclpy.qos import DurabilityPolicy, QoSProfile
 
+from checks import distance_to_polyline
 from isolation import isolate
 from turtle_traj.apps.demo import run_example
 from turtle_traj.apps.in_process import InProcessSystem
-from turtle_traj.core.geometry.path import distance_to_polyline
 from turtle_traj.core.registry import TRAJECTORIES
 
 # (label, fixed delay s, jitter s)

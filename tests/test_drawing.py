@@ -11,9 +11,10 @@ import svgelements
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from tests.geometry_checks import distance_to_polyline, drawn_strokes
 from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.geometry import drawing, svg, text
-from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn, distance_to_polyline
+from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
 from turtle_traj.core.geometry.shapes import ShapeError
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.planning import planner as planning
@@ -119,7 +120,7 @@ def test_text_is_written_along_the_heading_with_capitals_of_the_height():
     vertical = [s for s in strokes if np.allclose(s[:, 0], s[0, 0])]
     assert len(vertical) == 3  # H's two legs and the I
     path = plan('text', Pose2D(4.0, 2.0, math.pi / 2), text='HI', height=2.0).path
-    drawn = np.concatenate(drawing.drawn_strokes(path))
+    drawn = np.concatenate(drawn_strokes(path))
     # written upwards: the baseline runs up x = 4, capitals reach x = 2
     assert (drawn[:, 0].min(), drawn[:, 0].max()) == pytest.approx((2.0, 4.0), abs=1e-9)
     assert drawn[:, 1].min() > 2.0
@@ -145,7 +146,7 @@ def test_pen_up_moves_join_the_strokes_and_the_strokes_are_drawn_exactly():
     curves = [leg for leg in path.legs if isinstance(leg, Polyline)]
     assert [leg.pen for leg in curves] == [False, True, False, True]
     assert path.pen_up_length == pytest.approx(math.sqrt(2) + 1.0)
-    for drawn, stroke in zip(drawing.drawn_strokes(path), strokes, strict=True):
+    for drawn, stroke in zip(drawn_strokes(path), strokes, strict=True):
         assert np.allclose(drawn, stroke)
     # every curve starts along its first segment: a turn in place comes first
     heading = 0.0

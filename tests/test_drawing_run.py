@@ -8,7 +8,13 @@ from turtle_traj_interfaces.action import Draw
 from turtle_traj_interfaces.srv import DrawCurve, DrawSvg, DrawText
 from turtlesim.srv import TeleportAbsolute
 
-from tests.geometry_checks import distance_to_polyline, xy
+from tests.geometry_checks import (
+    distance_to_polyline,
+    drawn_strokes,
+    ink_at,
+    pen_up_moves,
+    xy,
+)
 from turtle_traj.api.ros_interface import make_request
 from turtle_traj.core.geometry import drawing
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
@@ -27,7 +33,7 @@ def _planned(traj, name: str, given: dict):
 
 
 def _ink(traj, points: np.ndarray, color=(PEN.r, PEN.g, PEN.b)) -> np.ndarray:
-    return traj.sim.canvas.ink_at(points, color)
+    return ink_at(traj.sim.canvas, points, color)
 
 
 def _along(points: np.ndarray) -> np.ndarray:
@@ -38,7 +44,7 @@ def _check_drawing(traj, response, path) -> None:
     """Every stroke drawn where planned, no ink along pen-up moves, figures that agree."""
     assert response.success, response.message
     poses = xy(traj.poses)
-    strokes = drawing.drawn_strokes(path)
+    strokes = drawn_strokes(path)
     for stroke in strokes:  # the turtle passes through both ends of every stroke
         for end in (stroke[0], stroke[-1]):
             assert np.hypot(*(poses - end).T).min() < 0.001
@@ -47,7 +53,7 @@ def _check_drawing(traj, response, path) -> None:
     assert response.max_deviation < 0.002
     assert response.pen_up_length == pytest.approx(path.pen_up_length)
     assert _ink(traj, np.concatenate([_along(stroke) for stroke in strokes])).mean() > 0.97
-    travel = np.concatenate([_along(move) for move in drawing.pen_up_moves(path)])
+    travel = np.concatenate([_along(move) for move in pen_up_moves(path)])
     to_ink = np.min([distance_to_polyline(travel, stroke) for stroke in strokes], axis=0)
     clear = travel[to_ink > INK_CLEARANCE_M]
     assert len(clear) > 20  # enough pen-up travel away from the strokes to look at
@@ -76,7 +82,7 @@ def test_svg_path_data_is_drawn_in_its_own_colour(traj):
     assert response.success, response.message
     poses = xy(traj.poses)
     assert distance_to_polyline(poses, plan.path.points()).max() < 0.002
-    strokes = drawing.drawn_strokes(plan.path)
+    strokes = drawn_strokes(plan.path)
     assert len(strokes) == 3
     assert _ink(traj, np.concatenate([_along(s) for s in strokes]), (255, 0, 0)).mean() > 0.97
     assert not _ink(traj, np.concatenate([_along(s) for s in strokes])).any()  # not the default
@@ -218,7 +224,7 @@ def test_the_pen_parameters_are_checked_and_drawings_use_them(traj):
     assert set_color('#00ff00').successful
     request, plan = _planned(traj, 'text', {'text': 'L', 'height': 0.5})
     assert traj.call(DrawText, 'draw_text', request).success
-    strokes = drawing.drawn_strokes(plan.path)
+    strokes = drawn_strokes(plan.path)
     assert _ink(traj, np.concatenate([_along(s) for s in strokes]), (0, 255, 0)).mean() > 0.97
     pen = _turtle_pen(traj)  # left down in the node's (new) pen
     assert (pen.on, pen.r, pen.g, pen.b) == (True, 0, 255, 0)

@@ -228,4 +228,3 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
             'points': [(8.5, 2.5), (8.5, 8.5), (5.5, 5.5), (2.5, 8.5)], 'closed': True})),
 )
 BY_NAME = {trajectory.name: trajectory for trajectory in TRAJECTORIES}
-BY_SERVICE = {trajectory.service: trajectory for trajectory in TRAJECTORIES}

@@ -83,14 +83,6 @@ class Canvas:
             self._touched.append((min(rows), max(rows) + 1, min(f for _, f, _ in painted),
                                   max(last for _, _, last in painted) + 1))
 
-    def ink_at(self, points_m: np.ndarray, rgb: tuple[int, int, int]) -> np.ndarray:
-        """Per point (world metres, (N, 2)): the trail pixel under it has colour `rgb`."""
-        pixels = np.array([to_pixel(x, y) for x, y in np.reshape(points_m, (-1, 2))])
-        columns, rows = (np.clip(np.floor(pixels.reshape(-1, 2)).astype(int), 0,
-                                 CANVAS_SIZE_PX - 1).T)
-        under = self.trails[rows, columns]
-        return np.all(under[:, :3] == rgb, axis=1) & (under[:, 3] > 0)
-
     def color_under(self, turtle: Turtle) -> tuple[int, int, int]:
         """RGB of the trail layer under the turtle, as turtlesim's color sensor reads it."""
         px, py = to_pixel(turtle.x, turtle.y)

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from turtle_traj.core.geometry.angles import wrap_angle
-from turtle_traj.core.geometry.path import Leg, Path, Polyline, Pose2D, Turn, legs_from_polyline
+from turtle_traj.core.geometry.path import Leg, Path, Pose2D, Turn, legs_from_polyline
 
 MIN_STROKE_M = 1e-6  # shorter strokes leave no ink and are dropped
 TWO_OPT_PASSES = 20  # each O(n^2): 500 strokes are ordered in under half a second
@@ -121,26 +121,6 @@ def drawing_path(start: Pose2D, strokes: Sequence[np.ndarray], *,
             heading = _heading_after(added, heading)
             x, y = points[-1]
     return Path(tuple(legs))
-
-
-def drawn_strokes(path: Path) -> list[np.ndarray]:
-    """The pen-down polylines of a path, consecutive pen-down curves joined (for checks)."""
-    strokes: list[list[np.ndarray]] = []
-    pen_was_down = False
-    for leg in path.legs:
-        if isinstance(leg, Turn):
-            continue
-        if leg.pen and pen_was_down:
-            strokes[-1].append(leg.points[1:])
-        elif leg.pen:
-            strokes.append([leg.points])
-        pen_was_down = leg.pen
-    return [np.concatenate(parts) for parts in strokes]
-
-
-def pen_up_moves(path: Path) -> list[np.ndarray]:
-    """The polylines driven with the pen up."""
-    return [leg.points for leg in path.legs if isinstance(leg, Polyline) and not leg.pen]
 
 
 def resampled(points: np.ndarray, spacing: float) -> np.ndarray:

@@ -172,17 +172,6 @@ def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: f
     return legs
 
 
-def distance_to_polyline(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """Distance of each of `points` (P, 2) to the nearest segment of `vertices` (K, 2)."""
-    a, b = vertices[:-1], vertices[1:]
-    ab = b - a
-    ap = points[:, None, :] - a[None, :, :]
-    lengths = np.maximum(np.einsum('kj,kj->k', ab, ab), 1e-18)
-    t = np.clip(np.einsum('pkj,kj->pk', ap, ab) / lengths, 0.0, 1.0)
-    nearest = a[None] + t[..., None] * ab[None]
-    return np.min(np.linalg.norm(points[:, None, :] - nearest, axis=2), axis=1)
-
-
 class NearestOnPolyline:
     """Distances of single points to a fixed polyline (K, 2), its segments prepared once.
 
