@@ -15,12 +15,11 @@ import rclpy
 from geometry_msgs.msg import Twist
 from rclpy.node import Node
 
-from checks import distance_to_polyline, drawn_strokes, ink_at, pen_up_moves
+from checks import distance_to_polyline, drawn_strokes, ink_at, pen_up_moves, resampled
 from isolation import isolate
 from turtle_traj.api.ros_interface import make_request
 from turtle_traj.apps.demo import prepare, run_example
 from turtle_traj.apps.in_process import InProcessSystem
-from turtle_traj.core.geometry import drawing
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.planning import planner as planning
 from turtle_traj.core.planning.limits import POLYGON_SIDES
@@ -97,7 +96,7 @@ def drawing_figures(system: InProcessSystem, plan) -> str:
                 if moves else np.full(len(poses), np.inf))
     stroke_deviation = to_strokes[to_strokes <= to_moves].max()
     pen = plan.pen
-    travel = np.concatenate([drawing.resampled(move, 0.01) for move in moves]) if moves \
+    travel = np.concatenate([resampled(move, 0.01) for move in moves]) if moves \
         else np.empty((0, 2))
     clear = np.min([distance_to_polyline(travel, stroke) for stroke in strokes], axis=0) > 0.06 \
         if len(travel) else np.zeros(0, bool)

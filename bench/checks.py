@@ -10,6 +10,7 @@ from tests.geometry_checks import (  # noqa: E402
     drawn_strokes,
     ink_at,
     pen_up_moves,
+    resampled,
 )
 
-__all__ = ['distance_to_polyline', 'drawn_strokes', 'ink_at', 'pen_up_moves']
+__all__ = ['distance_to_polyline', 'drawn_strokes', 'ink_at', 'pen_up_moves', 'resampled']

@@ -65,3 +65,10 @@ def ink_at(canvas: Canvas, points_m: np.ndarray, rgb: tuple[int, int, int]) -> n
                              CANVAS_SIZE_PX - 1).T)
     under = canvas.trails[rows, columns]
     return np.all(under[:, :3] == rgb, axis=1) & (under[:, 3] > 0)
+
+
+def resampled(points: np.ndarray, spacing: float) -> np.ndarray:
+    """Points along a polyline, at most `spacing` apart, its vertices included."""
+    pieces = [np.linspace(a, b, max(math.ceil(math.dist(a, b) / spacing), 1) + 1)[:-1]
+              for a, b in zip(points[:-1], points[1:], strict=True)]
+    return np.concatenate(pieces + [points[-1:]])

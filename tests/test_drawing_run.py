@@ -13,10 +13,10 @@ from tests.geometry_checks import (
     drawn_strokes,
     ink_at,
     pen_up_moves,
+    resampled,
     xy,
 )
 from turtle_traj.api.ros_interface import make_request
-from turtle_traj.core.geometry import drawing
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.planning import planner as planning
 from turtle_traj.core.registry import BY_NAME
@@ -37,7 +37,7 @@ def _ink(traj, points: np.ndarray, color=(PEN.r, PEN.g, PEN.b)) -> np.ndarray:
 
 
 def _along(points: np.ndarray) -> np.ndarray:
-    return drawing.resampled(points, 0.01)
+    return resampled(points, 0.01)
 
 
 def _check_drawing(traj, response, path) -> None:

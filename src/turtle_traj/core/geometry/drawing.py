@@ -121,10 +121,3 @@ def drawing_path(start: Pose2D, strokes: Sequence[np.ndarray], *,
             heading = _heading_after(added, heading)
             x, y = points[-1]
     return Path(tuple(legs))
-
-
-def resampled(points: np.ndarray, spacing: float) -> np.ndarray:
-    """Points along a polyline, at most `spacing` apart, its vertices included."""
-    pieces = [np.linspace(a, b, max(math.ceil(math.dist(a, b) / spacing), 1) + 1)[:-1]
-              for a, b in zip(points[:-1], points[1:], strict=True)]
-    return np.concatenate(pieces + [points[-1:]])
