@@ -107,12 +107,16 @@ def draw_speeds(axes, run: Run) -> None:
 def draw_progress(axes, run: Run) -> None:
     axes.plot(run.progress[:, 0], 100 * run.progress[:, 1], color='tab:green', lw=1.2)
     axes.set(xlabel='t [s]', ylabel='progress [%]', ylim=(0, 105),
-             title='draw action progress' if len(run.progress) else
-             'draw action progress (none: not run as a goal)')
+             title='draw action progress')
 
 
 DRAWERS = {'path': draw_path, 'deviation': draw_deviation, 'speeds': draw_speeds,
            'progress': draw_progress}
+
+
+def panels_of(run: Run) -> tuple[str, ...]:
+    """The panels `run` has data for: progress only for a run of the draw action."""
+    return PANELS if len(run.progress) else PANELS[:-1]
 
 
 def panel(run: Run, name: str) -> Figure:
@@ -123,15 +127,17 @@ def panel(run: Run, name: str) -> Figure:
 
 
 def overview(run: Run) -> Figure:
-    """The four panels in one picture."""
+    """The run's panels in one picture: four, or without progress the path down the left."""
     figure = Figure(figsize=(10, 8), dpi=80, layout='constrained')
-    for index, name in enumerate(PANELS):
-        DRAWERS[name](figure.add_subplot(2, 2, index + 1), run)
+    names = panels_of(run)
+    places = [1, 2, 3, 4] if len(names) == 4 else [(1, 3), 2, 4]
+    for name, place in zip(names, places, strict=True):
+        DRAWERS[name](figure.add_subplot(2, 2, place), run)
     return figure
 
 
 def write_overview(run: Run, target: Path) -> Path:
-    """The four panels of `run` in one PNG (the demo's plot per trajectory)."""
+    """The panels of `run` in one PNG (the demo's plot per trajectory)."""
     overview(run).savefig(target)
     return target
 
@@ -141,7 +147,7 @@ def write_plots(bag: Path, folder: Path) -> list[Path]:
     run = read_run(bag)
     folder.mkdir(parents=True, exist_ok=True)
     written = []
-    for name in PANELS:
+    for name in panels_of(run):
         target = folder / f'{name}.png'
         panel(run, name).savefig(target)
         written.append(target)

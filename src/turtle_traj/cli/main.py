@@ -1,8 +1,8 @@
 """`turtle-traj`: the command line of the trajectory node.
 
 One subcommand per entry of the trajectory registry (`draw square`, `go-to`, ...), each with
-an option or argument per request field, plus stop, reset, save, menu, params and up. A
-trajectory runs as a goal of the node's draw action.
+an option or argument per request field, plus stop, reset, save, menu, params, up, teleop,
+record, play and plot. A trajectory runs as a goal of the node's draw action.
 """
 
 from __future__ import annotations

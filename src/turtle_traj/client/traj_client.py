@@ -141,7 +141,8 @@ class TrajClient:
         the turtle stops and the outcome says why it was cancelled.
 
         :param on_feedback: called with each Draw.Feedback (at least 5 Hz of the node's clock).
-        :raises TrajClientError: no node, the goal rejected (with the node's reason), or the
+        :raises TrajClientError: no node, the goal rejected (a trajectory node accepts every goal:
+            the node's reason for one that cannot run is in the outcome's result), or the
             node gone mid-run (noticed within about `FEEDBACK_SILENCE_S + PROBE_TIMEOUT_S`).
         """
         action = self._draw_action()

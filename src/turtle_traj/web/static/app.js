@@ -107,7 +107,7 @@ const handlers = {
     }
     for (const param of message.params) {  // in place: what is being typed stays
       const input = inputs.get(param.name);
-      if (input !== document.activeElement) input.value = String(param.value);
+      if (input !== document.activeElement) input.value = shown(param.value);
     }
   },
   param_result(message) {
@@ -128,9 +128,16 @@ function row(...cells) {
   return tr;
 }
 
+// A parameter's value as shown: a number to 6 significant digits (turtlesim's 11.0888... arena
+// reads 11.0889), the rest as it is.
+function shown(value) {
+  return typeof value === 'number' && !Number.isInteger(value) ? String(+value.toPrecision(6))
+    : String(value);
+}
+
 function paramRow(param) {
   const input = document.createElement('input');
-  input.value = String(param.value);
+  input.value = shown(param.value);
   input.name = param.name;
   input.disabled = param.read_only;
   input.title = param.description + (param.low !== null ? ` [${param.low}, ${param.high}]` : '');
