@@ -6,7 +6,6 @@ executor themselves, so never use them from inside another node's callback.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -20,6 +19,7 @@ from turtlesim.msg import Pose
 
 from turtle_traj.node.trajectory_node import TrajectoryNode
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+from turtle_traj.rosutils.runtime import spin_until
 from turtle_traj.sim.lockstep import LockstepExecutor
 from turtle_traj.sim.node import SimNode
 
@@ -81,13 +81,9 @@ class LockstepSim:
     def spin_until(self, condition: Callable[[], bool], *, timeout_s: float = 60.0) -> bool:
         """Spin until condition() holds or `timeout_s` of simulated time passed."""
         deadline = self.sim_time_s + timeout_s
-        wall_deadline = time.monotonic() + max(_WALL_SAFETY_MIN_S,
-                                               _WALL_SAFETY_PER_SIM_S * timeout_s)
-        while not condition():
-            if self.sim_time_s > deadline or time.monotonic() > wall_deadline:
-                return False
-            self.executor.spin_once(timeout_sec=0.01)
-        return True
+        spin_until(self.executor, lambda: condition() or self.sim_time_s > deadline,
+                   timeout_s=max(_WALL_SAFETY_MIN_S, _WALL_SAFETY_PER_SIM_S * timeout_s))
+        return bool(condition())
 
     def spin_sim_seconds(self, seconds: float) -> None:
         """Spin until the simulator has advanced by `seconds` of simulated time."""
