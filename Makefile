@@ -29,9 +29,9 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 
 # Two workers, a test file each at a time: the subprocess-heavy files wait on DDS discovery
 # and the colcon build, so two run in about half the time, loaded or not (each worker claims
-# its own ROS_DOMAIN_ID in tests/conftest.py).
+# its own ROS_DOMAIN_ID in tests/conftest.py). PYTEST_ARGS adds options (`--durations=20`).
 test: setup
-	$(PY) -m pytest -q -rs -n 2 --dist loadfile
+	$(PY) -m pytest -q -rs -n 2 --dist loadfile $(PYTEST_ARGS)
 
 demo: setup
 	$(PY) -m turtle_traj.apps.demo
