@@ -4,12 +4,12 @@ simulated and wall time alike, and on every executor the node may be composed in
 rclpy 7.1.6's Python executors poll a coroutine that awaits a pending future on every pass
 (ros2/rclpy#1405: they re-run pending tasks instead of waiting for their futures). The
 SingleThreadedExecutor survives that at some CPU cost; on the MultiThreadedExecutor each pass
-also hands the task to the thread pool, and the polling starved the simulator's timer in the same
-process until the turtle stalled at its first corner (tests/test_multithreaded.py). There a
-handler blocks its own pool thread instead, as rclpy's documentation has reentrant callbacks do
-on that executor: the task counts as executing and is not polled, and the other threads run the
-timers that complete it. The EventsExecutor (the programs' default) resumes a task only when
-woken, and stays with `await`.
+also goes through the thread pool, and a run kept the executor at a whole core. There a handler
+blocks its own pool thread instead, as rclpy's documentation has reentrant callbacks do on that
+executor: the task counts as executing and is not polled, and the other threads run the timers
+that complete it (tests/test_multithreaded.py, with the simulator on an executor of its own: in
+the same MultiThreadedExecutor it still starves, which the README says). The EventsExecutor
+(the programs' default) resumes a task only when woken, and stays with `await`.
 """
 
 from __future__ import annotations

@@ -48,9 +48,7 @@ function setTurtles(turtles) {
 const handlers = {
   hello(message) {
     state.world = message.world;
-    state.kinds = message.kinds || [];
-    $('panel').hidden = !message.kinds;  // a simulator's page alone: no trajectory panel
-    if (!message.kinds) return;
+    state.kinds = message.kinds;
     $('kind').replaceChildren(...message.kinds.map((k) => new Option(k.name, k.name)));
     showFields();
     send({type: 'get_params'});
