@@ -51,17 +51,24 @@ def composed(ros_context, monkeypatch):
     composed_executor.add_node(node)
     composed_executor.add_node(client)
     sim_executor.add_node(sim)
-    spinners = [threading.Thread(target=executor.spin, daemon=True)
+    stop = threading.Event()
+
+    def spin(executor) -> None:  # until asked: an executor shut down while spinning can raise
+        while not stop.is_set():
+            executor.spin_once(timeout_sec=0.05)
+    spinners = [threading.Thread(target=spin, args=(executor,), daemon=True)
                 for executor in (composed_executor, sim_executor)]
     for spinner in spinners:
         spinner.start()
     try:
         yield sim, node, client
     finally:
-        for executor in (composed_executor, sim_executor):
-            executor.shutdown()
+        node.abort_run('the test is over')  # a handler still waiting lets go of its thread
+        stop.set()
         for spinner in spinners:
             spinner.join(timeout=10.0)
+        for executor in (composed_executor, sim_executor):
+            executor.shutdown()
         for each in (client, node, sim):
             each.destroy_node()
 
