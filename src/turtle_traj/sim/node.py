@@ -23,7 +23,7 @@ from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.endpoints import TurtleEndpoints
 from turtle_traj.sim.parameters import declare_parameters
-from turtle_traj.sim.physics import World
+from turtle_traj.sim.physics import Inertia, World
 from turtle_traj.sim.rotation_goals import RotationGoals
 from turtle_traj.sim.state import (
     NonFiniteCommand,
@@ -52,6 +52,7 @@ class SimNode(Node):
         self._background: tuple[int, int, int] | None = None
         self.add_post_set_parameters_callback(self._apply_parameters)
         declared = declare_parameters(self)
+        self.world.inertia = Inertia(declared.max_linear_accel, declared.max_angular_accel)
         time_scale, publish_clock = declared.time_scale, declared.publish_clock
         self.output_dir = declared.output_dir
         self._command_delay = CommandDelay(declared.command_delay_s, declared.command_jitter_s,

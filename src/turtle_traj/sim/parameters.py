@@ -19,6 +19,8 @@ class SimParameters:
     command_delay_s: float
     command_jitter_s: float
     command_jitter_seed: int
+    max_linear_accel: float
+    max_angular_accel: float
 
 
 def _color_range() -> list[IntegerRange]:
@@ -57,4 +59,14 @@ def declare_parameters(node: Node) -> SimParameters:
         node.declare_parameter('command_jitter_seed', 0, ParameterDescriptor(
             description='Seed of the jitter, so runs repeat (turtle_traj extension)',
             read_only=True)).value)
-    return SimParameters(time_scale, publish_clock, output_dir, *delay)
+    inertia = (
+        node.declare_parameter('max_linear_accel', 0.0, ParameterDescriptor(
+            description='Inertia: how fast a turtle\'s speed may change [m/s^2]; 0 is '
+                        'turtlesim\'s instant response (turtle_traj extension, to test '
+                        'controllers meant for real bases)', read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1000.0)])).value,
+        node.declare_parameter('max_angular_accel', 0.0, ParameterDescriptor(
+            description='Inertia: how fast a turtle\'s turn rate may change [rad/s^2]; 0 is '
+                        'instant (turtle_traj extension)', read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1000.0)])).value)
+    return SimParameters(time_scale, publish_clock, output_dir, *delay, *inertia)

@@ -8,12 +8,19 @@ clock then, and drops a command older than 1 s at the start of a later tick. Cal
 clock as `now_s`; without it the world uses its own simulated time (step count times the step),
 and a command given between steps is stamped with the coming step's time, as turtlesim would
 stamp it. Either way a single command lasts 63 steps.
+
+Inertia (a turtle_traj extension for testing controllers meant for real bases): with
+`Inertia` limits, each step moves a turtle's velocity towards its command by at most the limit
+times the step, and the pose reports the velocity in effect. A command within reach is taken
+exactly, so a controller that respects the limits sees turtlesim's behaviour. Limits of 0 are
+turtlesim's instant response.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterator
+from dataclasses import dataclass
 
 from turtle_traj.core.turtlesim_contract import COMMAND_TIMEOUT_S, SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 from turtle_traj.sim.state import (
@@ -34,11 +41,34 @@ ROTATION_SPEED_RAD_S = 1.0
 ROTATION_TOLERANCE_RAD = 0.02
 
 
+@dataclass(frozen=True)
+class Inertia:
+    """How fast a turtle's velocity may change: m/s² and rad/s²; 0 is at once."""
+
+    linear_accel: float = 0.0
+    angular_accel: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, value in (('linear_accel', self.linear_accel),
+                            ('angular_accel', self.angular_accel)):
+            if not (math.isfinite(value) and value >= 0.0):
+                raise SimulationError(f'{name} must be a finite number >= 0, got {value}')
+
+
+def _towards(value: float, target: float, step: float) -> float:
+    """`value` moved towards `target` by at most `step` (> 0); the target itself if within
+    reach, so that a command in reach is taken exactly."""
+    if abs(target - value) <= step:
+        return target
+    return value + math.copysign(step, target - value)
+
+
 class World:
     """All turtles of one simulator, stepped in lexicographic name order."""
 
-    def __init__(self, *, holonomic: bool = False) -> None:
+    def __init__(self, *, holonomic: bool = False, inertia: Inertia | None = None) -> None:
         self.holonomic = holonomic
+        self.inertia = inertia if inertia is not None else Inertia()
         self.time_s = 0.0
         self.turtles: dict[str, Turtle] = {}
         self._name_counter = 0
@@ -101,10 +131,13 @@ class World:
             turtle.stop()
             shown = ', '.join(f'{key}={value}' for key, value in values.items())
             raise NonFiniteCommand(f'non-finite velocity ({shown}): the turtle stops', aborted)
-        turtle.vx = linear_x
-        if self.holonomic:
-            turtle.vy = linear_y
-        turtle.omega = angular_z
+        turtle.want_vx = linear_x
+        turtle.want_vy = linear_y if self.holonomic else 0.0
+        turtle.want_omega = angular_z
+        if not self.inertia.linear_accel:
+            turtle.vx, turtle.vy = turtle.want_vx, turtle.want_vy
+        if not self.inertia.angular_accel:
+            turtle.omega = angular_z
         return aborted
 
     def _now(self, now_s: float | None, coming: bool = False) -> float:
@@ -171,7 +204,10 @@ class World:
             self._rotate(turtle, report, now_s)
 
         if now_s - turtle.command_time_s > COMMAND_TIMEOUT_S:
-            turtle.stop()
+            turtle.want_vx = turtle.want_vy = turtle.want_omega = 0.0
+            if not (self.inertia.linear_accel or self.inertia.angular_accel):
+                turtle.stop()
+        self._accelerate(turtle)
 
         old = (turtle.x, turtle.y)
         turtle.theta = normalize_angle(turtle.theta + turtle.omega * STEP_S)
@@ -184,6 +220,17 @@ class World:
             turtle.y = min(max(turtle.y, 0.0), WORLD_SIZE_M)
         if turtle.pen.on and (turtle.x, turtle.y) != old:
             report.segments.append(Segment(old, (turtle.x, turtle.y), turtle.pen))
+
+    def _accelerate(self, turtle: Turtle) -> None:
+        """With inertia, move the velocity towards the command by one step's worth."""
+        linear, angular = self.inertia.linear_accel, self.inertia.angular_accel
+        if linear:
+            turtle.vx = _towards(turtle.vx, turtle.want_vx, linear * STEP_S)
+            turtle.vy = _towards(turtle.vy, turtle.want_vy, linear * STEP_S)
+        else:
+            turtle.vx, turtle.vy = turtle.want_vx, turtle.want_vy
+        turtle.omega = (_towards(turtle.omega, turtle.want_omega, angular * STEP_S) if angular
+                        else turtle.want_omega)
 
     def _rotate(self, turtle: Turtle, report: StepReport, now_s: float) -> None:
         goal = turtle.rotation
@@ -206,6 +253,6 @@ class World:
                 RotationEvent(turtle.name, goal.token, remaining, goal.delta_rad,
                               RotationEnd.SUCCEEDED))
             return
-        turtle.vx = turtle.vy = 0.0
-        turtle.omega = -ROTATION_SPEED_RAD_S if remaining < 0 else ROTATION_SPEED_RAD_S
+        turtle.want_vx = turtle.want_vy = 0.0
+        turtle.want_omega = -ROTATION_SPEED_RAD_S if remaining < 0 else ROTATION_SPEED_RAD_S
         turtle.command_time_s = now_s

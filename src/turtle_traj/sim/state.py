@@ -94,6 +94,11 @@ class Turtle:
     vx: float = 0.0
     vy: float = 0.0
     omega: float = 0.0
+    # The velocity last commanded; with inertia (`World.inertia`) the velocity above moves
+    # towards it step by step, without it the two are the same.
+    want_vx: float = 0.0
+    want_vy: float = 0.0
+    want_omega: float = 0.0
     command_time_s: float = 0.0
     pen: Pen = field(default_factory=Pen)
     teleports: list[tuple[str, float, float, float]] = field(default_factory=list)
@@ -105,7 +110,9 @@ class Turtle:
         return math.hypot(self.vx, self.vy)
 
     def stop(self) -> None:
+        """Stand still at once (and want to)."""
         self.vx = self.vy = self.omega = 0.0
+        self.want_vx = self.want_vy = self.want_omega = 0.0
 
 
 @dataclass

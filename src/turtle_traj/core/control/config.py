@@ -14,9 +14,31 @@ class ControlConfig:
     angular_speed: float  # top turn rate
     heading_gain: float  # turn rate per radian of heading error
     cross_track_gain: float  # how hard curves pull the turtle back onto the path
-    deceleration: float  # braking towards the end of a curve
-    angular_deceleration: float  # braking towards the end of a turn
+    deceleration: float  # braking towards the end of a curve, without acceleration limits
+    angular_deceleration: float  # braking towards the end of a turn, likewise
     position_tolerance: float  # end of a curve reached (corners, line ends)
     heading_tolerance: float  # end of a turn reached
     turn_first_angle: float  # heading error beyond which the turtle turns in place
     period_s: float  # control period
+    # A base's acceleration limits; 0: unlimited (turtlesim's instant response). With any of
+    # them set, every command stays within reach of the one before (`dynamics`), and braking
+    # follows the limits instead of `deceleration` and `angular_deceleration`.
+    max_linear_accel: float = 0.0
+    max_linear_decel: float = 0.0  # 0: the same as max_linear_accel
+    max_angular_accel: float = 0.0
+    progress_timeout_s: float = 3.0  # a run that makes no progress this long ends
+
+    @property
+    def limited(self) -> bool:
+        """The base has acceleration limits, linear or angular."""
+        return bool(self.max_linear_accel or self.max_angular_accel)
+
+    @property
+    def linear_braking(self) -> float:
+        """How hard the controller brakes along a path, m/s²."""
+        return self.max_linear_decel or self.max_linear_accel or self.deceleration
+
+    @property
+    def angular_braking(self) -> float:
+        """How hard the controller brakes a turn, rad/s²."""
+        return self.max_angular_accel or self.angular_deceleration

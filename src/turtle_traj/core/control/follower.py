@@ -8,15 +8,23 @@ curvature feed-forward plus a heading set-point that steers back onto the path
 towards the end of the polyline and, near the end, by the predicted remaining distance per
 control period, so the turtle stops on the end point. A turtle facing more than
 `turn_first_angle` away from the path turns in place first.
+
+On a base with acceleration limits (`ControlConfig.limited`) every command stays within reach
+of the one before (`dynamics`), braking follows the limits, curves follow their time-optimal
+speed profile (`profile`), and a leg ends only once a stop is within reach.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.dynamics import can_stop, stopping_speed, within_reach
 from turtle_traj.core.control.latency import LatencyPredictor
+from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 
@@ -25,7 +33,7 @@ _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip 
 
 
 def _braking_speed(remaining: float, deceleration: float, period_s: float,
-                   latency: LatencyPredictor) -> float:
+                   latency: LatencyPredictor, limited: bool = False) -> float:
     """Fastest speed from which the turtle still stops within `remaining`.
 
     Near the end a command covers what remains of the predicted remainder in one period, so it
@@ -34,18 +42,21 @@ def _braking_speed(remaining: float, deceleration: float, period_s: float,
     remainder then, and a misjudged period is corrected by the next command (backing up if
     needed: the remainder is signed).
     """
-    return min(math.sqrt(2.0 * deceleration * remaining),
-               remaining / ((1 + latency.spread) * period_s))
+    braking = (stopping_speed(remaining, deceleration, period_s) if limited
+               else math.sqrt(2.0 * deceleration * remaining))
+    return min(braking, remaining / ((1 + latency.spread) * period_s))
 
 
-def _finished(arrived: bool, latency: LatencyPredictor) -> Command | None:
+def _finished(arrived: bool, latency: LatencyPredictor, config: ControlConfig) -> Command | None:
     """None when a leg is over: the predicted pose is there, and the turtle itself too.
 
     Until then the commands on their way carry the turtle, so hold with a stop. When the
     latency varies, the turtle must also stand still: a command acting a period longer than
-    predicted would carry it on.
+    predicted would carry it on. A base with acceleration limits must be able to stop within
+    the next period.
     """
-    if arrived and (latency.spread == 0 or latency.still):
+    if (arrived and (latency.spread == 0 or latency.still)
+            and (not config.limited or can_stop(latency.last_sent, config))):
         return None
     return STOP
 
@@ -74,10 +85,11 @@ class _TurnTracker:
         remaining = self.turn.sweep_rad - self.turned
         error = remaining - wrap_angle(predicted.theta - pose.theta)
         if abs(error) < config.heading_tolerance:
-            return _finished(abs(remaining) < config.heading_tolerance, latency)
+            return _finished(abs(remaining) < config.heading_tolerance, latency, config)
         rate = min(config.angular_speed,
                    _braking_speed(max(abs(error) - latency.overrun()[1], 0.0),
-                                  config.angular_deceleration, config.period_s, latency))
+                                  config.angular_braking, config.period_s, latency,
+                                  config.limited))
         return Command(0.0, math.copysign(rate, error))
 
 
@@ -89,6 +101,7 @@ class _PolylineTracker:
         self.end_tolerance = end_tolerance
         self.segment = 0
         self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
+        self._profile: SpeedProfile | None = None  # with acceleration limits, on a curve
         # Plain floats: a projection looks at a few segments, too few for numpy to pay.
         self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
 
@@ -151,7 +164,7 @@ class _PolylineTracker:
         if self._arrived(predicted, self.segment, remaining):
             arrived = self._arrived(pose, actual_segment,
                                     self._remaining(pose, actual_segment, actual_fraction))
-            return _finished(arrived, latency)
+            return _finished(arrived, latency, config)
         pose = predicted
 
         facing = pose.theta + (math.pi if polyline.reverse else 0.0)
@@ -160,11 +173,14 @@ class _PolylineTracker:
         heading_error = wrap_angle(path_heading - facing)
 
         speed = config.linear_speed
-        if abs(curvature) > 1e-9:
+        if config.limited:
+            speed = min(speed, self._profiled_speed(fraction, latency, config))
+        elif abs(curvature) > 1e-9:
             speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
         if remaining != math.inf:
             speed = min(speed, _braking_speed(max(abs(remaining) - latency.overrun()[0], 0.0),
-                                              config.deceleration, config.period_s, latency))
+                                              config.linear_braking, config.period_s, latency,
+                                              config.limited))
             speed = math.copysign(speed, remaining)
         if abs(heading_error) > config.turn_first_angle:
             speed = 0.0
@@ -178,6 +194,26 @@ class _PolylineTracker:
         angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
         linear = -speed if polyline.reverse else speed
         return Command(linear, angular)
+
+
+    def _profiled_speed(self, fraction: float, latency: LatencyPredictor,
+                        config: ControlConfig) -> float:
+        """The profile's speed where this command's period ends (from a standstill the
+        profile starts at 0: it is the window that accelerates the base)."""
+        polyline = self.polyline
+        if self._profile is None:
+            curved = bool(np.any(np.abs(polyline.curvatures) > 1e-9))
+            self._profile = (SpeedProfile.curvature_bound(polyline, config) if polyline.repeat
+                             else SpeedProfile.plan(polyline, config) if curved
+                             else SpeedProfile(np.array([0.0, polyline.length]),
+                                               np.full(2, config.linear_speed), math.nan))
+        arc = (polyline.cumulative_length[self.segment]
+               + fraction * polyline.segment_lengths[self.segment])
+        reach = abs(latency.last_sent.linear) + (config.max_linear_accel or 1e6) * config.period_s
+        ahead = min(reach, config.linear_speed) * config.period_s
+        if polyline.repeat:
+            return self._profile.speed_at((arc + ahead) % max(polyline.length, 1e-12))
+        return self._profile.speed_at(arc + ahead)
 
 
 class PathFollower:
@@ -221,7 +257,8 @@ class PathFollower:
         way will take the turtle; STOP once done."""
         if self._latency is None:
             self._latency = LatencyPredictor(config.period_s)
-        return self._next_command(pose, self._latency.predict(pose), config)
+        command = self._next_command(pose, self._latency.predict(pose), config)
+        return within_reach(command, self._latency.last_sent, config)
 
     def _next_command(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig) -> Command:
         while not self.done:

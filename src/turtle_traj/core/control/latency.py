@@ -85,6 +85,12 @@ class LatencyPredictor:
                 max(abs(command.angular) for command in acting) * late_s)
 
     @property
+    def last_sent(self) -> Command:
+        """The command that will be in effect when the next one takes over: the last one
+        sent, or before any, the velocity the last pose reported (a magnitude, for turtlesim)."""
+        return self._sent[-1] if self._sent else Command(*self._echo)
+
+    @property
     def still(self) -> bool:
         """Nothing moves the turtle: it stands, and every command on its way is a stop."""
         return self._echo == (0.0, 0.0) and all(command == STOP for command in self._pending())

@@ -30,6 +30,7 @@ class ShapeDefaults:
     svg_size: float
     goal_tolerance: float
     corner_angle: float
+    corner_tolerance: float = 0.0
 
 
 def pen_color_problem(text: str) -> str | None:
@@ -69,7 +70,10 @@ def settings_from_values(value: dict[str, object]) -> Settings:
         deceleration=value['deceleration'], angular_deceleration=value['angular_deceleration'],
         position_tolerance=value['position_tolerance'],
         heading_tolerance=value['heading_tolerance'],
-        turn_first_angle=value['turn_first_angle'], period_s=1.0 / value['control_rate'])
+        turn_first_angle=value['turn_first_angle'], period_s=1.0 / value['control_rate'],
+        max_linear_accel=value['max_linear_accel'], max_linear_decel=value['max_linear_decel'],
+        max_angular_accel=value['max_angular_accel'],
+        progress_timeout_s=value['progress_timeout'])
     defaults = ShapeDefaults(
         side_length=value['default_side_length'], radius=value['default_radius'],
         spiral_start_radius=value['default_spiral_start_radius'],
@@ -78,7 +82,8 @@ def settings_from_values(value: dict[str, object]) -> Settings:
         sine_frequency=value['default_sine_frequency'],
         sine_length=value['default_sine_length'], curve_width=value['default_curve_width'],
         text_height=value['default_text_height'], svg_size=value['default_svg_size'],
-        goal_tolerance=value['goal_tolerance'], corner_angle=value['corner_angle'])
+        goal_tolerance=value['goal_tolerance'], corner_angle=value['corner_angle'],
+        corner_tolerance=value['corner_tolerance'])
     arena = Arena(value['arena_min_x'], value['arena_min_y'], value['arena_max_x'],
                   value['arena_max_y'], value['wall_margin'])
     pen = pen_style(value['pen_color'], value['pen_width'])

@@ -36,9 +36,23 @@ PARAMETERS = (
          0.01, 10.0),
     Spec('heading_gain', 8.0, 'Turn rate per radian of heading error', '1/s', 0.1, 50.0),
     Spec('cross_track_gain', 2.5, 'How hard curves pull back onto the path', '1/m', 0.0, 50.0),
-    Spec('deceleration', 20.0, 'Braking towards the end of a curve', 'm/s^2', 0.1, 100.0),
-    Spec('angular_deceleration', 50.0, 'Braking towards the end of a turn', 'rad/s^2',
-         0.1, 100.0),
+    Spec('deceleration', 20.0, 'Braking towards the end of a curve, on a base without '
+         'acceleration limits (with them, max_linear_decel or max_linear_accel brakes)',
+         'm/s^2', 0.1, 100.0),
+    Spec('angular_deceleration', 50.0, 'Braking towards the end of a turn, on a base without '
+         'acceleration limits (with them, max_angular_accel brakes)', 'rad/s^2', 0.1, 100.0),
+    Spec('max_linear_accel', 0.0, "The base's linear acceleration limit: no command asks "
+         'for more; 0 = unlimited (turtlesim)', 'm/s^2', 0.0, 100.0),
+    Spec('max_linear_decel', 0.0, "The base's braking limit; 0 = max_linear_accel",
+         'm/s^2', 0.0, 100.0),
+    Spec('max_angular_accel', 0.0, "The base's angular acceleration limit; 0 = unlimited "
+         '(turtlesim)', 'rad/s^2', 0.0, 100.0),
+    Spec('corner_tolerance', 0.0, 'Corners may be rounded by up to this much, so the base '
+         'keeps moving, when a request leaves it 0; 0 = exact corners, turned in place', 'm',
+         0.0, 1.0),
+    Spec('progress_timeout', 3.0, 'A run that makes no progress along its path for this long '
+         'ends with a message (a base slower than its limits, a blocked robot)', 's',
+         0.5, 60.0),
     Spec('position_tolerance', 0.0005, 'End of a segment reached (corners)', 'm', 0.0005, 0.5),
     Spec('heading_tolerance', 0.0005, 'End of an in-place turn reached', 'rad', 0.0002, 0.5),
     Spec('goal_tolerance', 0.01, 'Go-to: arrived, when a request leaves it 0', 'm', 0.001, 1.0),

@@ -1,0 +1,61 @@
+"""What a base with acceleration limits can do in one control period. Pure Python.
+
+A command is within reach when the base can take it in one period from the command before it:
+each speed changes by at most its limit times the period. A controller that sends only such
+commands sees the base respond as turtlesim does (at once, one period later), so its latency
+model and its predictions stay exact. Limits of 0 mean unlimited.
+"""
+
+from __future__ import annotations
+
+import math
+
+from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.config import ControlConfig
+
+# Commands stay this much inside the window, so that rounding never puts one outside it.
+_INSIDE = 1.0 - 1e-9
+
+
+def _reach(value: float, previous: float, limit: float, period_s: float) -> float:
+    if not limit:
+        return value
+    step = limit * period_s * _INSIDE
+    return min(max(value, previous - step), previous + step)
+
+
+def _linear_step(previous: float, wanted: float, config: ControlConfig) -> float:
+    """The linear change allowed: speeding up at max_linear_accel, slowing down at the
+    braking limit (a change of sign is slowing down first)."""
+    speeding_up = abs(wanted) > abs(previous) and wanted * previous >= 0.0
+    return config.max_linear_accel if speeding_up else (
+        config.max_linear_decel or config.max_linear_accel)
+
+
+def within_reach(command: Command, previous: Command, config: ControlConfig) -> Command:
+    """`command`, limited to what the base can reach from `previous` in one period."""
+    if not config.limited:
+        return command
+    linear = _reach(command.linear, previous.linear,
+                    _linear_step(previous.linear, command.linear, config), config.period_s)
+    angular = _reach(command.angular, previous.angular, config.max_angular_accel,
+                     config.period_s)
+    return Command(linear, angular)
+
+
+def can_stop(previous: Command, config: ControlConfig) -> bool:
+    """A stop is within reach of `previous` (so a leg may end and the next begin)."""
+    period = config.period_s
+    linear_limited = bool(config.max_linear_accel or config.max_linear_decel)
+    linear_ok = (not linear_limited
+                 or abs(previous.linear) <= config.linear_braking * period)
+    angular_ok = (not config.max_angular_accel
+                  or abs(previous.angular) <= config.max_angular_accel * period)
+    return linear_ok and angular_ok
+
+
+def stopping_speed(distance: float, deceleration: float, period_s: float) -> float:
+    """Fastest speed from which commands that slow down by `deceleration` each period stop
+    within `distance`, each acting for one period: v²/(2d) + v·T/2 = distance."""
+    half_step = 0.5 * deceleration * period_s
+    return math.sqrt(half_step * half_step + 2.0 * deceleration * max(distance, 0.0)) - half_step

@@ -1,0 +1,94 @@
+"""The fastest speed along a curve under a base's four limits: v, omega, a and alpha.
+
+On a curve of curvature k(s), the turn rate is omega = v k and its rate of change
+d(omega)/dt = a k + v² dk/ds: speed is bounded by the curvature and by its rate of change. The
+path is handed to TOPP-RA (`toppra`, time-optimal path parameterisation by reachability
+analysis) as a two-joint path q(s) = (s, heading(s)), whose joint velocity and acceleration
+limits are exactly (v, omega) and (a, alpha). Pure Python; toppra (and SciPy under it) load
+only when a base has acceleration limits.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.geometry.path import Polyline
+
+# Shares of the limits the profile plans with: the rest is the steering's, to pull the base
+# back onto the path. Speed itself is planned at its full limit.
+ANGULAR_SHARE = 0.9
+ACCEL_SHARE = 0.9
+ANGULAR_ACCEL_SHARE = 0.8
+_GRID_STEP_M = 0.02  # profile resolution along the path
+_GRID_POINTS = (50, 2000)
+
+
+def vertex_headings(polyline: Polyline) -> np.ndarray:
+    """The heading at each vertex (unwrapped): segments' headings, averaged at the joints."""
+    headings = np.unwrap(polyline.headings)
+    inner = 0.5 * (headings[:-1] + headings[1:])
+    return np.concatenate(([headings[0]], inner, [headings[-1]]))
+
+
+class SpeedProfile:
+    """Top speed by arc length along one polyline that starts and ends at rest.
+
+    :param duration_s: the time of the profile TOPP-RA computed (its time-optimal bound under
+        the shares of the limits planned with).
+    """
+
+    def __init__(self, arc: np.ndarray, speed: np.ndarray, duration_s: float) -> None:
+        self.arc = arc
+        self.speed = speed
+        self.duration_s = duration_s
+
+    def speed_at(self, arc_length: float) -> float:
+        """The speed at `arc_length`: v² is linear in s under constant acceleration."""
+        return math.sqrt(float(np.interp(arc_length, self.arc, self.speed ** 2)))
+
+    @classmethod
+    def plan(cls, polyline: Polyline, config: ControlConfig) -> SpeedProfile:
+        """The time-optimal profile of `polyline` under `config`'s limits (a limit of 0 is
+        unlimited: it is left out)."""
+        import toppra
+        import toppra.algorithm
+        import toppra.constraint
+
+        toppra.setup_logging('WARNING')
+        arc = polyline.cumulative_length
+        length = float(arc[-1])
+        joints = np.stack([arc, vertex_headings(polyline)], axis=1)
+        path = toppra.SplineInterpolator(arc, joints)
+        inf = 1e6  # "unlimited", finite for the solver
+        accel = (config.max_linear_accel or inf) * ACCEL_SHARE
+        decel = (config.max_linear_decel or config.max_linear_accel or inf) * ACCEL_SHARE
+        alpha = (config.max_angular_accel or inf) * ANGULAR_ACCEL_SHARE
+        constraints = [
+            toppra.constraint.JointVelocityConstraint(
+                np.array([config.linear_speed, config.angular_speed * ANGULAR_SHARE])),
+            toppra.constraint.JointAccelerationConstraint(
+                np.array([[-decel, accel], [-alpha, alpha]]))]
+        count = int(min(max(length / _GRID_STEP_M, _GRID_POINTS[0]), _GRID_POINTS[1]))
+        grid = np.linspace(0.0, length, count + 1)
+        instance = toppra.algorithm.TOPPRA(constraints, path, gridpoints=grid,
+                                           parametrizer='ParametrizeConstAccel')
+        speed = instance.compute_parameterization(0.0, 0.0)[1]  # (sdd, sd, v): sd is ds/dt
+        if speed is None:  # infeasible by the solver: fall back to the curvature's bound
+            return cls.curvature_bound(polyline, config)
+        speed = np.maximum(np.asarray(speed, dtype=float), 0.0)
+        gaps = np.diff(grid)
+        mean = np.maximum(0.5 * (speed[:-1] + speed[1:]), 1e-9)
+        return cls(grid, speed, float(np.sum(gaps / mean)))
+
+    @classmethod
+    def curvature_bound(cls, polyline: Polyline, config: ControlConfig) -> SpeedProfile:
+        """The speed the curvature allows at each vertex, with no braking (endless loops)."""
+        curvature = np.abs(polyline.curvatures)
+        per_segment = np.minimum(config.linear_speed, config.angular_speed * ANGULAR_SHARE
+                                 / np.maximum(curvature, 1e-9))
+        speed = np.concatenate((per_segment, [per_segment[-1]]))
+        speed[1:-1] = np.minimum(per_segment[:-1], per_segment[1:])
+        return cls(polyline.cumulative_length, speed, math.nan)
