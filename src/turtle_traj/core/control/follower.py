@@ -242,6 +242,11 @@ class PathFollower:
     def done(self) -> bool:
         return self.leg_index >= len(self.path.legs)
 
+    @property
+    def mark(self) -> tuple[int, float]:
+        """Where the follower is: its leg, and how much of that leg is driven (0 to 1)."""
+        return self.leg_index, self._tracker.fraction if self._tracker is not None else 0.0
+
     def progress(self, config: ControlConfig) -> float:
         """How much of the path is driven, 0 to 1, each leg weighted by its time at top speed
         (so turns in place count); an endless path shows the progress of its current lap."""

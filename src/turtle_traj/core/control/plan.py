@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+import numpy as np
+
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.geometry.path import Path
 from turtle_traj.core.turtlesim_contract import PenStyle
@@ -20,6 +22,11 @@ class Plan:
     end_tolerance: float | None = None
     pen: PenStyle | None = None  # a drawing's pen: the node sets it, and restores its own after
     pen_up_unordered: float = 0.0  # pen-up distance had the strokes not been reordered [m]
+    drawn: np.ndarray | None = None  # the path as drawn, when its corners are rounded (N, 2)
+
+    def drawn_points(self) -> np.ndarray:
+        """The points deviation is measured against: the path as drawn, corners included."""
+        return self.drawn if self.drawn is not None else self.path.points()
 
     def control(self, config: ControlConfig) -> ControlConfig:
         """The node's control config with this run's speeds."""

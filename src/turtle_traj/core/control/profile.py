@@ -19,18 +19,30 @@ from turtle_traj.core.geometry.path import Polyline
 
 # Shares of the limits the profile plans with: the rest is the steering's, to pull the base
 # back onto the path. Speed itself is planned at its full limit.
-ANGULAR_SHARE = 0.9
-ACCEL_SHARE = 0.9
-ANGULAR_ACCEL_SHARE = 0.8
+ANGULAR_SHARE = 0.95
+ACCEL_SHARE = 1.0
+ANGULAR_ACCEL_SHARE = 0.9
 _GRID_STEP_M = 0.02  # profile resolution along the path
 _GRID_POINTS = (50, 2000)
 
 
-def vertex_headings(polyline: Polyline) -> np.ndarray:
-    """The heading at each vertex (unwrapped): segments' headings, averaged at the joints."""
+def heading_knots(polyline: Polyline) -> tuple[np.ndarray, np.ndarray]:
+    """Arc lengths and headings (unwrapped) to interpolate the heading along `polyline` by:
+    each vertex with its segments' headings averaged, and a segment longer than the grid step
+    with its own heading every grid step (a spline through sparse knots would ring)."""
     headings = np.unwrap(polyline.headings)
-    inner = 0.5 * (headings[:-1] + headings[1:])
-    return np.concatenate(([headings[0]], inner, [headings[-1]]))
+    arc = polyline.cumulative_length
+    at_vertices = np.concatenate(([headings[0]], 0.5 * (headings[:-1] + headings[1:]),
+                                  [headings[-1]]))
+    knots, values = [arc[:1]], [at_vertices[:1]]
+    for index, length in enumerate(polyline.segment_lengths.tolist()):
+        inner = int(length // _GRID_STEP_M)
+        if inner:
+            knots.append(arc[index] + length * np.arange(1, inner + 1) / (inner + 1))
+            values.append(np.full(inner, headings[index]))
+        knots.append(arc[index + 1:index + 2])
+        values.append(at_vertices[index + 1:index + 2])
+    return np.concatenate(knots), np.concatenate(values)
 
 
 class SpeedProfile:
@@ -60,8 +72,8 @@ class SpeedProfile:
         toppra.setup_logging('WARNING')
         arc = polyline.cumulative_length
         length = float(arc[-1])
-        joints = np.stack([arc, vertex_headings(polyline)], axis=1)
-        path = toppra.SplineInterpolator(arc, joints)
+        knots, headings = heading_knots(polyline)
+        path = toppra.SplineInterpolator(knots, np.stack([knots, headings], axis=1))
         inf = 1e6  # "unlimited", finite for the solver
         accel = (config.max_linear_accel or inf) * ACCEL_SHARE
         decel = (config.max_linear_decel or config.max_linear_accel or inf) * ACCEL_SHARE

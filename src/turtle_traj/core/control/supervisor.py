@@ -2,7 +2,9 @@
 
 A `RunSupervisor` wraps the follower of one plan. It aborts when the pose jumps (a teleport,
 a reset, a second simulator), stops a turtle heading into a wall it did not start next to,
-lets the turtle settle once the path is done, and assembles the `Outcome` the services report.
+ends a run that makes no progress along its path for `progress_timeout_s` (a base slower
+than its configured limits hunting around a corner), lets the turtle settle once the path is
+done, and assembles the `Outcome` the services report.
 The node feeds it poses, the control tick and requests; times are the node clock's seconds.
 """
 
@@ -26,6 +28,7 @@ SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing
 # Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.
 MAX_POSE_JUMP_M = 0.5
 _MEASURE_BATCH = 16  # poses measured against the path together, at most
+PROGRESS_STEP = 1e-3  # of a leg: less is no progress (a hunt back and forth makes none)
 
 
 @dataclass
@@ -68,7 +71,7 @@ class RunSupervisor:
         self._settled_periods = 0
         self._pose = start
         self._path_done_s: float | None = None  # when the follower reached the path's end
-        self._drawn = NearestOnPolyline(plan.path.points())
+        self._drawn = NearestOnPolyline(plan.drawn_points())
         self.distance = 0.0  # driven so far, pose to pose
         # Poses not yet measured against the path: measured together, when asked or in batches
         # (one numpy pass for many poses costs about what one pose costs).
@@ -76,6 +79,8 @@ class RunSupervisor:
         self._deviation = 0.0
         self._max_deviation = 0.0
         self._config: tuple[ControlConfig, ControlConfig] | None = None  # node's, this run's
+        self._best_mark = (0, 0.0)  # the furthest the follower got, and when
+        self._best_mark_s = started_s
 
     @property
     def name(self) -> str:
@@ -164,7 +169,24 @@ class RunSupervisor:
             return STOP
         if self._config is None or self._config[0] is not config:
             self._config = (config, self.plan.control(config))  # once per settings change
+        if self._stalled(now_s, config.progress_timeout_s):
+            off = self.distance_from_path(pose)
+            self.end(False, f'{self.name} aborted: no progress along the path for '
+                            f'{config.progress_timeout_s:g} s, {off:.3f} m from it: the base does not follow the commands as fast as '
+                            'max_linear_accel and max_angular_accel say (lower them), or '
+                            'something holds it')
+            return STOP
         return self.follower.update(pose, self._config[1])
+
+    def _stalled(self, now_s: float, timeout_s: float) -> bool:
+        """No progress since `timeout_s` ago. A new leg, a new lap of an endless loop or a
+        wait for the pen counts as progress."""
+        leg, fraction = self.follower.mark
+        best_leg, best_fraction = self._best_mark
+        if (leg > best_leg or fraction >= best_fraction + PROGRESS_STEP
+                or fraction < best_fraction - 0.5 or self.follower.pen_wanted is not None):
+            self._best_mark, self._best_mark_s = (leg, fraction), now_s
+        return now_s - self._best_mark_s > timeout_s
 
     def outcome(self, pose: Pose2D | None, now_s: float) -> Outcome:
         """The report of the run once `ending` is decided.

@@ -10,14 +10,22 @@ pose.
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
 from functools import partial
 from typing import Any
 
+import numpy as np
+
+from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.control.profile import ANGULAR_ACCEL_SHARE, ANGULAR_SHARE, SpeedProfile
 from turtle_traj.core.geometry import shapes
-from turtle_traj.core.geometry.path import Path, Pose2D
+from turtle_traj.core.geometry.corners import CLOTHOID_PAIR, arc_shape, rounded_path
+from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
 from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.parameters.settings import Settings
+from turtle_traj.core.parameters.table import PARAMETER
 from turtle_traj.core.planning.limits import POLYGON_SIDES
 from turtle_traj.core.planning.sketches import curves, drawings, motions
 from turtle_traj.core.planning.sketches.base import (
@@ -26,6 +34,7 @@ from turtle_traj.core.planning.sketches.base import (
     SketchFunction,
     arena_diagonal,
     fits_in_arena,
+    require_finite,
 )
 
 __all__ = ['SKETCHES', 'PlanError', 'largest_size', 'plan']
@@ -42,8 +51,48 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings) -> Pl
         raise PlanError(str(error)) from None
     if not path.legs:  # the follower and the report need at least one leg
         raise PlanError('nothing to drive: the turtle is already there')
-    return Plan(trajectory, path, drawn.linear_speed, drawn.angular_speed, drawn.end_tolerance,
-                drawn.pen, drawn.pen_up_unordered)
+    tolerance = corner_tolerance(request, settings, drawing=drawn.pen is not None)
+    rounded = _rounded(path, tolerance, drawn, settings)
+    return Plan(trajectory, rounded, drawn.linear_speed, drawn.angular_speed,
+                drawn.end_tolerance, drawn.pen, drawn.pen_up_unordered,
+                drawn=path.points() if rounded is not path else None)
+
+
+def _rounded(path: Path, tolerance: float, sketch: Sketch, settings: Settings) -> Path:
+    """`path` with its corners rounded within `tolerance`; on a base with angular limits, each
+    corner is the faster (by its speed profile) of a clothoid pair and a clothoid-arc-clothoid."""
+    control = settings.control
+    if tolerance <= 0.0 or not control.max_angular_accel:
+        return rounded_path(path, tolerance)
+    run = replace(control, linear_speed=sketch.linear_speed or control.linear_speed,
+                  angular_speed=sketch.angular_speed or control.angular_speed)
+    shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed * ANGULAR_SHARE,
+                                       run.max_angular_accel * ANGULAR_ACCEL_SHARE))
+    return rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run))
+
+
+def _corner_cost(points: np.ndarray, heading_in: float, heading_out: float, *,
+                 config: ControlConfig) -> float:
+    """Time a base takes through a corner, from rest to rest over the distance it needs to
+    reach full speed on either side, less that distance at full speed."""
+    speed = config.linear_speed
+    run_up = speed * speed / (2.0 * (config.max_linear_accel or 1e6))
+    before = points[0] - run_up * np.array([math.cos(heading_in), math.sin(heading_in)])
+    after = points[-1] + run_up * np.array([math.cos(heading_out), math.sin(heading_out)])
+    window = Polyline(np.concatenate(([before], points, [after])))
+    return SpeedProfile.plan(window, config).duration_s - window.length / speed
+
+
+def corner_tolerance(request: Any, settings: Settings, *, drawing: bool) -> float:
+    """How far corners may be rounded: the request's `corner_tolerance`, else the node's
+    parameter; a drawing's pen-down corners are rounded only when the request asks."""
+    asked = getattr(request, 'corner_tolerance', 0.0)
+    require_finite(corner_tolerance=asked)
+    largest = PARAMETER['corner_tolerance'].high
+    if not 0.0 <= asked <= largest:
+        raise PlanError(f'corner_tolerance must be 0 (the default) to {largest:g} m, '
+                        f'got {asked:g}')
+    return asked or (0.0 if drawing else settings.defaults.corner_tolerance)
 
 
 def largest_size(trajectory: str, request: Any, start: Pose2D,

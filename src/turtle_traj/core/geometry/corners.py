@@ -1,0 +1,125 @@
+"""Rounded corners: a corner of a polyline replaced by a symmetric pair of clothoids.
+
+A clothoid's curvature grows linearly with arc length, so a base driving it at a steady speed
+changes its turn rate steadily: it keeps moving through the corner, within its angular
+acceleration. The pair is scaled so that its apex, the point farthest from the drawn path,
+stays within the tolerance of both legs; it is made smaller when the legs are too short for
+it. Pure Python.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import replace
+from functools import lru_cache
+
+import numpy as np
+
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import Leg, Path, Polyline, Turn
+
+MAX_ROUNDED_RAD = math.radians(170.0)  # sharper corners are turned in place
+_KINK_RAD = 0.02  # largest change of direction between two samples of a clothoid
+_SAMPLE_M = 0.01  # largest distance between two samples (the speed profile's grid is 2 cm)
+_INTEGRATION_STEPS = 4000
+
+
+@lru_cache(maxsize=256)
+def _unit_half(deflection: float,
+               top_curvature: float) -> tuple[np.ndarray, float, float, float]:
+    """Half of a unit corner for a `deflection` > 0: curvature grows as arc length up to
+    `top_curvature` (inf: a clothoid pair), then holds (an arc) until half the deflection.
+    Its points from the tangent point to the apex in the frame of the incoming leg, finely
+    integrated; its length; the tangent length (tangent point to corner); and the apex's
+    distance from each leg."""
+    half = 0.5 * deflection
+    ramp = min(math.sqrt(2.0 * half), top_curvature)  # the clothoid's length (sharpness 1)
+    length = ramp + max(half - 0.5 * ramp * ramp, 0.0) / ramp
+    s = np.linspace(0.0, length, _INTEGRATION_STEPS + 1)
+    heading = np.where(s <= ramp, 0.5 * s * s, 0.5 * ramp * ramp + ramp * (s - ramp))
+    step = length / _INTEGRATION_STEPS
+    # trapezoidal integration of (cos, sin) of the heading
+    x = np.concatenate(([0.0], np.cumsum(0.5 * step * (np.cos(heading[1:])
+                                                        + np.cos(heading[:-1])))))
+    y = np.concatenate(([0.0], np.cumsum(0.5 * step * (np.sin(heading[1:])
+                                                        + np.sin(heading[:-1])))))
+    tangent = float(x[-1] + y[-1] * math.tan(half))
+    return np.stack([x, y], axis=1), length, tangent, float(y[-1])
+
+
+CLOTHOID_PAIR = math.inf  # the unit top curvature of a corner that is a clothoid pair
+
+CornerCost = Callable[[np.ndarray, float, float], float]  # points, heading in, heading out
+
+
+def arc_shape(turn_rate: float, turn_accel: float) -> float:
+    """The unit top curvature of a clothoid-arc-clothoid corner that a base drives, scaled by
+    k, at the steady speed k * sqrt(turn_accel) at its top `turn_rate`."""
+    return turn_rate / math.sqrt(turn_accel)
+
+
+def rounded_corner(corner: np.ndarray, heading_in: float, heading_out: float,
+                   tolerance: float, room: float, shape: float = CLOTHOID_PAIR) -> np.ndarray:
+    """Points replacing `corner`: a rounded corner of this `shape` (its unit top curvature)
+    from the incoming leg to the outgoing one, its apex at most `tolerance` from either leg,
+    reaching at most `room` along each leg."""
+    deflection = wrap_angle(heading_out - heading_in)
+    fine, length, tangent, apex = _unit_half(abs(deflection), shape)
+    scale = min(tolerance / apex, room / tangent)
+    # samples every _SAMPLE_M at most, turning by at most _KINK_RAD from one to the next
+    count = min(max(4, math.ceil(0.5 * abs(deflection) / _KINK_RAD),
+                    math.ceil(length * scale / _SAMPLE_M)), _INTEGRATION_STEPS)
+    half = fine[np.round(np.linspace(0, _INTEGRATION_STEPS, count + 1)).astype(int)]
+    side = math.copysign(1.0, deflection)
+    cos_in, sin_in = math.cos(heading_in), math.sin(heading_in)
+    local = half * scale
+    local[:, 0] -= tangent * scale  # from the tangent point, the corner at the origin
+    local[:, 1] *= side
+    first = np.stack([local[:, 0] * cos_in - local[:, 1] * sin_in,
+                      local[:, 0] * sin_in + local[:, 1] * cos_in], axis=1)
+    # the second half mirrors the first across the bisector through the corner
+    normal = heading_in + 0.5 * deflection  # the bisector is perpendicular to this heading
+    axis = np.array([math.cos(normal), math.sin(normal)])
+    second = first - 2.0 * np.outer(first @ axis, axis)
+    return corner + np.concatenate((first, second[-2::-1]))
+
+
+def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHOID_PAIR,),
+                 cost: CornerCost | None = None) -> Path:
+    """`path` with its turns in place between two polylines replaced by rounded corners.
+
+    A turn is rounded when both polylines are driven the same way with the pen in the same
+    state and it turns by at most MAX_ROUNDED_RAD; a turn at the start or the end stays (the
+    base starts and ends there). A corner reaches at most half along either adjoining segment.
+    Each corner takes the one of `shapes` its `cost` (the time it takes a base) finds least.
+    """
+    if tolerance <= 0.0:
+        return path
+    legs: list[Leg] = []
+    for leg in path.legs:
+        if (isinstance(leg, Polyline) and len(legs) >= 2 and isinstance(legs[-1], Turn)
+                and isinstance(legs[-2], Polyline) and _joinable(legs[-2], legs[-1], leg)):
+            before = legs[-2]
+            room = 0.499 * min(float(before.segment_lengths[-1]),
+                               float(leg.segment_lengths[0]))
+            heading_in = float(before.headings[-1])
+            heading_out = float(leg.headings[0])
+            candidates = [rounded_corner(before.points[-1], heading_in, heading_out, tolerance,
+                                         room, shape) for shape in shapes]
+            corner = candidates[0] if cost is None or len(candidates) == 1 else min(
+                candidates, key=lambda points: cost(points, heading_in, heading_out))
+            points = np.concatenate((before.points[:-1], corner, leg.points[1:]))
+            legs[-2:] = [Polyline(points, reverse=leg.reverse, pen=leg.pen)]
+        else:
+            legs.append(leg)
+    return replace(path, legs=tuple(legs))
+
+
+def _joinable(before: Polyline, turn: Turn, after: Polyline) -> bool:
+    return (before.reverse == after.reverse and before.pen == after.pen
+            and not before.repeat and not after.repeat
+            and abs(turn.sweep_rad) <= MAX_ROUNDED_RAD
+            and math.isclose(abs(wrap_angle(float(after.headings[0])
+                                            - float(before.headings[-1]))),
+                             abs(turn.sweep_rad), abs_tol=1e-6))
