@@ -81,6 +81,11 @@ LINEAR_SPEED = Field('linear_speed', 'top speed', parameter='linear_speed', flag
 ANGULAR_SPEED = Field('angular_speed', 'top turn rate (corners)', parameter='angular_speed',
                       menu=False)
 _SHAPE_SPEEDS = (LINEAR_SPEED, ANGULAR_SPEED)
+CORNER_TOLERANCE = Field('corner_tolerance', 'round corners by up to this much, to keep moving',
+                         parameter='corner_tolerance', menu=False)
+PEN_CORNER_TOLERANCE = Field('corner_tolerance', 'round pen-down corners by up to this much '
+                             '(default: exact, whatever the parameter)', 'm', low=0.0,
+                             high=PARAMETER['corner_tolerance'].high, menu=False)
 _DRAW_SHAPE = 'turtle_traj_interfaces/srv/DrawShape'
 _DRAW_CURVE = 'turtle_traj_interfaces/srv/DrawCurve'
 _PEN = (Field('pen_color', "pen colour: a name (red) or #rrggbb; default: the node's "
@@ -92,15 +97,16 @@ _PEN = (Field('pen_color', "pen colour: a name (red) or #rrggbb; default: the no
 def _curve(name: str, summary: str, fields: tuple[Field, ...], example: Example) -> TrajectoryKind:
     """A parametric curve (DrawCurve): its width (`size`), its own fields and the speeds."""
     return TrajectoryKind(name, f'draw_{name}', _DRAW_CURVE, summary,
-                      (_size('width', 'default_curve_width'), *fields, *_SHAPE_SPEEDS),
+                      (_size('width', 'default_curve_width'), *fields, *_SHAPE_SPEEDS,
+                       CORNER_TOLERANCE),
                       ('draw', name), example)
 
 
 def _polygon(name: str, example: Example) -> TrajectoryKind:
     return TrajectoryKind(
         name, f'draw_{name}', _DRAW_SHAPE, f'draw a {name} from where the turtle stands',
-        (_size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
-        ('draw', name), example)
+        (_size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS,
+         CORNER_TOLERANCE), ('draw', name), example)
 
 
 def _move(name: str, summary: str, amount: Field, speed: str,
@@ -121,8 +127,8 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
         'polygon', 'draw_polygon', _DRAW_SHAPE,
         'draw a regular polygon with any number of sides',
         (Field('sides', 'number of sides', type=INT, default=5, low=3, high=MAX_SIDES),
-         _size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS),
-        ('draw', 'polygon'),
+         _size('side length', 'default_side_length'), CLOCKWISE, *_SHAPE_SPEEDS,
+         CORNER_TOLERANCE), ('draw', 'polygon'),
         Example((4.5, 8.5, 0.0), {'sides': 7, 'size': 2.0, 'clockwise': True})),
     TrajectoryKind(
         'circle', 'draw_circle', _DRAW_SHAPE,
@@ -162,7 +168,7 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
          Field('tips', 'number of points', type=INT, default=5, low=3, high=MAX_TIPS),
          Field('inner_radius', 'radius of the inner corners (default: 0.382 x size)', 'm',
                low=0.0, high=50.0, menu=False),
-         *_SHAPE_SPEEDS),
+         *_SHAPE_SPEEDS, CORNER_TOLERANCE),
         ('draw', 'star'), Example((5.5, 8.5, 0.0), {'size': 3.0, 'tips': 5})),
     _curve('heart', 'draw a heart, upright, from its bottom tip', (),
            Example((5.5, 1.5, 0.0), {'size': 7.0})),
@@ -185,7 +191,7 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
         'write text in a single-stroke font, along the heading from where the turtle stands',
         (Field('text', 'what to write', type=STRING, default='', positional=True),
          Field('height', 'height of capitals', parameter='default_text_height', fits=True),
-         *_PEN, *_SHAPE_SPEEDS),
+         *_PEN, *_SHAPE_SPEEDS, PEN_CORNER_TOLERANCE),
         ('write',), Example((1.5, 5.0, 0.0), {'text': 'Hello ROS', 'height': 1.0,
                                      'pen_color': 'white'})),
     TrajectoryKind(
@@ -195,7 +201,8 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
                'with it)', type=STRING, default='', positional=True),
          Field('path_data', 'SVG path data instead of a file ("M 0 0 C 1 2 3 2 4 0")',
                type=STRING, default='', flag='d'),
-         _size('larger side', 'default_svg_size'), *_PEN, *_SHAPE_SPEEDS),
+         _size('larger side', 'default_svg_size'), *_PEN, *_SHAPE_SPEEDS,
+         PEN_CORNER_TOLERANCE),
         ('draw', 'svg'), Example((1.0, 2.5, 0.0), {'file': 'turtle.svg', 'size': 9.0,
                                           'pen_color': 'white'})),
     TrajectoryKind(
@@ -223,7 +230,7 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
         (Field('points', f'points as x,y pairs (at most {MAX_POINTS})', 'm', type=POINTS,
                default=None, positional=True),
          Field('closed', 'return to the first point', type=BOOL, default=False),
-         LINEAR_SPEED),
+         LINEAR_SPEED, CORNER_TOLERANCE),
         ('follow-path',), Example((2.5, 2.5, 0.0), {
             'points': [(8.5, 2.5), (8.5, 8.5), (5.5, 5.5), (2.5, 8.5)], 'closed': True})),
 )

@@ -19,7 +19,7 @@ from turtle_traj.core.parameters.settings import (
     pen_color_problem,
     settings_from_values,
 )
-from turtle_traj.core.parameters.table import DEFAULTS, PARAMETERS, Spec
+from turtle_traj.core.parameters.table import DEFAULTS, PARAMETER, PARAMETERS, Spec
 
 
 def descriptor(spec: Spec) -> ParameterDescriptor:
@@ -50,6 +50,11 @@ def validate(node: Node, parameters: list[Parameter],
     """Cross-field rules of the settings table, on the values the change would leave (and the
     turtle's pose, which a new arena must contain)."""
     incoming = {p.name: p.value for p in parameters}
+    for name, value in incoming.items():
+        spec = PARAMETER.get(name)
+        if spec is not None and spec.choices and value not in spec.choices:
+            return SetParametersResult(successful=False, reason=(
+                f'{name} must be one of {", ".join(map(repr, spec.choices))}, got {value!r}'))
     if 'pen_color' in incoming:
         problem = pen_color_problem(incoming['pen_color'])
         if problem is not None:

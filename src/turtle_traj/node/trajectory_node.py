@@ -11,7 +11,6 @@ import threading
 from functools import partial
 from pathlib import Path
 
-from geometry_msgs.msg import Twist
 from nav_msgs.msg import Path as PathMsg
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
@@ -20,7 +19,6 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.task import Future
 from std_msgs.msg import Header
-from turtlesim.msg import Pose
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.loop import ControlLoop
@@ -31,13 +29,13 @@ from turtle_traj.core.planning.planner import PlanError
 from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
 from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.node import outcomes, parameters
+from turtle_traj.node.base_topics import BaseTopics
 from turtle_traj.node.commands import CommandServices
 from turtle_traj.node.draw_action import DrawActionServer
 from turtle_traj.node.pen_client import PenClient
 from turtle_traj.node.pose_silence import PoseSilence
 from turtle_traj.node.state_lock import serialized
 from turtle_traj.node.trajectory_services import TrajectoryServices
-from turtle_traj.rosutils.qos import POSE_READER_QOS, TURTLE_TOPIC_QOS
 
 _WATCHDOG_PERIOD_S = 0.05
 
@@ -64,10 +62,11 @@ class TrajectoryNode(Node):
         # MultiThreadedExecutor run beside the timers and each other (a pose can end its run).
         self._state_lock = threading.RLock()
 
-        self.pose_topic = self.resolve_topic_name(f'{turtle}/pose')
-        self.create_subscription(Pose, f'{turtle}/pose', self._on_pose, POSE_READER_QOS)
-        self._cmd_vel = self.create_publisher(Twist, f'{turtle}/cmd_vel', TURTLE_TOPIC_QOS)
-        self._twist = Twist()
+        self._base = BaseTopics(self, turtle, self._on_pose)
+        self.pose_topic = self._base.pose_topic
+        self._cmd_vel = self._base.publisher
+        # an odometry that reports measured velocities tells nothing of the commands' latency
+        self._loop.latency.echoes_commands = not self._base.odometry
         self._plan = self.create_publisher(
             PathMsg, '~/plan', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
 
@@ -90,15 +89,15 @@ class TrajectoryNode(Node):
         name = self.get_fully_qualified_name()
         self.get_logger().info(
             f'serving {len(TRAJECTORIES)} trajectories on {name}/<service> and the action '
-            f'{self._draw_action.name}; driving {self.pose_topic.removesuffix("/pose")}')
+            f'{self._draw_action.name}; driving {self._cmd_vel.topic_name} from '
+            f'{self.pose_topic}')
 
     def _on_parameters_set(self, _parameters) -> None:
         self.settings = parameters.read_settings(self)
 
     @serialized
-    def _on_pose(self, msg: Pose) -> None:
-        self._loop.observe(Pose2D(msg.x, msg.y, msg.theta), msg.linear_velocity,
-                           msg.angular_velocity)
+    def _on_pose(self, pose: Pose2D, linear_echo: float, angular_echo: float) -> None:
+        self._loop.observe(pose, linear_echo, angular_echo)
         self._finish_if_ended()  # a jump ends the run
         self._silence.heard()
 
@@ -186,9 +185,7 @@ class TrajectoryNode(Node):
 
     def _publish(self, command: Command) -> None:
         self._loop.sent(command)
-        twist = self._twist  # refilled: publish() serializes at once
-        twist.linear.x, twist.angular.z = command.linear, command.angular
-        self._cmd_vel.publish(twist)
+        self._base.publish(command)
 
     @serialized
     def _finish(self, success: bool, message: str) -> None:

@@ -36,6 +36,9 @@ class LatencyPredictor:
 
     def __init__(self, period_s: float) -> None:
         self.period_s = period_s
+        # False for a pose source whose velocities are measured (odometry): an echo that
+        # matches no command then says nothing, and no command counts as in flight.
+        self.echoes_commands = True
         self._sent: deque[Command] = deque(maxlen=_HISTORY)
         self._sent_echoes: deque[tuple[float, float]] = deque(maxlen=_HISTORY)  # _as_echoed
         self.in_flight = 0  # commands sent after the one the last pose showed in effect
@@ -65,7 +68,7 @@ class LatencyPredictor:
             self._seen_in_effect = True
             if len(matches) == 1:  # a run of equal commands tells nothing of the latency
                 self._recent.append(self.in_flight)
-        elif not self._seen_in_effect:
+        elif not self._seen_in_effect and self.echoes_commands:
             self.in_flight = len(self._sent)
         self._echo = echo
         return self.in_flight

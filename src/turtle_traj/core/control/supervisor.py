@@ -172,9 +172,9 @@ class RunSupervisor:
         if self._stalled(now_s, config.progress_timeout_s):
             off = self.distance_from_path(pose)
             self.end(False, f'{self.name} aborted: no progress along the path for '
-                            f'{config.progress_timeout_s:g} s, {off:.3f} m from it: the base does not follow the commands as fast as '
-                            'max_linear_accel and max_angular_accel say (lower them), or '
-                            'something holds it')
+                            f'{config.progress_timeout_s:g} s, {off:.3f} m from it: the base '
+                            'does not follow the commands as fast as max_linear_accel and '
+                            'max_angular_accel say (lower them), or something holds it')
             return STOP
         return self.follower.update(pose, self._config[1])
 

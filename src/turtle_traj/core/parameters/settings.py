@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.shapes import Arena
-from turtle_traj.core.parameters.table import DEFAULTS
+from turtle_traj.core.parameters.table import DEFAULTS, NO_WALLS_M
 from turtle_traj.core.turtlesim_contract import PenStyle
 
 
@@ -84,20 +84,24 @@ def settings_from_values(value: dict[str, object]) -> Settings:
         text_height=value['default_text_height'], svg_size=value['default_svg_size'],
         goal_tolerance=value['goal_tolerance'], corner_angle=value['corner_angle'],
         corner_tolerance=value['corner_tolerance'])
-    arena = Arena(value['arena_min_x'], value['arena_min_y'], value['arena_max_x'],
-                  value['arena_max_y'], value['wall_margin'])
+    arena = (Arena(-NO_WALLS_M, -NO_WALLS_M, NO_WALLS_M, NO_WALLS_M, 0.0)
+             if value['arena'] == 'none' else
+             Arena(value['arena_min_x'], value['arena_min_y'], value['arena_max_x'],
+                   value['arena_max_y'], value['wall_margin']))
     pen = pen_style(value['pen_color'], value['pen_width'])
     return Settings(control, defaults, arena, value['pose_timeout'], pen, value['svg_dir'])
 
 
 DEFAULT_SETTINGS = settings_from_values(DEFAULTS)
-ARENA_PARAMETERS = frozenset({'arena_min_x', 'arena_min_y', 'arena_max_x', 'arena_max_y',
+ARENA_PARAMETERS = frozenset({'arena', 'arena_min_x', 'arena_min_y', 'arena_max_x', 'arena_max_y',
                               'wall_margin'})
 
 
 def arena_problem(value: dict[str, object], turtle: Pose2D | None = None) -> str | None:
     """Why these arena parameters leave no room to drive, or leave the turtle (where it stands
     now) outside the room they leave; None when they are fine (cross-field rule)."""
+    if value['arena'] == 'none':
+        return None
     margin = value['wall_margin']
     for axis in 'xy':
         room = value[f'arena_max_{axis}'] - value[f'arena_min_{axis}'] - 2 * margin

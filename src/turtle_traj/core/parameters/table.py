@@ -14,6 +14,9 @@ _DRAWINGS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path
     __file__)))), 'drawings')
 
 
+NO_WALLS_M = 100.0  # with arena 'none': how far from the origin paths may go
+
+
 @dataclass(frozen=True)
 class Spec:
     """One parameter: default, unit, allowed range and whether it can change at run time."""
@@ -25,11 +28,23 @@ class Spec:
     low: float | None = None
     high: float | None = None
     read_only: bool = False
+    choices: tuple[str, ...] = ()  # the values a text parameter may take (empty: any)
 
 
 PARAMETERS = (
     Spec('turtle_name', 'turtle1', 'Turtle to drive: topics <turtle_name>/pose and /cmd_vel',
          read_only=True),
+    Spec('pose_source', 'turtlesim', "Where the pose comes from: 'turtlesim' "
+         "(turtlesim/Pose on <turtle_name>/pose) or 'odometry' (nav_msgs/Odometry on "
+         'odom_topic)', read_only=True, choices=('turtlesim', 'odometry')),
+    Spec('odom_topic', 'odom', "The pose topic when pose_source is 'odometry' (relative "
+         'names follow the namespace)', read_only=True),
+    Spec('cmd_vel_topic', '', 'Velocity command topic (empty: <turtle_name>/cmd_vel)',
+         read_only=True),
+    Spec('cmd_vel_type', 'Twist', "Message type of velocity commands: 'Twist' (turtlesim) "
+         "or 'TwistStamped' (diff_drive_controller on Jazzy)", read_only=True,
+         choices=('Twist', 'TwistStamped')),
+    Spec('cmd_vel_frame_id', 'base_link', 'frame_id of TwistStamped commands', read_only=True),
     Spec('linear_speed', 1.0, 'Top forward speed, used when a request leaves it 0', 'm/s',
          0.01, 10.0),
     Spec('angular_speed', 2.0, 'Top turn rate, used when a request leaves it 0', 'rad/s',
@@ -62,6 +77,9 @@ PARAMETERS = (
          'rad', 0.05, 3.14159),
     Spec('control_rate', 62.5, 'Control timer rate (node clock)', 'Hz', 1.0, 500.0,
          read_only=True),
+    Spec('arena', 'rectangle', "The arena check: 'rectangle' (arena_min_* to arena_max_*, "
+         "turtlesim's walls by default) or 'none' (a base in open space: paths stay within "
+         f'{NO_WALLS_M:g} m of the origin, no wall stops)', choices=('rectangle', 'none')),
     Spec('wall_margin', 0.3, 'Planned paths keep this far from the walls; a turtle closer '
          'than half of it is stopped', 'm', 0.0, 3.0),
     Spec('arena_min_x', 0.0, 'Arena left edge', 'm', -1000.0, 1000.0),

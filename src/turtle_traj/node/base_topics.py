@@ -1,0 +1,70 @@
+"""The topics of the base the node drives: its pose in, its velocity commands out.
+
+turtlesim's by default (`turtlesim/Pose`, `geometry_msgs/Twist`); for any ROS 2 mobile base,
+`nav_msgs/Odometry` on a topic you name and `geometry_msgs/TwistStamped` (what
+diff_drive_controller takes on Jazzy). Relative names follow the node's namespace.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+from geometry_msgs.msg import Twist, TwistStamped
+from rclpy.node import Node
+from turtlesim.msg import Pose
+
+from turtle_traj.core.control.commands import Command
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.rosutils.qos import POSE_READER_QOS, TURTLE_TOPIC_QOS
+
+PoseCallback = Callable[[Pose2D, float, float], None]  # pose, |linear| and angular velocity
+
+
+def yaw_of(q) -> float:
+    """The heading (rotation about z) of a quaternion."""
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+class BaseTopics:
+    """Subscribes to the pose the parameters name and publishes commands as they say."""
+
+    def __init__(self, node: Node, turtle: str, on_pose: PoseCallback) -> None:
+        value = lambda name: node.get_parameter(name).value  # noqa: E731
+        self._on_pose = on_pose
+        self.odometry = value('pose_source') == 'odometry'
+        if self.odometry:
+            from nav_msgs.msg import Odometry
+            topic = value('odom_topic')
+            node.create_subscription(Odometry, topic, self._on_odometry, POSE_READER_QOS)
+        else:
+            topic = f'{turtle}/pose'
+            node.create_subscription(Pose, topic, self._on_turtlesim_pose, POSE_READER_QOS)
+        self.pose_topic = node.resolve_topic_name(topic)
+        self.stamped = value('cmd_vel_type') == 'TwistStamped'
+        self._clock = node.get_clock()
+        command_topic = value('cmd_vel_topic') or f'{turtle}/cmd_vel'
+        if self.stamped:
+            self._message = TwistStamped()
+            self._message.header.frame_id = value('cmd_vel_frame_id')
+            self._twist = self._message.twist
+        else:
+            self._message = self._twist = Twist()
+        self.publisher = node.create_publisher(type(self._message), command_topic,
+                                               TURTLE_TOPIC_QOS)
+
+    def _on_turtlesim_pose(self, msg: Pose) -> None:
+        self._on_pose(Pose2D(msg.x, msg.y, msg.theta), msg.linear_velocity,
+                      msg.angular_velocity)
+
+    def _on_odometry(self, msg) -> None:
+        position, twist = msg.pose.pose.position, msg.twist.twist
+        self._on_pose(Pose2D(position.x, position.y, yaw_of(msg.pose.pose.orientation)),
+                      abs(twist.linear.x), twist.angular.z)
+
+    def publish(self, command: Command) -> None:
+        """Publish a command (the message is refilled: publish() serializes at once)."""
+        if self.stamped:
+            self._message.header.stamp = self._clock.now().to_msg()
+        self._twist.linear.x, self._twist.angular.z = command.linear, command.angular
+        self.publisher.publish(self._message)
