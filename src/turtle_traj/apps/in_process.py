@@ -20,6 +20,7 @@ from turtlesim.msg import Pose
 from turtle_traj.node.trajectory_node import TrajectoryNode
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 from turtle_traj.rosutils.runtime import spin_until
+from turtle_traj.sim.base_adapter import BaseAdapter
 from turtle_traj.sim.lockstep import LockstepExecutor
 from turtle_traj.sim.node import SimNode
 
@@ -136,10 +137,14 @@ class InProcessSystem(LockstepSim):
     """
 
     def __init__(self, *, context: Context | None = None, output_dir: Path = Path('output'),
-                 sim_parameters: dict[str, object] | None = None,
+                 sim_parameters: dict[str, object] | None = None, base_adapter: bool = False,
                  **node_parameters: object) -> None:
+        """:param base_adapter: also run `BaseAdapter`, so the simulator is seen as a ROS 2
+            base (Odometry on odom, TwistStamped on cmd_vel)."""
         super().__init__(context=context, output_dir=output_dir, sim_parameters=sim_parameters)
         with self._closed_on_error():
+            if base_adapter:
+                self.add_node(BaseAdapter(context=context, parameter_overrides=[SIM_TIME]))
             self.node = TrajectoryNode(context=context, parameter_overrides=[SIM_TIME] + [
                 Parameter(name, value=value) for name, value in node_parameters.items()])
             self.add_node(self.node)

@@ -51,7 +51,11 @@ class TrajectoryNode(Node):
         # arena must contain the turtle.
         self.add_on_set_parameters_callback(
             lambda params: parameters.validate(self, params, self._loop.pose))
-        parameters.declare(self)
+        try:
+            parameters.declare(self)
+        except Exception:  # a refused override: nothing is left behind for the collector
+            self.destroy_node()
+            raise
         self.settings = parameters.read_settings(self)
         self.add_post_set_parameters_callback(self._on_parameters_set)
         turtle = self.get_parameter('turtle_name').value
@@ -115,7 +119,8 @@ class TrajectoryNode(Node):
         return self._run is not None
 
     def destroy_node(self) -> None:
-        self._draw_action.destroy()
+        if (draw_action := getattr(self, '_draw_action', None)) is not None:
+            draw_action.destroy()
         super().destroy_node()
 
     @property

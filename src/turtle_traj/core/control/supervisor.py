@@ -171,10 +171,13 @@ class RunSupervisor:
             self._config = (config, self.plan.control(config))  # once per settings change
         if self._stalled(now_s, config.progress_timeout_s):
             off = self.distance_from_path(pose)
+            why = ('the base does not follow the commands as fast as max_linear_accel and '
+                   'max_angular_accel say (lower them)' if config.limited else
+                   'a base that cannot change speed at once needs max_linear_accel and '
+                   'max_angular_accel set')
             self.end(False, f'{self.name} aborted: no progress along the path for '
-                            f'{config.progress_timeout_s:g} s, {off:.3f} m from it: the base '
-                            'does not follow the commands as fast as max_linear_accel and '
-                            'max_angular_accel say (lower them), or something holds it')
+                            f'{config.progress_timeout_s:g} s, {off:.3f} m from it: {why}, or '
+                            'something holds it')
             return STOP
         return self.follower.update(pose, self._config[1])
 
