@@ -1,4 +1,7 @@
-"""Rounded corners: a corner of a polyline replaced by a symmetric pair of clothoids.
+"""Rounded corners and smoothed curves, within a tolerance of the path as drawn.
+
+A corner (a turn in place between two polylines) becomes a symmetric pair of clothoids, or a
+clothoid, an arc and a clothoid; a curve is smoothed (`smoothed_curve`).
 
 A clothoid's curvature grows linearly with arc length, so a base driving it at a steady speed
 changes its turn rate steadily: it keeps moving through the corner, within its angular
@@ -17,12 +20,14 @@ from functools import lru_cache
 import numpy as np
 
 from turtle_traj.core.geometry.angles import wrap_angle
-from turtle_traj.core.geometry.path import Leg, Path, Polyline, Turn
+from turtle_traj.core.geometry.path import Leg, NearestOnPolyline, Path, Polyline, Turn
 
 MAX_ROUNDED_RAD = math.radians(170.0)  # sharper corners are turned in place
 _KINK_RAD = 0.02  # largest change of direction between two samples of a clothoid
 _SAMPLE_M = 0.01  # largest distance between two samples (the speed profile's grid is 2 cm)
 _INTEGRATION_STEPS = 4000
+_SMOOTHING_SEARCH_STEPS = 12
+_SMOOTHING_SHARE = 0.95  # of the tolerance a smoothed curve may use (resampling costs a little)
 
 
 @lru_cache(maxsize=256)
@@ -85,6 +90,39 @@ def rounded_corner(corner: np.ndarray, heading_in: float, heading_out: float,
     return corner + np.concatenate((first, second[-2::-1]))
 
 
+def smoothed_curve(points: np.ndarray, tolerance: float) -> np.ndarray:
+    """A curve through `points` smoothed as much as stays within `tolerance` of it: resampled
+    every _SAMPLE_M and averaged with a Gaussian window along its length, its ends and their
+    directions kept (the curve is extended by its point reflection at either end)."""
+    polyline = Polyline(np.asarray(points, dtype=float))
+    arc = np.linspace(0.0, polyline.length, max(int(polyline.length / _SAMPLE_M), 2) + 1)
+    samples = np.stack([np.interp(arc, polyline.cumulative_length, polyline.points[:, axis])
+                        for axis in (0, 1)], axis=1)
+    drawn = NearestOnPolyline(polyline.points)
+    best, low, high = samples, 0.0, max(polyline.length / 4.0, _SAMPLE_M)
+    for _ in range(_SMOOTHING_SEARCH_STEPS):  # the widest window that keeps to the tolerance
+        width = 0.5 * (low + high)
+        candidate = _gaussian(samples, width / _SAMPLE_M)
+        if drawn.distances(candidate).max() <= _SMOOTHING_SHARE * tolerance:
+            best, low = candidate, width
+        else:
+            high = width
+    return best
+
+
+def _gaussian(samples: np.ndarray, sigma: float) -> np.ndarray:
+    reach = min(int(3.0 * sigma) + 1, len(samples) - 1)
+    window = np.exp(-0.5 * (np.arange(-reach, reach + 1) / sigma) ** 2)
+    window /= window.sum()
+    head = 2.0 * samples[0] - samples[1:reach + 1][::-1]
+    tail = 2.0 * samples[-1] - samples[-reach - 1:-1][::-1]
+    padded = np.concatenate((head, samples, tail))
+    smooth = np.stack([np.convolve(padded[:, axis], window, mode='valid') for axis in (0, 1)],
+                      axis=1)
+    smooth[0], smooth[-1] = samples[0], samples[-1]
+    return smooth
+
+
 def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHOID_PAIR,),
                  cost: CornerCost | None = None) -> Path:
     """`path` with its turns in place between two polylines replaced by rounded corners.
@@ -93,11 +131,14 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
     state and it turns by at most MAX_ROUNDED_RAD; a turn at the start or the end stays (the
     base starts and ends there). A corner reaches at most half along either adjoining segment.
     Each corner takes the one of `shapes` its `cost` (the time it takes a base) finds least.
+    A curve (a polyline of more than one segment) is smoothed within the tolerance first.
     """
     if tolerance <= 0.0:
         return path
     legs: list[Leg] = []
     for leg in path.legs:
+        if isinstance(leg, Polyline) and len(leg.points) > 2 and not leg.repeat:
+            leg = replace(leg, points=smoothed_curve(leg.points, tolerance))
         if (isinstance(leg, Polyline) and len(legs) >= 2 and isinstance(legs[-1], Turn)
                 and isinstance(legs[-2], Polyline) and _joinable(legs[-2], legs[-1], leg)):
             before = legs[-2]
