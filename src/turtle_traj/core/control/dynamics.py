@@ -33,13 +33,21 @@ def _linear_step(previous: float, wanted: float, config: ControlConfig) -> float
 
 
 def within_reach(command: Command, previous: Command, config: ControlConfig) -> Command:
-    """`command`, limited to what the base can reach from `previous` in one period."""
+    """`command`, limited to what the base can reach from `previous` in one period, keeping
+    its curvature where slowing down allows."""
     if not config.limited:
         return command
-    linear = _reach(command.linear, previous.linear,
-                    _linear_step(previous.linear, command.linear, config), config.period_s)
     angular = _reach(command.angular, previous.angular, config.max_angular_accel,
                      config.period_s)
+    linear = command.linear
+    if angular != command.angular and command.angular and linear:
+        # the turn rate cannot follow: slow down so that the curvature asked for holds
+        # (on the line omega = k v, as Dynamic Window Pure Pursuit chooses)
+        along_curve = linear * angular / command.angular
+        if 0.0 <= along_curve / linear < 1.0:
+            linear = along_curve
+    linear = _reach(linear, previous.linear, _linear_step(previous.linear, linear, config),
+                    config.period_s)
     return Command(linear, angular)
 
 

@@ -23,25 +23,24 @@ ANGULAR_SHARE = 0.95
 ACCEL_SHARE = 1.0
 ANGULAR_ACCEL_SHARE = 0.9
 _GRID_STEP_M = 0.02  # profile resolution along the path
+_STRAIGHT_M = 0.2  # a segment this long is a straight stretch, not a chord of a curve
 _GRID_POINTS = (50, 2000)
 
 
 def heading_knots(polyline: Polyline) -> tuple[np.ndarray, np.ndarray]:
     """Arc lengths and headings (unwrapped) to interpolate the heading along `polyline` by:
-    each vertex with its segments' headings averaged, and a segment longer than the grid step
-    with its own heading every grid step (a spline through sparse knots would ring)."""
+    each segment's direction at its middle (a chord's direction is the curve's tangent
+    there), along a straight stretch longer than _STRAIGHT_M every grid step (a spline
+    through sparse knots rings), and at both ends the end segments' directions."""
     headings = np.unwrap(polyline.headings)
     arc = polyline.cumulative_length
-    at_vertices = np.concatenate(([headings[0]], 0.5 * (headings[:-1] + headings[1:]),
-                                  [headings[-1]]))
-    knots, values = [arc[:1]], [at_vertices[:1]]
+    knots, values = [arc[:1]], [headings[:1]]
     for index, length in enumerate(polyline.segment_lengths.tolist()):
-        inner = int(length // _GRID_STEP_M)
-        if inner:
-            knots.append(arc[index] + length * np.arange(1, inner + 1) / (inner + 1))
-            values.append(np.full(inner, headings[index]))
-        knots.append(arc[index + 1:index + 2])
-        values.append(at_vertices[index + 1:index + 2])
+        inner = int(length // _GRID_STEP_M) if length > _STRAIGHT_M else 1
+        knots.append(arc[index] + length * np.arange(1, inner + 1) / (inner + 1))
+        values.append(np.full(inner, headings[index]))
+    knots.append(arc[-1:])
+    values.append(headings[-1:])
     return np.concatenate(knots), np.concatenate(values)
 
 

@@ -27,7 +27,9 @@ _KINK_RAD = 0.02  # largest change of direction between two samples of a clothoi
 _SAMPLE_M = 0.01  # largest distance between two samples (the speed profile's grid is 2 cm)
 _INTEGRATION_STEPS = 4000
 _SMOOTHING_SEARCH_STEPS = 12
-_SMOOTHING_SHARE = 0.95  # of the tolerance a smoothed curve may use (resampling costs a little)
+# Shares of the tolerance the drawn shape may use: the rest is for tracking it.
+_SHAPE_SHARE = 0.97
+_SMOOTHING_SHARE = 0.95
 
 
 @lru_cache(maxsize=256)
@@ -71,7 +73,7 @@ def rounded_corner(corner: np.ndarray, heading_in: float, heading_out: float,
     reaching at most `room` along each leg."""
     deflection = wrap_angle(heading_out - heading_in)
     fine, length, tangent, apex = _unit_half(abs(deflection), shape)
-    scale = min(tolerance / apex, room / tangent)
+    scale = min(_SHAPE_SHARE * tolerance / apex, room / tangent)
     # samples every _SAMPLE_M at most, turning by at most _KINK_RAD from one to the next
     count = min(max(4, math.ceil(0.5 * abs(deflection) / _KINK_RAD),
                     math.ceil(length * scale / _SAMPLE_M)), _INTEGRATION_STEPS)
