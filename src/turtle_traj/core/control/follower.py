@@ -61,6 +61,16 @@ def _finished(arrived: bool, latency: LatencyPredictor, config: ControlConfig) -
     return STOP
 
 
+def _steering(error: float, config: ControlConfig) -> float:
+    """The turn rate that corrects a heading error: proportional, and on a base with an
+    angular acceleration limit no faster than it can stop turning when the error is gone
+    (sqrt(2 alpha |error|)), or a high gain would overshoot, rate-limited."""
+    rate = config.heading_gain * abs(error)
+    if config.max_angular_accel:
+        rate = min(rate, math.sqrt(2.0 * config.max_angular_accel * abs(error)))
+    return math.copysign(rate, error)
+
+
 def _clamp(value: float, limit: float) -> float:
     return max(-limit, min(limit, value))
 
@@ -190,7 +200,7 @@ class _PolylineTracker:
         # leads the heading by the turn of one period: aim half a chord behind the tangent.
         lead = abs(speed) * curvature * config.period_s / 2.0
         target = path_heading - lead - math.atan(config.cross_track_gain * offset)
-        steering = config.heading_gain * wrap_angle(target - facing)
+        steering = _steering(wrap_angle(target - facing), config)
         angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
         linear = -speed if polyline.reverse else speed
         return Command(linear, angular)
