@@ -14,8 +14,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from bench.base_loop import Limits
 
+from base_loop import Limits
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.turtlesim_contract import STEP_S
