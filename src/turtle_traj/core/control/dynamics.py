@@ -63,7 +63,12 @@ def can_stop(previous: Command, config: ControlConfig) -> bool:
 
 
 def stopping_speed(distance: float, deceleration: float, period_s: float) -> float:
-    """Fastest speed from which commands that slow down by `deceleration` each period stop
-    within `distance`, each acting for one period: v²/(2d) + v·T/2 = distance."""
-    half_step = 0.5 * deceleration * period_s
-    return math.sqrt(half_step * half_step + 2.0 * deceleration * max(distance, 0.0)) - half_step
+    """Fastest speed v from which commands v, v - dT, v - 2dT, ... (each acting one period T,
+    the last positive one included) cover at most `distance`."""
+    step = deceleration * period_s
+    budget = max(distance, 0.0) / period_s  # the sum of the commands' speeds
+    # with n full steps down, (n + 1) v - step n (n + 1) / 2 = budget, for n step <= v
+    n = int((math.sqrt(0.25 * step * step + 2.0 * step * budget) - 0.5 * step) / step)
+    while n > 0 and (budget + step * n * (n + 1) / 2) / (n + 1) < n * step:
+        n -= 1
+    return min((budget + step * n * (n + 1) / 2) / (n + 1), (n + 1) * step)

@@ -31,7 +31,7 @@ def heading_knots(polyline: Polyline) -> tuple[np.ndarray, np.ndarray]:
     """Arc lengths and headings (unwrapped) to interpolate the heading along `polyline` by:
     each segment's direction at its middle (a chord's direction is the curve's tangent
     there), along a straight stretch longer than _STRAIGHT_M every grid step (a spline
-    through sparse knots rings), and at both ends the end segments' directions."""
+    through sparse knots rings), and at both ends the tangent the nearest chords give."""
     headings = np.unwrap(polyline.headings)
     arc = polyline.cumulative_length
     knots, values = [arc[:1]], [headings[:1]]
@@ -41,7 +41,13 @@ def heading_knots(polyline: Polyline) -> tuple[np.ndarray, np.ndarray]:
         values.append(np.full(inner, headings[index]))
     knots.append(arc[-1:])
     values.append(headings[-1:])
-    return np.concatenate(knots), np.concatenate(values)
+    knots, values = np.concatenate(knots), np.concatenate(values)
+    if len(knots) > 3:  # the tangent at either end, extrapolated from the nearest chords
+        values[0] = values[1] - (values[2] - values[1]) * (knots[1] - knots[0]) / (
+            knots[2] - knots[1])
+        values[-1] = values[-2] + (values[-2] - values[-3]) * (knots[-1] - knots[-2]) / (
+            knots[-2] - knots[-3])
+    return knots, values
 
 
 class SpeedProfile:
