@@ -34,7 +34,8 @@ def test_a_command_stays_within_reach_of_the_one_before(v0, w0, v1, w1, accel, d
     result = within_reach(Command(v1, w1), Command(v0, w0), config)
     assert abs(result.linear - v0) <= max(accel, decel) * PERIOD
     assert abs(result.angular - w0) <= alpha * PERIOD
-    if abs(w1 - w0) <= alpha * PERIOD * 0.999 and abs(v1 - v0) <= min(accel, decel) * 0.999 * PERIOD:
+    reach = 0.999 * PERIOD
+    if abs(w1 - w0) <= alpha * reach and abs(v1 - v0) <= min(accel, decel) * reach:
         assert result == Command(v1, w1)  # a command in reach is sent as it is
 
 
