@@ -28,7 +28,7 @@ import numpy as np
 from base_loop import DWPP_LIMITS, Limits, base_settings, drive, drive_turtle_traj, world_for
 from dwpp import Dwpp
 from isolation import isolate
-from turtle_traj.core.control.profile import SpeedProfile
+from turtle_traj.core.control.profile import FULL_LIMITS, SpeedProfile
 from turtle_traj.core.geometry.path import Polyline, Pose2D
 from turtle_traj.sim.physics import Inertia
 
@@ -67,13 +67,8 @@ def stop_and_turn_bound(points: np.ndarray, limits: Limits) -> float:
 
 def curve_bound(points: np.ndarray, limits: Limits) -> float:
     """The time-optimal profile along the exact curve at the full limits (TOPP-RA)."""
-    import turtle_traj.core.control.profile as profile
-    shares = profile.ANGULAR_SHARE, profile.ACCEL_SHARE, profile.ANGULAR_ACCEL_SHARE
-    profile.ANGULAR_SHARE = profile.ACCEL_SHARE = profile.ANGULAR_ACCEL_SHARE = 1.0
-    try:
-        return SpeedProfile.plan(Polyline(points), base_settings(limits).control).duration_s
-    finally:
-        profile.ANGULAR_SHARE, profile.ACCEL_SHARE, profile.ANGULAR_ACCEL_SHARE = shares
+    return SpeedProfile.plan(Polyline(points), base_settings(limits).control,
+                             shares=FULL_LIMITS).duration_s
 
 
 def run_dwpp(points: np.ndarray, start: Pose2D, limits: Limits) -> dict:

@@ -30,7 +30,8 @@ class BaseTopics:
     """Subscribes to the pose the parameters name and publishes commands as they say."""
 
     def __init__(self, node: Node, turtle: str, on_pose: PoseCallback) -> None:
-        value = lambda name: node.get_parameter(name).value  # noqa: E731
+        def value(name: str) -> str:
+            return node.get_parameter(name).value
         self._on_pose = on_pose
         self.odometry = value('pose_source') == 'odometry'
         if self.odometry:

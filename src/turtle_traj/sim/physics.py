@@ -133,11 +133,7 @@ class World:
             raise NonFiniteCommand(f'non-finite velocity ({shown}): the turtle stops', aborted)
         turtle.want_vx = linear_x
         turtle.want_vy = linear_y if self.holonomic else 0.0
-        turtle.want_omega = angular_z
-        if not self.inertia.linear_accel:
-            turtle.vx, turtle.vy = turtle.want_vx, turtle.want_vy
-        if not self.inertia.angular_accel:
-            turtle.omega = angular_z
+        turtle.want_omega = angular_z  # in effect from the next step (`_accelerate`)
         return aborted
 
     def _now(self, now_s: float | None, coming: bool = False) -> float:
@@ -204,9 +200,7 @@ class World:
             self._rotate(turtle, report, now_s)
 
         if now_s - turtle.command_time_s > COMMAND_TIMEOUT_S:
-            turtle.want_vx = turtle.want_vy = turtle.want_omega = 0.0
-            if not (self.inertia.linear_accel or self.inertia.angular_accel):
-                turtle.stop()
+            turtle.want_vx = turtle.want_vy = turtle.want_omega = 0.0  # with inertia: slows
         self._accelerate(turtle)
 
         old = (turtle.x, turtle.y)

@@ -40,12 +40,12 @@ def within_reach(command: Command, previous: Command, config: ControlConfig) -> 
     angular = _reach(command.angular, previous.angular, config.max_angular_accel,
                      config.period_s)
     linear = command.linear
-    if angular != command.angular and command.angular and linear:
+    if angular != command.angular and command.angular:
         # the turn rate cannot follow: slow down so that the curvature asked for holds
         # (on the line omega = k v, as Dynamic Window Pure Pursuit chooses)
-        along_curve = linear * angular / command.angular
-        if 0.0 <= along_curve / linear < 1.0:
-            linear = along_curve
+        share = angular / command.angular
+        if 0.0 <= share < 1.0:
+            linear *= share
     linear = _reach(linear, previous.linear, _linear_step(previous.linear, linear, config),
                     config.period_s)
     return Command(linear, angular)

@@ -18,18 +18,17 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.dynamics import can_stop, stopping_speed, within_reach
 from turtle_traj.core.control.latency import LatencyPredictor
-from turtle_traj.core.control.profile import SpeedProfile
+from turtle_traj.core.control.profile import SpeedProfile, profile_for
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
+_UNPLANNED = object()  # a polyline's speed profile, before it is planned
 
 
 def _braking_speed(remaining: float, deceleration: float, period_s: float,
@@ -106,12 +105,13 @@ class _TurnTracker:
 class _PolylineTracker:
     """Tracks a polyline, keeping its place along it from one update to the next."""
 
-    def __init__(self, polyline: Polyline, end_tolerance: float) -> None:
+    def __init__(self, polyline: Polyline, end_tolerance: float,
+                 profile: SpeedProfile | None | object = None) -> None:
         self.polyline = polyline
         self.end_tolerance = end_tolerance
         self.segment = 0
         self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
-        self._profile: SpeedProfile | None = None  # with acceleration limits, on a curve
+        self._profile = profile  # with acceleration limits: None on a straight line
         # Plain floats: a projection looks at a few segments, too few for numpy to pay.
         self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
 
@@ -209,14 +209,13 @@ class _PolylineTracker:
     def _profiled_speed(self, fraction: float, latency: LatencyPredictor,
                         config: ControlConfig) -> float:
         """The profile's speed where this command's period ends (from a standstill the
-        profile starts at 0: it is the window that accelerates the base)."""
+        profile starts at 0: it is the window that accelerates the base). The profile is the
+        plan's (`Plan.profiles`), planned with the request rather than in the control loop."""
         polyline = self.polyline
-        if self._profile is None:
-            curved = bool(np.any(np.abs(polyline.curvatures) > 1e-9))
-            self._profile = (SpeedProfile.curvature_bound(polyline, config) if polyline.repeat
-                             else SpeedProfile.plan(polyline, config) if curved
-                             else SpeedProfile(np.array([0.0, polyline.length]),
-                                               np.full(2, config.linear_speed), math.nan))
+        if self._profile is _UNPLANNED:  # not planned with the plan: the settings changed
+            self._profile = profile_for(polyline, config)
+        if self._profile is None:  # a straight line
+            return config.linear_speed
         arc = (polyline.cumulative_length[self.segment]
                + fraction * polyline.segment_lengths[self.segment])
         reach = abs(latency.last_sent.linear) + (config.max_linear_accel or 1e6) * config.period_s
@@ -236,10 +235,15 @@ class PathFollower:
     """
 
     def __init__(self, path: Path, *, end_tolerance: float | None = None,
-                 latency: LatencyPredictor | None = None, manage_pen: bool = False) -> None:
+                 latency: LatencyPredictor | None = None, manage_pen: bool = False,
+                 profiles: tuple[SpeedProfile | None, ...] = ()) -> None:
         """:param latency: what the caller knows of the commands it sent (it records them and
-            the pose echoes); without it the follower assumes each command acts at once."""
+            the pose echoes); without it the follower assumes each command acts at once.
+        :param profiles: each leg's speed profile for a base with acceleration limits, planned
+            with the request (`Plan.profiles`); without them a leg plans its own as it starts.
+        """
         self.path = path
+        self._profiles = profiles
         self.manage_pen = manage_pen
         self.pen_down: bool | None = None
         self.pen_wanted: bool | None = None
@@ -287,8 +291,10 @@ class PathFollower:
                 tolerance = config.position_tolerance
                 if last and self._end_tolerance is not None:
                     tolerance = self._end_tolerance
+                profile = (self._profiles[self.leg_index] if self._profiles
+                           else _UNPLANNED)
                 self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
-                                 else _PolylineTracker(leg, tolerance))
+                                 else _PolylineTracker(leg, tolerance, profile))
             command = self._tracker.update(pose, predicted, config, self._latency)
             if command is not None:
                 return command

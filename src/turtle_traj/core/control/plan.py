@@ -7,6 +7,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.path import Path
 from turtle_traj.core.turtlesim_contract import PenStyle
 
@@ -23,6 +24,9 @@ class Plan:
     pen: PenStyle | None = None  # a drawing's pen: the node sets it, and restores its own after
     pen_up_unordered: float = 0.0  # pen-up distance had the strokes not been reordered [m]
     drawn: np.ndarray | None = None  # the path as drawn, when its corners are rounded (N, 2)
+    # Each leg's speed profile on a base with acceleration limits (None: a turn, a straight
+    # line), planned with the request; empty without limits.
+    profiles: tuple[SpeedProfile | None, ...] = ()
 
     def drawn_points(self) -> np.ndarray:
         """The points deviation is measured against: the path as drawn, corners included."""

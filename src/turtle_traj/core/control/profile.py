@@ -22,6 +22,8 @@ from turtle_traj.core.geometry.path import Polyline
 ANGULAR_SHARE = 0.95
 ACCEL_SHARE = 1.0
 ANGULAR_ACCEL_SHARE = 0.9
+PLANNING_SHARES = (ANGULAR_SHARE, ACCEL_SHARE, ANGULAR_ACCEL_SHARE)
+FULL_LIMITS = (1.0, 1.0, 1.0)  # the time-optimal bound itself
 _GRID_STEP_M = 0.02  # profile resolution along the path
 _STRAIGHT_M = 0.2  # a segment this long is a straight stretch, not a chord of a curve
 _GRID_POINTS = (50, 2000)
@@ -67,9 +69,12 @@ class SpeedProfile:
         return math.sqrt(float(np.interp(arc_length, self.arc, self.speed ** 2)))
 
     @classmethod
-    def plan(cls, polyline: Polyline, config: ControlConfig) -> SpeedProfile:
+    def plan(cls, polyline: Polyline, config: ControlConfig,
+             shares: tuple[float, float, float] = PLANNING_SHARES) -> SpeedProfile:
         """The time-optimal profile of `polyline` under `config`'s limits (a limit of 0 is
-        unlimited: it is left out)."""
+        unlimited: it is left out), taking these `shares` of the turn rate, the acceleration
+        and the angular acceleration."""
+        angular_share, accel_share, angular_accel_share = shares
         import toppra
         import toppra.algorithm
         import toppra.constraint
@@ -80,12 +85,12 @@ class SpeedProfile:
         knots, headings = heading_knots(polyline)
         path = toppra.SplineInterpolator(knots, np.stack([knots, headings], axis=1))
         inf = 1e6  # "unlimited", finite for the solver
-        accel = (config.max_linear_accel or inf) * ACCEL_SHARE
-        decel = (config.max_linear_decel or config.max_linear_accel or inf) * ACCEL_SHARE
-        alpha = (config.max_angular_accel or inf) * ANGULAR_ACCEL_SHARE
+        accel = (config.max_linear_accel or inf) * accel_share
+        decel = (config.max_linear_decel or config.max_linear_accel or inf) * accel_share
+        alpha = (config.max_angular_accel or inf) * angular_accel_share
         constraints = [
             toppra.constraint.JointVelocityConstraint(
-                np.array([config.linear_speed, config.angular_speed * ANGULAR_SHARE])),
+                np.array([config.linear_speed, config.angular_speed * angular_share])),
             toppra.constraint.JointAccelerationConstraint(
                 np.array([[-decel, accel], [-alpha, alpha]]))]
         count = int(min(max(length / _GRID_STEP_M, _GRID_POINTS[0]), _GRID_POINTS[1]))
@@ -109,3 +114,14 @@ class SpeedProfile:
         speed = np.concatenate((per_segment, [per_segment[-1]]))
         speed[1:-1] = np.minimum(per_segment[:-1], per_segment[1:])
         return cls(polyline.cumulative_length, speed, math.nan)
+
+
+def profile_for(polyline: Polyline, config: ControlConfig) -> SpeedProfile | None:
+    """The profile a base with acceleration limits follows on `polyline`: the curvature's bound
+    on an endless loop, the time-optimal profile on a curve, and None on a straight line (the
+    window and braking alone bound it there)."""
+    if polyline.repeat:
+        return SpeedProfile.curvature_bound(polyline, config)
+    if not np.any(np.abs(polyline.curvatures) > 1e-9):
+        return None
+    return SpeedProfile.plan(polyline, config)

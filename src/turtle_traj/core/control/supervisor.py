@@ -64,7 +64,8 @@ class RunSupervisor:
                  latency: LatencyPredictor | None = None) -> None:
         self.plan = plan
         self.follower = PathFollower(plan.path, end_tolerance=plan.end_tolerance,
-                                     latency=latency, manage_pen=plan.pen is not None)
+                                     latency=latency, manage_pen=plan.pen is not None,
+                                     profiles=plan.profiles)
         self.started_s = started_s
         self.ending: tuple[bool, str] | None = None
         self._start_clearance = wall_clearance(arena, start)

@@ -19,7 +19,12 @@ import numpy as np
 
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.plan import Plan
-from turtle_traj.core.control.profile import ANGULAR_ACCEL_SHARE, ANGULAR_SHARE, SpeedProfile
+from turtle_traj.core.control.profile import (
+    ANGULAR_ACCEL_SHARE,
+    ANGULAR_SHARE,
+    SpeedProfile,
+    profile_for,
+)
 from turtle_traj.core.geometry import shapes
 from turtle_traj.core.geometry.corners import CLOTHOID_PAIR, arc_shape, rounded_path
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
@@ -45,27 +50,30 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings) -> Pl
     it against the arena; PlanError if not."""
     try:
         drawn = SKETCHES[trajectory](request, start, settings)
+        tolerance = corner_tolerance(request, settings, drawing=drawn.pen is not None)
         checked = _checked(drawn, settings.arena, start)
         path = drawn.drive(drawn.size) if drawn.drive is not None else checked
     except ShapeError as error:
         raise PlanError(str(error)) from None
     if not path.legs:  # the follower and the report need at least one leg
         raise PlanError('nothing to drive: the turtle is already there')
-    tolerance = corner_tolerance(request, settings, drawing=drawn.pen is not None)
-    rounded = _rounded(path, tolerance, drawn, settings)
-    return Plan(trajectory, rounded, drawn.linear_speed, drawn.angular_speed,
-                drawn.end_tolerance, drawn.pen, drawn.pen_up_unordered,
-                drawn=path.points() if rounded is not path else None)
+    planned = Plan(trajectory, path, drawn.linear_speed, drawn.angular_speed,
+                   drawn.end_tolerance, drawn.pen, drawn.pen_up_unordered)
+    run = planned.control(settings.control)
+    if tolerance > 0.0:
+        planned = replace(planned, path=_rounded(path, tolerance, run), drawn=path.points())
+    if run.limited:  # planned here, not in the control loop (a curve's takes milliseconds)
+        planned = replace(planned, profiles=tuple(
+            profile_for(leg, run) if isinstance(leg, Polyline) else None
+            for leg in planned.path.legs))
+    return planned
 
 
-def _rounded(path: Path, tolerance: float, sketch: Sketch, settings: Settings) -> Path:
+def _rounded(path: Path, tolerance: float, run: ControlConfig) -> Path:
     """`path` with its corners rounded within `tolerance`; on a base with angular limits, each
     corner is the faster (by its speed profile) of a clothoid pair and a clothoid-arc-clothoid."""
-    control = settings.control
-    if tolerance <= 0.0 or not control.max_angular_accel:
+    if not run.max_angular_accel:
         return rounded_path(path, tolerance)
-    run = replace(control, linear_speed=sketch.linear_speed or control.linear_speed,
-                  angular_speed=sketch.angular_speed or control.angular_speed)
     shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed * ANGULAR_SHARE,
                                        run.max_angular_accel * ANGULAR_ACCEL_SHARE))
     return rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run))
