@@ -18,8 +18,8 @@ $(PY):
 # fallback.
 $(INSTALLED): pyproject.toml | $(PY)
 	$(PY) -m pip install --quiet --disable-pip-version-check uv
-	$(VENV)/bin/uv pip install --quiet --python $(PY) -e '.[dev,interfaces]' \
-	  || $(PY) -m pip install --quiet --disable-pip-version-check -e '.[dev,interfaces]'
+	$(VENV)/bin/uv pip install --quiet --python $(PY) -e '.[dev,interfaces,physics]' \
+	  || $(PY) -m pip install --quiet --disable-pip-version-check -e '.[dev,interfaces,physics]'
 	touch $@
 
 # Rebuild the interface packages only when one of their files changed.

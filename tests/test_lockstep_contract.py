@@ -1,6 +1,6 @@
 """What lock-step relies on of rclpy's experimental EventsExecutor, pinned to the rclpy we ship.
 
-turtle_traj.sim.lockstep steps the simulator after `spin_until_future_complete(Future(), 0)`
+turtle_traj.rosutils.lockstep steps the simulator after `spin_until_future_complete(Future(), 0)`
 returned, taking that to mean: every callback that was ready ran, and so did every callback
 those made ready in turn (a message published to a subscriber of this process, a timer whose
 simulated time came). If an rclpy upgrade changes that, these tests say so before the demo

@@ -18,10 +18,10 @@ from rclpy.parameter import Parameter
 from turtlesim.msg import Pose
 
 from turtle_traj.node.trajectory_node import TrajectoryNode
+from turtle_traj.rosutils.lockstep import LockstepExecutor
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 from turtle_traj.rosutils.runtime import spin_until
 from turtle_traj.sim.base_adapter import BaseAdapter
-from turtle_traj.sim.lockstep import LockstepExecutor
 from turtle_traj.sim.node import SimNode
 
 # Lock-step runs many times faster than real time even on a loaded machine: a wait that has
@@ -45,10 +45,11 @@ class LockstepSim:
                  sim_parameters: dict[str, object] | None = None) -> None:
         self.nodes: list[Node] = []
         self.executor: LockstepExecutor | None = None
+        self.node: TrajectoryNode | None = None  # relative service names are this node's
         self._service_clients: dict[tuple[type, str], Client] = {}
         self._action_clients: list[ActionClient] = []
         with self._closed_on_error():
-            self.sim = SimNode(context=context, lockstep=True, parameter_overrides=[
+            self.sim = self._create_simulator(context, [
                 Parameter('output_dir', value=str(output_dir)),
                 *(Parameter(name, value=value) for name, value in (sim_parameters or {}).items())])
             self.add_node(self.sim)
@@ -59,6 +60,10 @@ class LockstepSim:
             self.executor = LockstepExecutor(self.sim, context=context)
             for node in self.nodes:
                 self.executor.add_node(node)
+
+    def _create_simulator(self, context: Context | None, overrides: list[Parameter]) -> SimNode:
+        """The simulator lock-step steps (subclasses may run another)."""
+        return SimNode(context=context, lockstep=True, parameter_overrides=overrides)
 
     @contextmanager
     def _closed_on_error(self) -> Iterator[None]:
@@ -77,7 +82,7 @@ class LockstepSim:
 
     @property
     def sim_time_s(self) -> float:
-        return self.sim.world.time_s
+        return self.sim.time_s
 
     def spin_until(self, condition: Callable[[], bool], *, timeout_s: float = 60.0) -> bool:
         """Spin until condition() holds or `timeout_s` of simulated time passed."""
@@ -93,7 +98,24 @@ class LockstepSim:
             raise RuntimeError('simulated time did not advance')
 
     def _resolve(self, name: str) -> str:
-        return name
+        """A relative service name is the trajectory node's, when there is one."""
+        if self.node is None or name.startswith('/'):
+            return name
+        return f'{self.node.get_fully_qualified_name()}/{name}'
+
+    def _add_trajectory_node(self, context: Context | None,
+                             parameters: dict[str, object]) -> None:
+        """Run a TrajectoryNode (on simulated time) beside the simulator."""
+        self.node = TrajectoryNode(context=context, parameter_overrides=[SIM_TIME] + [
+            Parameter(name, value=value) for name, value in parameters.items()])
+        self.add_node(self.node)
+
+    def _wait_until_up(self, heard: Callable[[], bool]) -> None:
+        """Spin until the trajectory node is ready and `heard()`; RuntimeError if not."""
+        if not self.spin_until(lambda: self.node.ready and heard(),
+                               timeout_s=_DISCOVERY_TIMEOUT_S):
+            raise RuntimeError(f'the in-process system did not come up within '
+                               f'{_DISCOVERY_TIMEOUT_S:g} s')
 
     def action_client(self, action_type: type, name: str) -> ActionClient:
         """An action client on the client node, destroyed by `close` (rclpy's destroy_node
@@ -145,20 +167,11 @@ class InProcessSystem(LockstepSim):
         with self._closed_on_error():
             if base_adapter:
                 self.add_node(BaseAdapter(context=context, parameter_overrides=[SIM_TIME]))
-            self.node = TrajectoryNode(context=context, parameter_overrides=[SIM_TIME] + [
-                Parameter(name, value=value) for name, value in node_parameters.items()])
-            self.add_node(self.node)
+            self._add_trajectory_node(context, node_parameters)
             self.poses: list[Pose] = []
             self.client.create_subscription(Pose, 'turtle1/pose', self.poses.append,
                                             TURTLE_TOPIC_QOS)
-            if not self.spin_until(lambda: self.node.ready and bool(self.poses),
-                                   timeout_s=_DISCOVERY_TIMEOUT_S):
-                raise RuntimeError(f'the in-process system did not come up within '
-                                   f'{_DISCOVERY_TIMEOUT_S:g} s')
-
-    def _resolve(self, name: str) -> str:
-        """A relative service name is one of the trajectory node's."""
-        return name if name.startswith('/') else f'{self.node.get_fully_qualified_name()}/{name}'
+            self._wait_until_up(lambda: bool(self.poses))
 
     def start(self, service_type, name: str, request=None):
         """Send a request; one to the trajectory node (a relative name) empties `poses` first,

@@ -22,8 +22,13 @@ class Options:
 
     sim: SimOptions | None = None
     ros_args: Sequence[str] = field(default_factory=list)  # argv with ROS arguments, for rclpy
+    base: bool = False  # the physics base instead of our turtlesim (with `sim`'s time scale)
 
     def problem(self) -> str | None:
+        if self.base and self.sim is not None and (
+                self.sim.gui or self.sim.web or self.sim.snapshot or self.sim.holonomic):
+            return ('--base runs the physics base: --gui, --web, --snapshot and --holonomic are '
+                    "our turtlesim's options")
         return self.sim.problem() if self.sim is not None else None
 
 
@@ -53,15 +58,24 @@ def run(options: Options) -> int:
         return fail(problem)
     sim_time = options.sim is not None and options.sim.time_scale is not None
     beside = None
-    if options.sim is not None:  # the simulator is loaded only when asked for
+    if options.sim is not None and not options.base:  # loaded only when asked for
         from turtle_traj.apps.sim_beside import SimBeside
         beside = SimBeside(options.sim)
     controllers: list[TrajectoryNode] = []
 
     def create_nodes(stop: Callable[[], None]) -> list[Node]:
         nodes: list[Node] = beside.create(stop) if beside is not None else []
-        controllers.append(TrajectoryNode(
-            parameter_overrides=[Parameter('use_sim_time', value=True)] if sim_time else []))
+        overrides = [Parameter('use_sim_time', value=True)] if sim_time else []
+        if options.base:
+            nodes.append(_create_base(options.sim.time_scale if options.sim else None))
+            overrides += [Parameter(name, value=value)
+                          for name, value in base_node_parameters(nodes[-1]).items()]
+        try:
+            controllers.append(TrajectoryNode(parameter_overrides=overrides))
+        except Exception:
+            for node in nodes:
+                node.destroy_node()
+            raise
         return [*nodes, *controllers]
 
     def on_exit() -> None:
@@ -74,3 +88,23 @@ def run(options: Options) -> int:
         return run_nodes(create_nodes, args=options.ros_args or None, on_exit=on_exit)
     except SimUnavailable as error:
         return fail(str(error))
+
+
+def base_node_parameters(base: Node) -> dict[str, object]:
+    from turtle_traj.apps.base_system import base_node_parameters as parameters
+    return parameters(base)
+
+
+def _create_base(time_scale: float | None) -> Node:
+    """The physics base (loaded only when asked for).
+
+    :raises SimUnavailable: its parameters are refused, or there is no MuJoCo.
+    """
+    from turtle_traj.apps.base import time_overrides
+    from turtle_traj.base.node import BaseNode
+    from turtle_traj.base.parameters import BaseConfigError
+    from turtle_traj.base.physics import MujocoMissing
+    try:
+        return BaseNode(parameter_overrides=time_overrides(time_scale))
+    except (BaseConfigError, MujocoMissing) as error:
+        raise SimUnavailable(f'--base: {error}') from None

@@ -137,6 +137,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     up = commands.add_parser('up', help='run simulator and node together in this process')
     add_sim_options(up)
+    up.add_argument('--base', action='store_true',
+                    help='the physics base (MuJoCo, a TurtleBot3 Burger) instead of turtlesim: '
+                         'the node drives it by odom and TwistStamped cmd_vel, within its limits')
     commands.add_parser('teleop', help="drive turtle1 with the keyboard, as turtlesim's "
                         'turtle_teleop_key (arrows; g t r e d c v b turn; f cancels; q quits)')
     record = commands.add_parser('record', help='record a rosbag2 bag (MCAP) until Ctrl-C: by '
@@ -203,7 +206,7 @@ def _main(args: Sequence[str] | None) -> int:
             setattr(options, item.name, [*getattr(options, item.name), *extra] or None)
     if options.command == 'up':
         from turtle_traj.apps.node import Options, run  # loads the simulator: only here
-        return run(Options(sim=options_from(options)))
+        return run(Options(sim=options_from(options), base=options.base))
     if options.command == 'teleop':
         from turtle_traj.cli import teleop
         return teleop.main([])

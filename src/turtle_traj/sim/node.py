@@ -131,6 +131,11 @@ class SimNode(Node):
         for listener in self.step_listeners:
             listener()
 
+    @property
+    def time_s(self) -> float:
+        """Simulated time [s]."""
+        return self.world.time_s
+
     def clock_message(self) -> ClockMsg:
         """The simulated time now, as /clock carries it."""
         stamp = ClockMsg()

@@ -60,6 +60,7 @@ class Settings:
     pose_timeout_s: float
     pen: PenStyle  # drawings' default pen, and the pen a drawing leaves behind
     svg_dir: str
+    lifts_pen: bool = True  # drawings set turtlesim's pen (False: a base without one)
 
 
 def settings_from_values(value: dict[str, object]) -> Settings:
@@ -89,7 +90,8 @@ def settings_from_values(value: dict[str, object]) -> Settings:
              Arena(value['arena_min_x'], value['arena_min_y'], value['arena_max_x'],
                    value['arena_max_y'], value['wall_margin']))
     pen = pen_style(value['pen_color'], value['pen_width'])
-    return Settings(control, defaults, arena, value['pose_timeout'], pen, value['svg_dir'])
+    return Settings(control, defaults, arena, value['pose_timeout'], pen, value['svg_dir'],
+                    lifts_pen=value['pen'] == 'turtlesim')
 
 
 DEFAULT_SETTINGS = settings_from_values(DEFAULTS)

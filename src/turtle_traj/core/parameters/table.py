@@ -105,6 +105,9 @@ PARAMETERS = (
          'm', 0.01, 50.0),
     Spec('default_svg_size', 4.0, 'Larger side of an SVG drawing when size is 0', 'm',
          0.01, 50.0),
+    Spec('pen', 'turtlesim', "How drawings (text, SVG) lift the pen between strokes: "
+         "'turtlesim' (its <turtle_name>/set_pen service) or 'none' (a base without a pen: the "
+         'strokes and the moves between them are driven alike)', choices=('turtlesim', 'none')),
     Spec('pen_color', DEFAULT_PEN.hex, 'Pen colour of drawings (text, SVG) when a request '
          'gives none, and the colour the pen is left with: a name (red) or #rrggbb; '
          f"turtlesim's own is {DEFAULT_PEN.hex}"),

@@ -58,7 +58,8 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings) -> Pl
     if not path.legs:  # the follower and the report need at least one leg
         raise PlanError('nothing to drive: the turtle is already there')
     planned = Plan(trajectory, path, drawn.linear_speed, drawn.angular_speed,
-                   drawn.end_tolerance, drawn.pen, drawn.pen_up_unordered)
+                   drawn.end_tolerance, drawn.pen if settings.lifts_pen else None,
+                   drawn.pen_up_unordered)
     run = planned.control(settings.control)
     if tolerance > 0.0:
         planned = replace(planned, path=_rounded(path, tolerance, run), drawn=path.points())

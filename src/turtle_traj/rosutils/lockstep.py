@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterator
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from rclpy.context import Context
 from rclpy.duration import Duration
@@ -26,15 +26,23 @@ from rclpy.node import Node
 from rclpy.publisher import Publisher
 from rclpy.task import Future
 from rclpy.time_source import TimeSource
+from rosgraph_msgs.msg import Clock
 
 from turtle_traj.rosutils.runtime import events_executor
-
-if TYPE_CHECKING:
-    from turtle_traj.sim.node import SimNode
 
 _NO_WAIT = Duration()
 _ACK_POLL = Duration(nanoseconds=1_000_000)
 _DELIVERY_GRACE_S = 0.1
+
+
+class SteppedSimulator(Protocol):
+    """A simulator node lock-step can drive: our turtlesim, the physics base."""
+
+    def step(self) -> None:
+        """Advance simulated time by one step and publish what it produced."""
+
+    def clock_message(self) -> Clock:
+        """The simulated time now, as /clock carries it."""
 
 
 class LockstepExecutor:
@@ -47,7 +55,7 @@ class LockstepExecutor:
     vanished), nothing steps and `spin_once` waits like a plain executor.
     """
 
-    def __init__(self, simulator: SimNode, *, context: Context | None = None) -> None:
+    def __init__(self, simulator: SteppedSimulator, *, context: Context | None = None) -> None:
         self._events = events_executor(context=context)
         self._simulator = simulator
         self._nodes: list[Node] = []
