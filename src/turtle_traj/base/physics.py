@@ -14,6 +14,9 @@ INSTALL_HINT = ("the physics base needs MuJoCo: pip install 'turtle_traj[physics
                 "install mujoco; make setup installs it)")
 
 
+SETTLE_S = 0.5  # before time 0: standing still, the base comes to rest in a tenth of this
+
+
 class MujocoMissing(RuntimeError):
     """MuJoCo is not installed; the message says how to get it."""
 
@@ -44,6 +47,20 @@ class DiffDrivePhysics:
         self._wheel_dof = [joint(f'{side}_wheel_joint').dofadr[0] for side in ('left', 'right')]
         self._setpoints = (0.0, 0.0)  # the motors' speed setpoints now
         self._targets = (0.0, 0.0)  # where `advance` takes them
+        self._settle()
+
+    def _settle(self) -> None:
+        """Let the base come to rest on its tyres and caster (they sink a fraction of a
+        millimetre into the floor), then start the clock: time 0 finds it standing still, at
+        the origin, its wheels at angle 0."""
+        for _ in range(round(SETTLE_S / self.spec.timestep)):
+            self._mujoco.mj_step(self._model, self._data)
+        data = self._data
+        data.time = 0.0
+        data.qpos[0:2] = 0.0
+        data.qpos[self._wheel_qpos] = 0.0
+        data.qvel[:] = 0.0
+        self._mujoco.mj_forward(self._model, data)
 
     @property
     def time_s(self) -> float:
