@@ -184,7 +184,14 @@ class _PolylineTracker:
 
         speed = config.linear_speed
         if config.limited:
-            speed = min(speed, self._profiled_speed(fraction, latency, config))
+            profiled = self._profiled_speed(fraction, latency, config)
+            if remaining != math.inf:
+                # the profile ends at rest, so it allows nothing on its last millimetre: a
+                # base that stopped a hair short (its motors lag, its tyres slip) may still
+                # creep there in one period, a move from rest to rest within reach
+                profiled = max(profiled, min(abs(remaining) / config.period_s,
+                                             config.max_linear_accel * config.period_s))
+            speed = min(speed, profiled)
         elif abs(curvature) > 1e-9:
             speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
         if remaining != math.inf:
