@@ -168,3 +168,25 @@ def test_the_base_without_mujoco_says_how_to_get_it(tmp_path):
     assert result.returncode == 2
     assert "pip install 'turtle_traj[physics]'" in result.stderr
     assert 'Traceback' not in result.stderr
+
+
+def test_the_live_view_shows_the_ground_truth_trail(base):
+    from tests.geometry_checks import ink_at
+    from turtle_traj.apps.base_view import TRAIL, BaseScene
+    from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
+
+    scene = BaseScene(base.sim)
+    frames = []
+    scene.step_listeners.append(lambda: frames.append(scene.world.time_s))
+    try:
+        assert base.call(DrawShape, 'draw_square', DrawShape.Request(size=1.0)).success
+    finally:
+        scene.close()
+    assert frames and frames[-1] == base.sim_time_s
+    truth = _xy(base.truth)
+    # the trail lies where the base truly went (the world's origin at the canvas's centre)
+    on_canvas = truth[::10] + SPAWN_XY_M
+    assert ink_at(scene.canvas, on_canvas, (TRAIL.r, TRAIL.g, TRAIL.b)).mean() > 0.95
+    x, y, yaw = base.sim.physics.pose()
+    assert (scene.turtle.x, scene.turtle.y, scene.turtle.theta) == (
+        x + SPAWN_XY_M, y + SPAWN_XY_M, yaw)

@@ -4,6 +4,8 @@ says so on the page while there is none). Loaded only when asked for."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from rclpy.node import Node
 
 from turtle_traj.client.panel import TrajectoryPanel
@@ -12,8 +14,11 @@ from turtle_traj.sim.node import SimNode
 from turtle_traj.sim.options import SimOptions, SimUnavailable
 from turtle_traj.web.server import WebServer
 
+if TYPE_CHECKING:
+    from turtle_traj.apps.base_view import BaseScene
 
-def create_web(options: SimOptions, sim: SimNode) -> list[Node]:
+
+def create_web(options: SimOptions, sim: SimNode | BaseScene) -> list[Node]:
     """Serve `sim` live on the host and port `options` give, and print the address; the view's
     nodes (the simulator's view first: destroying it stops the server).
 

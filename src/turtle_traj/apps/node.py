@@ -26,8 +26,8 @@ class Options:
 
     def problem(self) -> str | None:
         if self.base and self.sim is not None and (
-                self.sim.gui or self.sim.web or self.sim.snapshot or self.sim.holonomic):
-            return ('--base runs the physics base: --gui, --web, --snapshot and --holonomic are '
+                self.sim.gui or self.sim.snapshot or self.sim.holonomic):
+            return ('--base runs the physics base: --gui, --snapshot and --holonomic are '
                     "our turtlesim's options")
         return self.sim.problem() if self.sim is not None else None
 
@@ -67,9 +67,12 @@ def run(options: Options) -> int:
         nodes: list[Node] = beside.create(stop) if beside is not None else []
         overrides = [Parameter('use_sim_time', value=True)] if sim_time else []
         if options.base:
-            nodes.append(_create_base(options.sim.time_scale if options.sim else None))
+            base = _create_base(options.sim.time_scale if options.sim else None)
+            nodes.append(base)
             overrides += [Parameter(name, value=value)
-                          for name, value in base_node_parameters(nodes[-1]).items()]
+                          for name, value in base_node_parameters(base).items()]
+            if options.sim is not None and options.sim.web:
+                nodes.extend(_base_web(options.sim, base, nodes))
         try:
             controllers.append(TrajectoryNode(parameter_overrides=overrides))
         except Exception:
@@ -88,6 +91,18 @@ def run(options: Options) -> int:
         return run_nodes(create_nodes, args=options.ros_args or None, on_exit=on_exit)
     except SimUnavailable as error:
         return fail(str(error))
+
+
+def _base_web(options: SimOptions, base: Node, nodes: list[Node]) -> list[Node]:
+    """The live view of the base's ground truth (its nodes); SimUnavailable destroys `nodes`."""
+    from turtle_traj.apps.base_view import BaseScene
+    from turtle_traj.apps.live_view import create_web
+    try:
+        return create_web(options, BaseScene(base))
+    except SimUnavailable:
+        for node in nodes:
+            node.destroy_node()
+        raise
 
 
 def base_node_parameters(base: Node) -> dict[str, object]:

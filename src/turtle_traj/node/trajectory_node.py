@@ -260,6 +260,7 @@ class TrajectoryNode(Node):
         if plan.pen is not None and not self._pen.ready:
             raise self.refuse(f'{kind.name} refused: it lifts the pen between strokes, and the '
                               f'simulator service {self._pen.service_name} is not available')
+        self._silence.was_busy()  # planning held the executor: the poses wait in its queue
         run = self._loop.start(plan, arena=self.settings.arena, now_s=self.now_s())
         self._run_done = done = Future()
         if self._recording is not None:

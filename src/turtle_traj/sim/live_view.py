@@ -42,7 +42,10 @@ def turtle_icon_png() -> bytes:
 
 
 class SimLiveView(QueuedPart, Node):
-    """Shows `sim` on `server`'s pages and drives its turtles with the pages' keys."""
+    """Shows `sim` on `server`'s pages and drives its turtles with the pages' keys.
+
+    `sim` is a SimNode, or anything with its `canvas`, `background`, `world` (its turtles and
+    time) and `step_listeners` (the physics base's `apps.base_view.BaseScene`)."""
 
     checkers = live_messages.CHECKERS
     hello_fields = staticmethod(live_messages.hello)
