@@ -1,0 +1,136 @@
+"""Two hosts on one machine: two network namespaces joined by a veth pair, for the README's
+two-machine recipe and its faults (packet loss with nftables, link cuts). Shared by
+tests/test_two_hosts.py and bench/network_bench.py. Needs root (CI runs as root).
+
+Everything it makes carries this process's id in its name, and it removes only what it made:
+the namespaces (their veth ends and nft tables go with them) on `close`, at exit, or when the
+context ends by an error or Ctrl-C. The addresses are its own, inside its namespaces only.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+SUBNET = '10.213.{}.{}'
+NFT_TABLE = 'turtle_traj_faults'
+
+
+class TwoHostsUnavailable(RuntimeError):
+    """Network namespaces cannot be made here; the message says why."""
+
+
+def _run(*args: str, check: bool = True) -> subprocess.CompletedProcess:
+    return subprocess.run(args, capture_output=True, text=True, check=check, timeout=10)
+
+
+def why_unavailable() -> str | None:
+    """Why two hosts cannot be made on this machine (None: they can)."""
+    if os.geteuid() != 0:
+        return 'network namespaces need root'
+    for tool in ('ip', 'nft'):
+        if shutil.which(tool) is None:
+            return f'{tool} is not installed (Debian: apt-get install iproute2 nftables)'
+    return None
+
+
+class TwoHosts:
+    """Host `a` (10.213.N.1) and host `b` (10.213.N.2) on a veth pair; `run(host, ...)`
+    starts a program on one of them."""
+
+    def __init__(self, domain_id: int) -> None:
+        if (problem := why_unavailable()) is not None:
+            raise TwoHostsUnavailable(problem)
+        tag = os.getpid() % 100000
+        self.names = {'a': f'tt{tag}a', 'b': f'tt{tag}b'}  # namespace and its link: <= 15
+        self.address = {'a': SUBNET.format(tag % 250, 1), 'b': SUBNET.format(tag % 250, 2)}
+        self.env = {**os.environ, 'ROS_DOMAIN_ID': str(domain_id),
+                    # across hosts: discovery by multicast on the subnet, and UDP only (Fast
+                    # DDS's shared memory would carry the data past the link between them)
+                    'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SUBNET',
+                    'FASTDDS_BUILTIN_TRANSPORTS': 'UDPv4'}
+        self._made: list[str] = []
+        self._processes: list[subprocess.Popen] = []
+        atexit.register(self.close)
+        try:
+            self._build()
+        except BaseException:
+            self.close()
+            raise
+
+    def _build(self) -> None:
+        for host in 'ab':
+            name = self.names[host]
+            if name in _run('ip', 'netns', 'list').stdout.split():
+                raise TwoHostsUnavailable(f'namespace {name} exists and is not ours')
+        for host in 'ab':
+            _run('ip', 'netns', 'add', self.names[host])
+            self._made.append(self.names[host])
+        a, b = self.names['a'], self.names['b']
+        _run('ip', 'link', 'add', a, 'netns', a, 'type', 'veth', 'peer', 'name', b, 'netns', b)
+        for host in 'ab':
+            ns, link = self.names[host], self.names[host]
+            _run('ip', '-n', ns, 'addr', 'add', f'{self.address[host]}/24', 'dev', link)
+            _run('ip', '-n', ns, 'link', 'set', link, 'up')
+            _run('ip', '-n', ns, 'link', 'set', 'lo', 'up')
+            _run('ip', '-n', ns, 'route', 'add', '224.0.0.0/4', 'dev', link)
+
+    def command(self, host: str, *args: str) -> list[str]:
+        """`args` as run on `host`."""
+        return ['ip', 'netns', 'exec', self.names[host], *args]
+
+    def run(self, host: str, *args: str, **kwargs) -> subprocess.Popen:
+        """Start `python -m ARGS` on `host` (ended by `close`)."""
+        process = subprocess.Popen(self.command(host, sys.executable, '-m', *args),
+                                   env=self.env, **kwargs)
+        self._processes.append(process)
+        return process
+
+    def call(self, host: str, *args: str, timeout_s: float) -> subprocess.CompletedProcess:
+        """Run `turtle-traj ARGS` on `host` to its end."""
+        cli = Path(sys.executable).with_name('turtle-traj')
+        return subprocess.run(self.command(host, str(cli), *args), env=self.env,
+                              capture_output=True, text=True, timeout=timeout_s)
+
+    def loss(self, percent: int) -> None:
+        """Drop `percent` of packets each way (each host's outgoing packets); 0 for none."""
+        for host in 'ab':
+            ns = self.names[host]
+            _run('ip', 'netns', 'exec', ns, 'nft', 'delete', 'table', 'inet', NFT_TABLE,
+                 check=False)
+            if percent:
+                rules = (f'table inet {NFT_TABLE} {{\n chain out {{\n'
+                         '  type filter hook output priority 0;\n'
+                         f'  oifname "{self.names[host]}" numgen random mod 100 < {percent} '
+                         'drop\n }\n}\n')
+                subprocess.run(['ip', 'netns', 'exec', ns, 'nft', '-f', '-'], input=rules,
+                               text=True, check=True, capture_output=True, timeout=10)
+
+    def link(self, up: bool) -> None:
+        """Cut the link between the hosts (False), or restore it (True)."""
+        for host in 'ab':
+            _run('ip', '-n', self.names[host], 'link', 'set', self.names[host],
+                 'up' if up else 'down')
+
+    def close(self) -> None:
+        """End the programs started here, then remove the namespaces this object made."""
+        while self._processes:
+            process = self._processes.pop()
+            if process.poll() is None:
+                process.kill()
+            process.wait(timeout=10)
+        while self._made:
+            name = self._made.pop()
+            for pid in _run('ip', 'netns', 'pids', name, check=False).stdout.split():
+                _run('kill', '-9', pid, check=False)
+            _run('ip', 'netns', 'del', name, check=False)
+
+    def __enter__(self) -> TwoHosts:
+        return self
+
+    def __exit__(self, *_exc) -> None:
+        self.close()
