@@ -90,10 +90,11 @@ class TwoHosts:
         self._processes.append(process)
         return process
 
+    cli = Path(sys.executable).with_name('turtle-traj')
+
     def call(self, host: str, *args: str, timeout_s: float) -> subprocess.CompletedProcess:
         """Run `turtle-traj ARGS` on `host` to its end."""
-        cli = Path(sys.executable).with_name('turtle-traj')
-        return subprocess.run(self.command(host, str(cli), *args), env=self.env,
+        return subprocess.run(self.command(host, str(self.cli), *args), env=self.env,
                               capture_output=True, text=True, timeout=timeout_s)
 
     def loss(self, percent: int) -> None:
