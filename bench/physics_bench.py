@@ -31,7 +31,7 @@ from isolation import isolate
 
 SQUARE_M, CIRCLE_M, TEXT_M, LEG_M, TOLERANCE_M = 1.0, 0.5, 0.5, 3.0, 0.02
 TARGET_ODOM_MM, TARGET_TRUTH_MM, TARGET_RT = 5.0, 15.0, 20.0
-PERIOD_S = 0.016
+PERIOD_S = 0.016  # the base's and the node's period
 
 
 def _requests():
@@ -49,32 +49,27 @@ def _requests():
 
 def _distances(samples: list[tuple[float, float, float, float]], ideal: np.ndarray
                ) -> np.ndarray:
-    points = np.array([(x, y) for _t, x, y, _yaw in samples])
-    a, b = ideal[:-1], ideal[1:]
-    ab = b - a
-    lengths = np.maximum((ab * ab).sum(axis=1), 1e-18)
-    share = np.clip(((points[:, None, :] - a) * ab).sum(axis=2) / lengths, 0.0, 1.0)
-    nearest = a + share[..., None] * ab
-    return np.linalg.norm(points[:, None, :] - nearest, axis=2).min(axis=1)
+    from turtle_traj.core.geometry.path import NearestOnPolyline
+    return NearestOnPolyline(ideal).distances([(x, y) for _t, x, y, _yaw in samples])
 
 
-def _outside(commands, speed: float, turn: float, limits) -> int:
-    outside, previous = 0, (0.0, 0.0)
-    for msg in commands:
-        v, w = msg.twist.linear.x, msg.twist.angular.z
-        if (abs(v) > speed + 1e-9 or abs(w) > turn + 1e-9
-                or abs(v - previous[0]) > limits.max_linear_accel * PERIOD_S * (1 + 1e-6)
-                or abs(w - previous[1]) > limits.max_angular_accel * PERIOD_S * (1 + 1e-6)):
-            outside += 1
-        previous = (v, w)
-    return outside
+def _outside(commands, speed: float, turn: float) -> int:
+    """Commands beyond the node's limits or changing faster than they allow (`outside_share`
+    of bench/base_bench.py, counted)."""
+    from base_loop import Limits, outside_share
+    from turtle_traj.base.drive import DriveLimits
+    from turtle_traj.core.control.commands import Command
+
+    base = DriveLimits()
+    sent = [Command(msg.twist.linear.x, msg.twist.angular.z) for msg in commands]
+    limits = Limits(v=speed, omega=turn, a=base.max_linear_accel, alpha=base.max_angular_accel)
+    return round(outside_share(sent, limits) * len(sent))
 
 
 def run(label, kind, service, name, request, speed, turn, tolerance, *, record=True) -> dict:
     from geometry_msgs.msg import TwistStamped
 
     from turtle_traj.apps.base_system import BaseSystem
-    from turtle_traj.base.drive import DriveLimits
     from turtle_traj.core.geometry.path import Pose2D
     from turtle_traj.core.planning import planner
     from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
@@ -107,7 +102,7 @@ def run(label, kind, service, name, request, speed, turn, tolerance, *, record=T
             drift=1e3 * math.dist(t_end[1:3], o_end[1:3]),
             drift_deg=math.degrees(math.remainder(o_end[3] - t_end[3], math.tau)),
             time=response.elapsed, reported=1e3 * response.max_deviation,
-            outside=_outside(commands, speed, turn, DriveLimits()) if record else -1,
+            outside=_outside(commands, speed, turn) if record else -1,
             clipped=system.sim.clipped_commands,
             rt=(system.sim_time_s - started_sim) / wall)
     finally:

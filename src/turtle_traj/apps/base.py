@@ -15,6 +15,7 @@ from turtle_traj.base.node import BaseNode
 from turtle_traj.base.parameters import BaseConfigError
 from turtle_traj.base.physics import MujocoMissing
 from turtle_traj.rosutils.runtime import fail, run_nodes
+from turtle_traj.sim.options import SimOptions
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -40,8 +41,8 @@ def time_overrides(time_scale: float | None) -> list[Parameter]:
 def main(args: Sequence[str] | None = None) -> int:
     argv = list(sys.argv if args is None else ['turtle_traj.base', *args])
     options = build_parser().parse_args(remove_ros_args(argv)[1:])
-    if options.time_scale is not None and not 0.1 <= options.time_scale <= 1000.0:
-        return fail(f'--time-scale must be within 0.1 and 1000, got {options.time_scale}')
+    if (problem := SimOptions(time_scale=options.time_scale).problem()) is not None:
+        return fail(problem)
 
     def create_nodes(_stop: Callable[[], None]) -> list[Node]:
         return [BaseNode(parameter_overrides=time_overrides(options.time_scale))]

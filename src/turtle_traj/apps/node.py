@@ -66,7 +66,8 @@ def run(options: Options) -> int:
     def create_nodes(stop: Callable[[], None]) -> list[Node]:
         nodes: list[Node] = beside.create(stop) if beside is not None else []
         overrides = [Parameter('use_sim_time', value=True)] if sim_time else []
-        if options.base:
+        if options.base:  # the base is loaded only when asked for
+            from turtle_traj.apps.base_system import base_node_parameters
             base = _create_base(options.sim.time_scale if options.sim else None)
             nodes.append(base)
             overrides += [Parameter(name, value=value)
@@ -103,11 +104,6 @@ def _base_web(options: SimOptions, base: Node, nodes: list[Node]) -> list[Node]:
         for node in nodes:
             node.destroy_node()
         raise
-
-
-def base_node_parameters(base: Node) -> dict[str, object]:
-    from turtle_traj.apps.base_system import base_node_parameters as parameters
-    return parameters(base)
 
 
 def _create_base(time_scale: float | None) -> Node:

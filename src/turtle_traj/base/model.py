@@ -51,10 +51,8 @@ class BaseSpec:
                  for item in fields(self) if not math.isfinite(getattr(self, item.name))]
         if found:
             return found
-        for name in ('wheel_radius', 'wheel_separation', 'mass', 'max_wheel_speed',
-                     'max_wheel_torque', 'motor_gain', 'tire_friction', 'timestep'):
-            if getattr(self, name) <= 0.0:
-                found.append(f'{name} must be above 0, got {getattr(self, name):g}')
+        found = [f'{item.name} must be above 0, got {getattr(self, item.name):g}'
+                 for item in fields(self) if getattr(self, item.name) <= 0.0]
         if found:
             return found
         if self.wheel_radius <= CASTER_RADIUS_M:

@@ -23,6 +23,7 @@ from turtle_traj.base.drive import DriveLimits, VelocityLimiter, wheel_speeds
 from turtle_traj.base.odometry import WheelOdometry
 from turtle_traj.base.parameters import LIMITS, declare_parameters
 from turtle_traj.base.physics import DiffDrivePhysics
+from turtle_traj.rosutils.lockstep import clock_message
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 ODOM_FRAME, WORLD_FRAME, BASE_FRAME = 'odom', 'world', 'base_link'
@@ -159,7 +160,4 @@ class BaseNode(Node):
 
     def clock_message(self) -> ClockMsg:
         """The simulated time now, as /clock carries it."""
-        stamp = ClockMsg()
-        stamp.clock.sec, nanoseconds = divmod(round(self.time_s * 1e9), 10**9)
-        stamp.clock.nanosec = nanoseconds
-        return stamp
+        return clock_message(self.time_s)

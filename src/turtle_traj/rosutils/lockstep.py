@@ -35,6 +35,14 @@ _ACK_POLL = Duration(nanoseconds=1_000_000)
 _DELIVERY_GRACE_S = 0.1
 
 
+def clock_message(time_s: float) -> Clock:
+    """Simulated time as /clock carries it (whole nanoseconds)."""
+    stamp = Clock()
+    stamp.clock.sec, nanoseconds = divmod(round(time_s * 1e9), 10**9)
+    stamp.clock.nanosec = nanoseconds
+    return stamp
+
+
 class SteppedSimulator(Protocol):
     """A simulator node lock-step can drive: our turtlesim, the physics base."""
 

@@ -18,6 +18,7 @@ from turtle_traj_interfaces.srv import SaveImage
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
 
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, STEP_S
+from turtle_traj.rosutils.lockstep import clock_message
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.delay import CommandDelay
@@ -138,10 +139,7 @@ class SimNode(Node):
 
     def clock_message(self) -> ClockMsg:
         """The simulated time now, as /clock carries it."""
-        stamp = ClockMsg()
-        stamp.clock.sec, nanoseconds = divmod(round(self.world.time_s * 1e9), 10**9)
-        stamp.clock.nanosec = nanoseconds
-        return stamp
+        return clock_message(self.world.time_s)
 
     def _publish_state(self, turtle: Turtle) -> None:
         endpoints = self._endpoints[turtle.name]
