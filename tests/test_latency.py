@@ -2,6 +2,7 @@
 
 import math
 
+import numpy as np
 import pytest
 
 from turtle_traj.core.control.commands import Command
@@ -139,3 +140,31 @@ def test_still_only_when_standing_with_nothing_but_stops_on_their_way():
     predictor.sent(Command(0.0, 1.0))
     predictor.observe(0.0, 0.0)
     assert not predictor.still  # a turn is on its way
+
+
+@pytest.mark.parametrize('command', [Command(1.0, 0.0), Command(-0.7, 0.3), Command(0.0, -2.0)])
+def test_alike_commands_are_nudged_apart_by_float32_steps(command):
+    predictor = LatencyPredictor(STEP_S)
+    sent = []
+    for _ in range(40):
+        sent.append(predictor.distinct(command))
+        predictor.sent(sent[-1])
+    echoes = [_echo(each) for each in sent]
+    assert len(set(echoes[-32:])) == 32  # each echo names one command of those remembered
+    for each in sent:
+        assert each.linear == pytest.approx(command.linear, rel=3e-6, abs=0.0)
+        assert each.angular == pytest.approx(command.angular, rel=3e-6, abs=0.0)
+        assert math.copysign(1, each.linear) == math.copysign(1, command.linear)
+    # nudged either way: over a run they nearly cancel (below 1.0 a float32 step is half)
+    mean = np.mean([each.linear + each.angular for each in sent])
+    assert mean == pytest.approx(command.linear + command.angular, rel=5e-7)
+    # the echo of a command now in effect names it, whatever came after
+    predictor.observe(*_echo(sent[-5]))
+    assert predictor.in_flight == 4
+
+
+def test_a_stop_is_never_nudged():
+    predictor = LatencyPredictor(STEP_S)
+    for _ in range(3):
+        predictor.sent(predictor.distinct(Command(0.0, 0.0)))
+    assert predictor.distinct(Command(0.0, 0.0)) == Command(0.0, 0.0)

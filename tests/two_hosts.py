@@ -92,6 +92,15 @@ class TwoHosts:
 
     cli = Path(sys.executable).with_name('turtle-traj')
 
+    def log_poses(self, host: str, out: Path) -> subprocess.Popen:
+        """Log the turtle's poses and the node's plans on `host` into `out` (tests/pose_log.py):
+        on the simulator's host, what the turtle really did, whatever the link lost."""
+        process = subprocess.Popen(
+            self.command(host, sys.executable, str(Path(__file__).with_name('pose_log.py')),
+                         str(out)), env=self.env, stderr=subprocess.DEVNULL)
+        self._processes.append(process)
+        return process
+
     def call(self, host: str, *args: str, timeout_s: float) -> subprocess.CompletedProcess:
         """Run `turtle-traj ARGS` on `host` to its end."""
         return subprocess.run(self.command(host, str(self.cli), *args), env=self.env,

@@ -16,7 +16,7 @@ from turtlesim.msg import Pose
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.geometry.path import Pose2D
-from turtle_traj.rosutils.qos import POSE_READER_QOS, TURTLE_TOPIC_QOS
+from turtle_traj.rosutils.qos import COMMAND_QOS, POSE_READER_QOS
 
 PoseCallback = Callable[[Pose2D, float, float], None]  # pose, |linear| and angular velocity
 
@@ -52,7 +52,7 @@ class BaseTopics:
         else:
             self._message = self._twist = Twist()
         self.publisher = node.create_publisher(type(self._message), command_topic,
-                                               TURTLE_TOPIC_QOS)
+                                               COMMAND_QOS)
 
     def _on_turtlesim_pose(self, msg: Pose) -> None:
         self._on_pose(Pose2D(msg.x, msg.y, msg.theta), msg.linear_velocity,

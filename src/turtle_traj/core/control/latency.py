@@ -6,6 +6,19 @@ its step (the linear one as a magnitude, in float32), so the newest command sent
 match the echo is the one acting; those sent after it are still on their way. Replaying them
 with turtlesim's own integration (heading first, then position along the new heading) predicts
 the pose from which the next command will act. Pure Python: no ROS.
+
+On a straight line every command is the same, and an echo would match them all; so each
+command is nudged by a few float32 steps (`distinct`: a relative 2e-6 at most, either way)
+until its echo is unlike any other remembered. The echo then names the command in effect on
+any path.
+
+A backlog: turtlesim takes one queued command per step, the oldest, and its subscription keeps
+7. Commands that arrive in a burst (a stall of a reliable stream on a lossy link, then its
+repair; a starved sender) therefore queue up, and as one is sent and one taken every period,
+the queue never shrinks again: every later command acts up to 6 periods (96 ms) late, measured
+across two hosts at 5% loss. `backlog` is how many commands wait beyond the least latency seen
+lately; the control loop sends nothing for that many periods, and the queue drains (a step
+without a new command goes on with the last one, as turtlesim does).
 """
 
 from __future__ import annotations
@@ -21,6 +34,9 @@ from turtle_traj.core.geometry.path import Pose2D
 
 _HISTORY = 32  # commands remembered: far more than any latency we can steer through
 _SPREAD_WINDOW = 128  # telling observations over which the latency's variation is judged
+# A period above the least latency is timing jitter (two timers' phases), unless it lasts: then
+# it is a command queued for good.
+_JITTER_PERIODS, _JITTER_LASTS = 1, 32
 
 
 def _as_echoed(command: Command) -> tuple[float, float]:
@@ -45,6 +61,27 @@ class LatencyPredictor:
         self._seen_in_effect = False
         self._recent: deque[int] = deque(maxlen=_SPREAD_WINDOW)
         self._echo = (0.0, 0.0)
+        self._above_least = 0  # observations in a row with more in flight than the least
+
+    def distinct(self, command: Command) -> Command:
+        """`command` nudged by the fewest float32 steps (of its speed, or of its turn rate when
+        it has no speed) that give it an echo unlike those of the commands remembered. A stop
+        stays a stop."""
+        if not self.echoes_commands or command == STOP:
+            return command
+        on_linear = command.linear != 0.0
+        value = np.array(command.linear if on_linear else command.angular, dtype=np.float32)
+        bits = int(value.view(np.int32))
+        taken = set(self._sent_echoes)
+        for nudge in range(_HISTORY + 1):
+            for steps in (nudge, -nudge) if nudge else (0,):
+                # adding to the bits steps the magnitude, whatever the sign
+                nudged = float(np.array(bits + steps, dtype=np.int32).view(np.float32))
+                candidate = (Command(nudged, command.angular) if on_linear
+                             else Command(command.linear, nudged))
+                if _as_echoed(candidate) not in taken:
+                    return candidate
+        return command  # unreachable: more steps tried than commands remembered
 
     def sent(self, command: Command) -> None:
         """Record a command as it is published."""
@@ -70,8 +107,23 @@ class LatencyPredictor:
                 self._recent.append(self.in_flight)
         elif not self._seen_in_effect and self.echoes_commands:
             self.in_flight = len(self._sent)
+        above = self._recent and self.in_flight > min(self._recent)
+        self._above_least = self._above_least + 1 if above else 0
         self._echo = echo
         return self.in_flight
+
+    @property
+    def backlog(self) -> int:
+        """Commands queued at the simulator beyond the least latency seen lately (and a
+        period of jitter, for a while): a queue that a burst filled and that nothing drains."""
+        if not self._recent:
+            return 0
+        jitter = _JITTER_PERIODS if self._above_least < _JITTER_LASTS else 0
+        return max(self.in_flight - min(self._recent) - jitter, 0)
+
+    def held(self) -> None:
+        """A period passed with no command sent: the oldest in flight took effect."""
+        self.in_flight = max(self.in_flight - 1, 0)
 
     @property
     def spread(self) -> int:

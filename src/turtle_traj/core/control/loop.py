@@ -58,12 +58,16 @@ class ControlLoop:
 
     def command(self, config: ControlConfig, arena: Arena, now_s: float) -> Command | None:
         """This period's command for the run; None when there is nothing to send: no run, no
-        pose yet, or the run has just ended (whoever ends it sends the stop)."""
+        pose yet, commands queued at the simulator to drain (`LatencyPredictor.backlog`), or
+        the run has just ended (whoever ends it sends the stop)."""
         run = self.run
         if run is None or self.pose is None:
             return None
+        if self.latency.backlog:
+            self.latency.held()
+            return None
         command = run.command(self.pose, self.standing, config, arena, now_s)
-        return None if run.ending is not None else command
+        return None if run.ending is not None else self.latency.distinct(command)
 
     def sent(self, command: Command) -> None:
         """Record a command as it is published (every one, the stops included)."""

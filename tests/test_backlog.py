@@ -1,0 +1,108 @@
+"""A queue of commands at turtlesim, filled by a burst, is drained (pure: no ROS).
+
+The link below is a reliable topic on a lossy network: a lost command holds back the ones after
+it until its repair, then all arrive together. turtlesim's subscription keeps the last 7 and
+its step takes the oldest; a step with none keeps the last velocity (sim.physics.World).
+"""
+
+from collections import deque
+
+import numpy as np
+
+from tests.geometry_checks import distance_to_polyline, regular_polygon
+from tests.test_supervisor import shape
+from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.latency import LatencyPredictor
+from turtle_traj.core.control.loop import ControlLoop
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+from turtle_traj.core.planning import planner as planning
+from turtle_traj.core.turtlesim_contract import STEP_S, TOPIC_QOS_DEPTH
+from turtle_traj.sim.physics import World
+
+SETTINGS = DEFAULT_SETTINGS
+STALLS_END = 520  # the last stall's end, and a few periods
+SETTLE = 20  # the last periods of a run: standing still, nothing queued
+
+
+def _square(stalls: dict[int, int]) -> tuple[np.ndarray, list[int], list[int]]:
+    """Drive a 2 m square; the link stalls for `stalls[step]` periods from `step`. The turtle's
+    positions, the queue's length at each step and the commands in flight the node counted."""
+    world = World()
+    turtle = world.spawn(5.5, 5.5, 0.0, 'turtle1')
+    control = ControlLoop(STEP_S)
+    control.observe(Pose2D(5.5, 5.5, 0.0), 0.0, 0.0)
+    plan = planning.plan('square', shape(size=2.0), Pose2D(5.5, 5.5, 0.0), SETTINGS)
+    run = control.start(plan, arena=SETTINGS.arena, now_s=0.0)
+    held_back: list[Command] = []
+    queue: deque[Command] = deque(maxlen=TOPIC_QOS_DEPTH)
+    stalled_until, positions, queued, in_flight = -1, [], [], []
+    for step in range(20_000):
+        positions.append((turtle.x, turtle.y))
+        control.observe(Pose2D(turtle.x, turtle.y, turtle.theta),
+                        float(np.float32(turtle.linear_speed)), float(np.float32(turtle.omega)))
+        in_flight.append(control.latency.in_flight)
+        command = control.command(SETTINGS.control, SETTINGS.arena, step * STEP_S)
+        if run.ending is not None:
+            return np.array(positions), queued, in_flight
+        stalled_until = max(stalled_until, step + stalls.get(step, 0))
+        if command is not None:
+            control.sent(command)
+            held_back.append(command)
+        if step >= stalled_until:  # the repair: everything held back arrives at once
+            queue.extend(held_back)
+            held_back.clear()
+        queued.append(len(queue))
+        if queue:
+            taken = queue.popleft()
+            world.command('turtle1', taken.linear, 0.0, taken.angular)
+        world.step()
+    raise AssertionError('the run never ended')
+
+
+CORNERS = regular_polygon(5.5, 5.5, 0.0, 4, 2.0, False)
+STALLS = {60: 10, 300: 10, 500: 10}  # periods: on the first, second and third side
+
+
+def test_without_the_drain_a_burst_fills_the_queue_for_good(monkeypatch):
+    # the node as it was: every period a command, whatever is queued; identical commands
+    monkeypatch.setattr(LatencyPredictor, 'backlog', property(lambda _self: 0))
+    monkeypatch.setattr(LatencyPredictor, 'distinct', lambda _self, command: command)
+    positions, queued, _ = _square(STALLS)
+    assert max(queued) == TOPIC_QOS_DEPTH
+    assert min(queued[STALLS_END:-SETTLE]) == TOPIC_QOS_DEPTH  # one sent, one taken: full
+    # the straight line's commands are all alike, so the echo could not tell the node how
+    # many were queued: it braked 6 periods late, and overshot each corner
+    assert distance_to_polyline(positions, CORNERS).max() > 0.05
+
+
+def test_the_node_sends_nothing_while_commands_wait_and_the_square_stays_exact():
+    steady, queued_steady, _ = _square({})
+    assert max(queued_steady) == 1  # one command per step: it acts at the next
+    stalled, queued, in_flight = _square(STALLS)
+    # the echoes show commands not taking effect: the node stops adding to them
+    assert max(queued) <= 3
+    assert max(queued[STALLS_END:]) <= 2 and max(in_flight[STALLS_END:]) <= 1
+    # and a command more than the least latency is drained once it has lasted half a second
+    assert max(queued[STALLS_END + 40:]) == 1 and max(in_flight[STALLS_END + 40:]) == 0
+    assert distance_to_polyline(steady, CORNERS).max() < 1e-4
+    assert distance_to_polyline(stalled, CORNERS).max() < 1e-3
+
+
+def test_backlog_counts_the_commands_beyond_the_least_latency_and_a_period():
+    predictor = LatencyPredictor(STEP_S)
+    commands = [Command(0.01 * k, 0.0) for k in range(1, 30)]  # all distinct
+    for index, command in enumerate(commands[:10]):
+        predictor.sent(command)
+        predictor.observe(*_echo(commands[index]))  # in effect at once: none in flight
+    assert predictor.backlog == 0
+    for command in commands[10:16]:
+        predictor.sent(command)
+    predictor.observe(*_echo(commands[10]))  # five sent after the one in effect
+    assert predictor.in_flight == 5 and predictor.backlog == 4
+    predictor.held()
+    assert predictor.in_flight == 4 and predictor.backlog == 3
+
+
+def _echo(command: Command) -> tuple[float, float]:
+    return float(np.float32(abs(command.linear))), float(np.float32(command.angular))

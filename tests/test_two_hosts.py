@@ -1,0 +1,198 @@
+"""The README's two-machine recipe, for real: our simulator and a pose log on host a, the
+trajectory node and the command line on host b, two network namespaces on a veth pair with
+default discovery (tests/two_hosts.py); then packet loss, link cuts and a simulator restarted.
+
+Deviations are measured on host a, from every pose the turtle had, against the plan the node
+published, and must agree with the node's own figure. Needs root: without it these tests are
+skipped, naming why; under CI they run, and a missing permission fails them.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.conftest import DOMAIN_ID
+from tests.geometry_checks import distance_to_polyline
+from tests.pose_log import PoseLog
+from tests.two_hosts import TwoHosts, why_unavailable
+
+_PROBLEM = why_unavailable()
+pytestmark = pytest.mark.skipif(_PROBLEM is not None and not os.environ.get('CI'),
+                                reason=f'two hosts: {_PROBLEM}')
+POSE_TIMEOUT_S = 0.5  # the node's default
+COMMAND_TIMEOUT_S = 1.0  # turtlesim stops a turtle that has had no command for this long
+CALL_TIMEOUT_S = 60.0  # a call not answered by then has hung
+# What a lost command can cost: the stream of commands stalls until its repair (heartbeats every
+# 10 ms, fastdds.xml), and meanwhile the one before acts on. The echo shows the node the late
+# command, and the latency's spread slows each approach to an end; measured at 5% loss, the
+# deviation stays within a millimetre or two of the loss-free one (bench/network_bench.py).
+LOSSY_DEVIATION_M = 0.003
+
+
+class Hosts:
+    """The two hosts, the programs on them and the pose log on host a."""
+
+    def __init__(self, made: TwoHosts, log: Path) -> None:
+        self.made, self.log = made, log
+        self.sim = self.start_sim()
+        made.log_poses('a', log)
+        made.run('b', 'turtle_traj', stderr=subprocess.DEVNULL)
+
+    def start_sim(self) -> subprocess.Popen:
+        return self.made.run('a', 'turtle_traj.sim', stderr=subprocess.DEVNULL)
+
+    def call(self, *args: str, timeout_s: float = CALL_TIMEOUT_S) -> subprocess.CompletedProcess:
+        return self.made.call('b', *args, timeout_s=timeout_s)
+
+    def start(self, *args: str) -> subprocess.Popen:
+        """A call left running (a trajectory to cut)."""
+        return subprocess.Popen(self.made.command('b', str(self.made.cli), *args),
+                                env=self.made.env, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True)
+
+    def measured(self, *args: str) -> tuple[subprocess.CompletedProcess, float, float]:
+        """Run a trajectory from a reset turtle: its answer, the deviation measured on host a
+        (m) and the one the node reported."""
+        reset = self.call('reset', '--wait', '30')
+        assert reset.returncode == 0, reset.stdout + reset.stderr
+        start = time.monotonic()
+        done = self.call(*args, '--wait', '30')
+        end = time.monotonic()
+        time.sleep(0.2)  # the last poses reach the log
+        log = PoseLog.read(self.log)
+        plan = log.plan_after(start)
+        assert plan is not None, 'no plan reached host a'
+        deviation = float(distance_to_polyline(log.between(start, end), plan).max())
+        reported = re.search(r'max deviation ([0-9.]+) m', done.stdout)
+        return done, deviation, float(reported.group(1)) if reported else math.nan
+
+    def last_move_s(self) -> float:
+        """When the turtle last moved (monotonic s), from the log on host a."""
+        poses = PoseLog.read(self.log).poses
+        moved = np.flatnonzero(np.abs(np.diff(poses[:, 1:], axis=0)).sum(axis=1) > 1e-7)
+        return float(poses[moved[-1] + 1, 0]) if len(moved) else -math.inf
+
+
+@pytest.fixture(scope='module')
+def hosts(tmp_path_factory):
+    with TwoHosts(DOMAIN_ID) as made:
+        yield Hosts(made, tmp_path_factory.mktemp('two_hosts') / 'poses.log')
+
+
+def _succeeded(done: subprocess.CompletedProcess) -> None:
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_the_readme_recipe_draws_across_two_hosts(hosts):
+    done, deviation, reported = hosts.measured('draw', 'square', '--size', '0.5')
+    _succeeded(done)
+    assert 'square done' in done.stdout
+    assert deviation < 0.001
+    assert reported == pytest.approx(deviation, abs=1e-4)  # the node's figure is the truth
+
+
+@pytest.mark.parametrize('loss', [1, 5])
+def test_a_lossy_link_still_draws_every_kind_of_path(hosts, loss):
+    hosts.made.loss(loss)
+    try:
+        runs = [hosts.measured('draw', 'square', '--size', '0.5'),
+                hosts.measured('draw', 'circle', '--size', '0.5'),
+                hosts.measured('write', 'T', '--height', '0.3')]
+    finally:
+        hosts.made.loss(0)
+    for done, deviation, reported in runs:
+        _succeeded(done)
+        print(f'{loss}% loss: deviation {deviation * 1e3:.2f} mm (node: {reported * 1e3:.2f})')
+        assert deviation < LOSSY_DEVIATION_M
+        # the node sees fewer poses than the turtle had (a lost pose is not resent: it reads
+        # the newest), so its figure may be a little lower, never higher
+        assert deviation - 5e-4 <= reported <= deviation + 1e-4
+
+
+def test_at_twenty_percent_a_run_completes_or_says_why_not(hosts):
+    hosts.made.loss(20)
+    try:
+        done, deviation, _ = hosts.measured('draw', 'square', '--size', '0.5')
+    finally:
+        hosts.made.loss(0)
+    if done.returncode == 0:
+        assert deviation < LOSSY_DEVIATION_M
+    else:
+        assert re.search(r'aborted: .+', done.stdout + done.stderr), done.stdout + done.stderr
+
+
+def _ended_s(process: subprocess.Popen, since: float, until: float) -> float:
+    """Seconds from `since` to the end of `process`, watched until `until` (inf: running)."""
+    while time.monotonic() < until:
+        if process.poll() is not None:
+            return time.monotonic() - since
+        time.sleep(0.01)
+    return math.inf
+
+
+@pytest.mark.parametrize('cut_s', [0.5, 2.0, 10.0])
+def test_a_cut_link_ends_the_run_and_the_next_call_succeeds(hosts, cut_s):
+    _succeeded(hosts.call('reset', '--wait', '30'))
+    circle = hosts.start('draw', 'circle', '--size', '1', '--wait', '30')
+    try:
+        time.sleep(2.5)
+        assert circle.poll() is None, circle.stdout.read()
+        hosts.made.link(False)
+        cut = time.monotonic()
+        ended_s = _ended_s(circle, cut, cut + min(cut_s, POSE_TIMEOUT_S + 1.0))
+        if cut_s > 5.0:
+            # a call made during the cut answers at once: the node is on this host
+            during = hosts.call('move', '0.2', '--wait', '5', timeout_s=20)
+            assert during.returncode != 0
+            assert 'no pose on /turtle1/pose' in during.stdout + during.stderr
+        assert time.monotonic() < cut + cut_s
+        time.sleep(cut + cut_s - time.monotonic())
+        stopped_s = hosts.last_move_s() - cut
+        hosts.made.link(True)
+        back = time.monotonic()
+        said, _ = circle.communicate(timeout=CALL_TIMEOUT_S)
+        time.sleep(0.3)
+        # and the commands held for the link were dropped, not delivered late (lifespan)
+        stale_s = hosts.last_move_s() - cut
+    finally:
+        hosts.made.link(True)
+        if circle.poll() is None:
+            circle.kill()
+            circle.wait()
+    if cut_s > POSE_TIMEOUT_S:
+        assert 'no pose on /turtle1/pose' in said and circle.returncode != 0, said
+        assert ended_s < POSE_TIMEOUT_S + 1.0
+        # nothing reaches the turtle: turtlesim's command timeout stops it
+        assert stopped_s < COMMAND_TIMEOUT_S + 0.1
+        assert stale_s == stopped_s
+    else:  # no longer than pose_timeout: the run may ride it out
+        assert circle.returncode == 0 or 'no pose on /turtle1/pose' in said, said
+    done = hosts.call('move', '0.2', '--wait', '30')
+    _succeeded(done)
+    assert time.monotonic() - back < 5.0
+
+
+def test_a_simulator_restarted_on_its_host_is_driven_again(hosts):
+    reset = hosts.call('reset', '--wait', '30')
+    _succeeded(reset)
+    circle = hosts.start('draw', 'circle', '--size', '1', '--wait', '30')
+    time.sleep(2.5)
+    hosts.sim.kill()
+    hosts.sim.wait()
+    killed = time.monotonic()
+    said, _ = circle.communicate(timeout=CALL_TIMEOUT_S)
+    assert circle.returncode != 0
+    assert 'no pose on /turtle1/pose' in said
+    assert time.monotonic() - killed < POSE_TIMEOUT_S + 1.0 + 2.0  # and the CLI's own exit
+    hosts.sim = hosts.start_sim()
+    done = hosts.call('move', '0.2', '--wait', '30')
+    _succeeded(done)
+    assert 'move done' in done.stdout
