@@ -43,7 +43,8 @@ PATHS = {'square': ('draw', 'square', '--size', '1'),
          'circle': ('draw', 'circle', '--size', '1'),
          'ROS': ('write', 'ROS', '--height', '0.5')}
 CUTS_S = (0.5, 2.0, 10.0)
-CALL_TIMEOUT_S = 120.0  # a call that has not answered by then has hung
+RUN_LIMIT_S = 150.0  # the CLI's --timeout: it cancels a run still going after this
+CALL_TIMEOUT_S = RUN_LIMIT_S + 60.0  # a call that has not answered by then has hung
 POSE_TIMEOUT_S = 0.5  # the node's default
 
 
@@ -93,7 +94,7 @@ class Bench:
         self.hosts.loss(loss)
         start = time.monotonic()
         try:
-            done = self.call(*PATHS[path])
+            done = self.call(*PATHS[path], '--timeout', str(RUN_LIMIT_S))
         finally:
             end = time.monotonic()
             self.hosts.loss(0)

@@ -8,9 +8,9 @@ with turtlesim's own integration (heading first, then position along the new hea
 the pose from which the next command will act. Pure Python: no ROS.
 
 On a straight line every command is the same, and an echo would match them all; so each
-command is nudged by a few float32 steps (`distinct`: a relative 2e-6 at most, either way)
-until its echo is unlike any other remembered. The echo then names the command in effect on
-any path.
+command is moved by a few float32 steps (`distinct`: a relative 4e-6 at most, towards the
+command before it) until its echo is unlike any other remembered. The echo then names the
+command in effect on any path.
 
 A backlog: turtlesim takes one queued command per step, the oldest, and its subscription keeps
 7. Commands that arrive in a burst (a stall of a reliable stream on a lossy link, then its
@@ -64,24 +64,33 @@ class LatencyPredictor:
         self._above_least = 0  # observations in a row with more in flight than the least
 
     def distinct(self, command: Command) -> Command:
-        """`command` nudged by the fewest float32 steps (of its speed, or of its turn rate when
-        it has no speed) that give it an echo unlike those of the commands remembered. A stop
+        """`command` moved by the fewest float32 steps that give it an echo unlike those of the
+        commands remembered: its speed (its turn rate, when it has no speed), towards the last
+        command sent, then on towards zero. So it keeps within any limit of speed that it was
+        within, and its change from the one before grows by a few float32 steps at most. A stop
         stays a stop."""
         if not self.echoes_commands or command == STOP:
             return command
-        on_linear = command.linear != 0.0
-        value = np.array(command.linear if on_linear else command.angular, dtype=np.float32)
-        bits = int(value.view(np.int32))
         taken = set(self._sent_echoes)
-        for nudge in range(_HISTORY + 1):
-            for steps in (nudge, -nudge) if nudge else (0,):
-                # adding to the bits steps the magnitude, whatever the sign
-                nudged = float(np.array(bits + steps, dtype=np.int32).view(np.float32))
-                candidate = (Command(nudged, command.angular) if on_linear
-                             else Command(command.linear, nudged))
-                if _as_echoed(candidate) not in taken:
-                    return candidate
-        return command  # unreachable: more steps tried than commands remembered
+        if _as_echoed(command) not in taken:
+            return command
+        on_linear = command.linear != 0.0
+        exact = command.linear if on_linear else command.angular
+        last = self.last_sent.linear if on_linear else self.last_sent.angular
+        value, towards = np.float32(exact), np.float32(last)
+        if abs(float(value) - last) > abs(exact - last):  # rounded away from the last one
+            value = np.nextafter(value, towards)
+        for _ in range(_HISTORY + 1):
+            candidate = (Command(float(value), command.angular) if on_linear
+                         else Command(command.linear, float(value)))
+            if _as_echoed(candidate) not in taken:
+                return candidate
+            if value == towards:
+                towards = np.float32(0.0)
+            value = np.nextafter(value, towards)
+            if value == 0.0:
+                break
+        return command  # a value fewer float32 steps from zero than commands remembered
 
     def sent(self, command: Command) -> None:
         """Record a command as it is published."""
