@@ -31,10 +31,13 @@ POSE_TIMEOUT_S = 0.5  # the node's default
 COMMAND_TIMEOUT_S = 1.0  # turtlesim stops a turtle that has had no command for this long
 CALL_TIMEOUT_S = 60.0  # a call not answered by then has hung
 # What a lost command can cost: the stream of commands stalls until its repair (heartbeats every
-# 10 ms, fastdds.xml), and meanwhile the one before acts on. The echo shows the node the late
-# command, and the latency's spread slows each approach to an end; measured at 5% loss, the
-# deviation stays within a millimetre or two of the loss-free one (bench/network_bench.py).
-LOSSY_DEVIATION_M = 0.003
+# 10 ms, fastdds.xml), and meanwhile the command before acts on. Mid-leg the echo shows the node
+# the late command and it steers back; at a leg's end the latency's spread slows the approach.
+# Worst case: a stall holding the last command of a turn, whose heading error the next side
+# carries until the cross-track steering removes it. Measured: at most 0.9 mm at 1% and 5% in
+# the bench (a quiet machine), 14.3 mm once at 1% beside a CPU-heavy test (the node's timer
+# late too): the bound is that, with a margin, not the loss-free figure.
+LOSSY_DEVIATION_M = 0.02
 
 
 class Hosts:

@@ -128,7 +128,6 @@ def process_context() -> tuple[Context, bool]:
     if rclpy.ok():
         return rclpy.utilities.get_default_context(), False
     rclpy.try_shutdown()  # forgets a default context that was shut down
-    use_our_fastdds_profile()
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     return rclpy.utilities.get_default_context(), True
 
