@@ -31,12 +31,11 @@ from pathlib import Path
 
 import numpy as np
 
-from checks import distance_to_polyline
 from isolation import isolate
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from tests.pose_log import PoseLog  # noqa: E402
-from tests.two_hosts import TwoHosts, why_unavailable  # noqa: E402
+from tests.two_hosts import TwoHosts, reported_deviation_m, why_unavailable  # noqa: E402
 
 LOSSES = (0, 1, 5, 10, 20)
 PATHS = {'square': ('draw', 'square', '--size', '1'),
@@ -67,11 +66,6 @@ def _outcome(output: str) -> str:
                 lines[-1].strip() if lines else 'no answer')
 
 
-def _reported_mm(output: str) -> float:
-    found = re.search(r'max deviation ([0-9.]+) m', output)
-    return float(found.group(1)) * 1e3 if found else math.nan
-
-
 class Bench:
     def __init__(self, hosts: TwoHosts, log: Path) -> None:
         self.hosts, self.log = hosts, log
@@ -100,20 +94,16 @@ class Bench:
             self.hosts.loss(0)
         said = '' if done is None else (done.stdout + done.stderr).strip()
         time.sleep(0.3)  # the last poses reach the log
-        poses_log = PoseLog.read(self.log)
-        plan, poses = poses_log.plan_after(start), poses_log.between(start, end)
-        deviation = (float(distance_to_polyline(poses, plan).max()) * 1e3
-                     if plan is not None and len(poses) else math.nan)
+        deviation_mm = PoseLog.read(self.log).deviation_m(start, end) * 1e3
         return Run(path, loss, done is not None and done.returncode == 0, end - start,
-                   deviation, _reported_mm(said), _outcome(said) if said else 'no answer')
+                   deviation_mm, reported_deviation_m(said) * 1e3,
+                   _outcome(said) if said else 'no answer')
 
     def cut(self, cut_s: float) -> tuple[str, float, float]:
         """A circle cut for `cut_s` after 3 s: its end (message, seconds after the cut) and
         the time from the link's return to the first call that succeeds."""
         self.reset()
-        circle = subprocess.Popen(
-            self.hosts.command('b', str(self.hosts.cli), *PATHS['circle'], '--wait', '30'),
-            env=self.hosts.env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        circle = self.hosts.start('b', *PATHS['circle'], '--wait', '30')
         time.sleep(3.0)
         self.hosts.link(False)
         cut_at = time.monotonic()
@@ -136,6 +126,7 @@ class Bench:
             done = self.call('move', '0.2')
             if done is not None and done.returncode == 0:
                 return _outcome(said), ended_s, time.monotonic() - back
+            print(f'  after the cut: {_outcome(done.stdout + done.stderr) if done else "hung"}')
         return _outcome(said), ended_s, math.inf
 
 

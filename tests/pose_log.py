@@ -11,6 +11,7 @@ end (one monotonic clock for every namespace).
 
 from __future__ import annotations
 
+import math
 import signal
 import sys
 import time
@@ -49,6 +50,16 @@ class PoseLog:
     def plan_after(self, start_s: float) -> np.ndarray | None:
         """The first plan published after `start_s` (None: none arrived)."""
         return next((points for time_s, points in self.plans if time_s >= start_s), None)
+
+    def deviation_m(self, start_s: float, end_s: float) -> float:
+        """A run's maximum deviation: its poses' distance from the plan published after it
+        began (nan: no plan or no pose reached the log)."""
+        from tests.geometry_checks import distance_to_polyline
+
+        plan, poses = self.plan_after(start_s), self.between(start_s, end_s)
+        if plan is None or not len(poses):
+            return math.nan
+        return float(distance_to_polyline(poses, plan).max())
 
 
 def main(out: str) -> None:

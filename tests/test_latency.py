@@ -128,6 +128,34 @@ def test_a_steady_latency_has_no_spread_and_a_varying_one_has():
     assert jittery.overrun() == pytest.approx((1.0 * 3 * STEP_S, 0.0))
 
 
+def test_the_spread_outlasts_standing_still_and_is_forgotten_when_the_link_returns():
+    from turtle_traj.core.control.latency import _SPREAD_WINDOW
+    commands = [Command(0.1 * k, 0.0) for k in range(1, 11)]
+    jittery = LatencyPredictor(STEP_S)
+    _drive(jittery, commands, [0, 1, 2, 1, 0, 1, 2, 3, 1, 0])
+    for _ in range(2 * _SPREAD_WINDOW):  # standing: the stops in effect tell no latency
+        jittery.sent(Command(0.0, 0.0))
+        jittery.observe(0.0, 0.0)
+    assert jittery.spread == 3  # the link is what it was when the turtle last drove
+    jittery.forget_spread()
+    assert jittery.spread == 0 and jittery.overrun() == (0.0, 0.0) and jittery.backlog == 0
+    _drive(jittery, [Command(2.0 + 0.1 * k, 0.0) for k in range(5)], [1, 1, 2, 1, 1])
+    assert jittery.spread == 1  # judged afresh from the poses since
+
+
+def test_a_command_later_than_its_lifespan_is_a_stall_not_jitter():
+    from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S
+    stall = round(COMMAND_LIFESPAN_S / STEP_S)
+    commands = [Command(0.01 * k, 0.0) for k in range(1, 31)]
+    predictor = LatencyPredictor(STEP_S)
+    # The link returns from a cut: the turtle still acts on a command sent before it.
+    _drive(predictor, commands, [1] * 19 + [1 + stall + 1] + [1] * 10)
+    assert predictor.spread == 0  # the stall was not remembered: approaches stay brisk
+    within = LatencyPredictor(STEP_S)
+    _drive(within, commands, [1] * 19 + [1 + stall] + [1] * 10)
+    assert within.spread == stall  # a latency within the lifespan is jitter to allow for
+
+
 def test_still_only_when_standing_with_nothing_but_stops_on_their_way():
     predictor = LatencyPredictor(STEP_S)
     _drive(predictor, [Command(0.5, 0.0), Command(0.0, 0.0), Command(0.0, 0.0)], [0, 1, 2])

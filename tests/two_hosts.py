@@ -10,7 +10,9 @@ context ends by an error or Ctrl-C. The addresses are its own, inside its namesp
 from __future__ import annotations
 
 import atexit
+import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -18,6 +20,12 @@ from pathlib import Path
 
 SUBNET = '10.213.{}.{}'
 NFT_TABLE = 'turtle_traj_faults'
+
+
+def reported_deviation_m(output: str) -> float:
+    """The maximum deviation a CLI call printed (nan: none)."""
+    found = re.search(r'max deviation ([0-9.]+) m', output)
+    return float(found.group(1)) if found else math.nan
 
 
 class TwoHostsUnavailable(RuntimeError):
@@ -98,6 +106,14 @@ class TwoHosts:
         process = subprocess.Popen(
             self.command(host, sys.executable, str(Path(__file__).with_name('pose_log.py')),
                          str(out)), env=self.env, stderr=subprocess.DEVNULL)
+        self._processes.append(process)
+        return process
+
+    def start(self, host: str, *args: str) -> subprocess.Popen:
+        """Start `turtle-traj ARGS` on `host` and leave it running (a trajectory to cut); its
+        output, both streams, on its stdout."""
+        process = subprocess.Popen(self.command(host, str(self.cli), *args), env=self.env,
+                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         self._processes.append(process)
         return process
 

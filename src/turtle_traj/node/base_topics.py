@@ -7,16 +7,26 @@ diff_drive_controller takes on Jazzy). Relative names follow the node's namespac
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable
 
 from geometry_msgs.msg import Twist, TwistStamped
+from rclpy.duration import Duration
 from rclpy.node import Node
 from turtlesim.msg import Pose
 
-from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, Command
 from turtle_traj.core.geometry.path import Pose2D
-from turtle_traj.rosutils.qos import COMMAND_QOS, POSE_READER_QOS
+from turtle_traj.rosutils.qos import POSE_READER_QOS, TURTLE_TOPIC_QOS
+
+# What the commands are published with: turtlesim's profile, and a lifespan. A reliable writer
+# keeps its last 7 commands until the simulator has them; after a cut link they would all arrive
+# when it returns, and drive the turtle on commands seconds old. A command older than the
+# lifespan is dropped from the writer's history (lifespan acts on the writer's side: no clocks
+# across hosts are compared).
+COMMAND_QOS = copy.copy(TURTLE_TOPIC_QOS)
+COMMAND_QOS.lifespan = Duration(seconds=COMMAND_LIFESPAN_S)
 
 PoseCallback = Callable[[Pose2D, float, float], None]  # pose, |linear| and angular velocity
 

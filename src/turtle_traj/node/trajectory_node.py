@@ -101,6 +101,8 @@ class TrajectoryNode(Node):
 
     @serialized
     def _on_pose(self, pose: Pose2D, linear_echo: float, angular_echo: float) -> None:
+        if self._loop.pose is not None and self._silence.seconds() > self.settings.pose_timeout_s:
+            self._loop.link_restored()  # not after a reset: the link is what it was
         self._loop.observe(pose, linear_echo, angular_echo)
         self._finish_if_ended()  # a jump ends the run
         self._silence.heard()

@@ -1,7 +1,6 @@
 """turtlesim's topic QoS as an rclpy profile, for the simulator's node and the controller's
 (the numbers are in turtlesim_contract)."""
 
-from rclpy.duration import Duration
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from turtle_traj.core.turtlesim_contract import STEP_S, TOPIC_QOS_DEPTH
@@ -9,16 +8,6 @@ from turtle_traj.core.turtlesim_contract import STEP_S, TOPIC_QOS_DEPTH
 # turtlesim's per-turtle topic QoS (qos.hpp in turtlesim 1.8).
 TURTLE_TOPIC_QOS = QoSProfile(
     history=HistoryPolicy.KEEP_LAST, depth=TOPIC_QOS_DEPTH, reliability=ReliabilityPolicy.RELIABLE)
-
-# What the controller publishes its commands with: turtlesim's profile, and a lifespan. A
-# reliable writer keeps its last 7 commands until the simulator has them; after a cut link they
-# would all arrive when it returns, and drive the turtle on commands seconds old. A command
-# older than this is dropped from the writer's history (lifespan acts on the writer's side: no
-# clocks across hosts are compared).
-COMMAND_LIFESPAN_S = 0.2
-COMMAND_QOS = QoSProfile(
-    history=HistoryPolicy.KEEP_LAST, depth=TOPIC_QOS_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
-    lifespan=Duration(seconds=COMMAND_LIFESPAN_S))
 
 # What the controller keeps of the pose topic: 2 s of poses, best effort. A reader's history and
 # reliability are its own (it matches turtlesim's reliable publisher all the same): a node that

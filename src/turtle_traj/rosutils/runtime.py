@@ -29,8 +29,8 @@ _PROFILE_VARIABLES = ('FASTRTPS_DEFAULT_PROFILES_FILE', 'FASTDDS_DEFAULT_PROFILE
 
 def use_our_fastdds_profile(environ: MutableMapping[str, str] = os.environ) -> bool:
     """Point Fast DDS at fastdds.xml (quick re-announcement, quick repair of lost samples)
-    unless the user chose a profile
-    file or another middleware; call before rclpy.init. Returns whether it did."""
+    unless the user chose a profile file or another middleware; call before rclpy.init.
+    Returns whether it did."""
     middleware = environ.get('RMW_IMPLEMENTATION', 'rmw_fastrtps_cpp')
     if middleware != 'rmw_fastrtps_cpp' or any(environ.get(v) for v in _PROFILE_VARIABLES):
         return False

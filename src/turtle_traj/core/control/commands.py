@@ -14,3 +14,7 @@ class Command:
 
 
 STOP = Command()
+
+# How long a command may take to be delivered (s): the lifespan its publisher gives it (a command
+# still undelivered then is dropped, not driven on seconds late after a cut link).
+COMMAND_LIFESPAN_S = 0.2

@@ -28,15 +28,16 @@ from collections import deque
 
 import numpy as np
 
-from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, STOP, Command
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
 
 _HISTORY = 32  # commands remembered: far more than any latency we can steer through
-# Observations over which the latency's variation is judged (16 s): on a link that loses 1% of
-# its packets a command stalls every second or two, so a 2 s memory forgot the last stall often
-# enough for the next to catch a leg's end at full deadbeat speed (text "ROS": 6.9 mm against
-# 0.9 mm with 16 s, bench/network_bench.py).
+# Observations over which the latency's variation is judged (16 s of driving; idle poses tell
+# nothing, and the link is what it was): on a link that loses 1% of its packets a command stalls
+# every second or two, so a 2 s memory forgot the last stall often enough for the next to catch a
+# leg's end at full deadbeat speed (text "ROS": 6.9 mm against 0.9 mm with 16 s,
+# bench/network_bench.py).
 _SPREAD_WINDOW = 1024
 # A period above the least latency is timing jitter (two timers' phases), unless it lasts: then
 # it is a command queued for good.
@@ -56,6 +57,10 @@ class LatencyPredictor:
 
     def __init__(self, period_s: float) -> None:
         self.period_s = period_s
+        # A command later than its lifespan was not delivered: the link stalled (a cut), and
+        # no speed near a leg's end would help. Such a latency is not remembered as jitter, or
+        # a 0.5 s cut would slow every approach to a crawl for the next 16 s of driving.
+        self._stall = max(round(COMMAND_LIFESPAN_S / period_s), 1)
         # False for a pose source whose velocities are measured (odometry): an echo that
         # matches no command then says nothing, and no command counts as in flight.
         self.echoes_commands = True
@@ -117,11 +122,13 @@ class LatencyPredictor:
             # Between two poses one command is sent and one takes effect: the count holds.
             self.in_flight = min(matches, key=lambda back: abs(back - self.in_flight))
             self._seen_in_effect = True
-            if len(matches) == 1:  # a run of equal commands tells nothing of the latency
+            least = self._least() if self._recent else 0
+            # A run of equal commands tells nothing of the latency; a stall is not jitter.
+            if len(matches) == 1 and self.in_flight - least <= self._stall:
                 self._remember(self.in_flight)
         elif not self._seen_in_effect and self.echoes_commands:
             self.in_flight = len(self._sent)
-        above = self._recent and self.in_flight > self._least()
+        above = bool(self._recent) and self.in_flight > self._least()
         self._above_least = self._above_least + 1 if above else 0
         self._echo = echo
         return self.in_flight
@@ -148,6 +155,13 @@ class LatencyPredictor:
         most = next(count for count in range(_HISTORY, -1, -1) if self._recent_counts[count])
         return most - self._least()
 
+    def forget_spread(self) -> None:
+        """Judge the latency afresh: the link was cut or the simulator restarted, and what the
+        commands met before says little of what they meet now."""
+        self._recent.clear()
+        self._recent_counts = [0] * (_HISTORY + 1)
+        self._above_least = 0
+
     def _remember(self, in_flight: int) -> None:
         if len(self._recent) == self._recent.maxlen:
             self._recent_counts[self._recent[0]] -= 1
@@ -155,7 +169,7 @@ class LatencyPredictor:
         self._recent_counts[in_flight] += 1
 
     def _least(self) -> int:
-        """The fewest commands in flight seen lately (the window is not empty)."""
+        """The fewest commands in flight seen lately (the window holds a count)."""
         return next(count for count, seen in enumerate(self._recent_counts) if seen)
 
     def overrun(self) -> tuple[float, float]:

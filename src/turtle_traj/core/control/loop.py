@@ -38,6 +38,11 @@ class ControlLoop:
             self.run.observe(pose)
         self.latency.observe(linear_echo, angular_echo)
 
+    def link_restored(self) -> None:
+        """Poses came back after a silence past pose_timeout (a cut link, a restarted
+        simulator): the latency's spread is judged afresh."""
+        self.latency.forget_spread()
+
     def forget_pose(self) -> None:
         """The turtle is gone (a reset): no pose until the next one is observed."""
         self.pose = None
