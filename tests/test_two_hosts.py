@@ -34,9 +34,9 @@ CALL_TIMEOUT_S = 60.0  # a call not answered by then has hung
 # the late command and it steers back; at a leg's end the approach allows for the latency's
 # spread seen over the last 16 s of driving. A stall longer than any seen yet (the first on a
 # link that was clean) can catch the last full-speed command of a leg: one period more of it,
-# 16 mm at the default 1 m/s, past the corner. Measured: 14.3 mm, the first stall at 1% in a
-# fresh node (twice in about ten runs of this file); at most 2.1 mm once the node has met the
-# link. The bound is that one period, with a margin; the bench gives the figures over many runs.
+# 16 mm at the default 1 m/s, past the corner. Measured: 14.3 mm once, a square at 1% in a
+# fresh node beside a CPU-heavy test; otherwise at most 2.1 mm in this file. The bound is that
+# one period, with a margin; the bench gives the figures over many runs.
 LOSSY_DEVIATION_M = 0.02
 
 

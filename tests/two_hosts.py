@@ -91,31 +91,29 @@ class TwoHosts:
         """`args` as run on `host`."""
         return ['ip', 'netns', 'exec', self.names[host], *args]
 
-    def run(self, host: str, *args: str, **kwargs) -> subprocess.Popen:
-        """Start `python -m ARGS` on `host` (ended by `close`)."""
-        process = subprocess.Popen(self.command(host, sys.executable, '-m', *args),
-                                   env=self.env, **kwargs)
+    def _spawn(self, host: str, *args: str, **kwargs) -> subprocess.Popen:
+        """Start `args` on `host`, to be ended by `close`."""
+        process = subprocess.Popen(self.command(host, *args), env=self.env, **kwargs)
         self._processes.append(process)
         return process
+
+    def run(self, host: str, *args: str, **kwargs) -> subprocess.Popen:
+        """Start `python -m ARGS` on `host` (ended by `close`)."""
+        return self._spawn(host, sys.executable, '-m', *args, **kwargs)
 
     cli = Path(sys.executable).with_name('turtle-traj')
 
     def log_poses(self, host: str, out: Path) -> subprocess.Popen:
         """Log the turtle's poses and the node's plans on `host` into `out` (tests/pose_log.py):
         on the simulator's host, what the turtle really did, whatever the link lost."""
-        process = subprocess.Popen(
-            self.command(host, sys.executable, str(Path(__file__).with_name('pose_log.py')),
-                         str(out)), env=self.env, stderr=subprocess.DEVNULL)
-        self._processes.append(process)
-        return process
+        return self._spawn(host, sys.executable, str(Path(__file__).with_name('pose_log.py')),
+                           str(out), stderr=subprocess.DEVNULL)
 
     def start(self, host: str, *args: str) -> subprocess.Popen:
         """Start `turtle-traj ARGS` on `host` and leave it running (a trajectory to cut); its
         output, both streams, on its stdout."""
-        process = subprocess.Popen(self.command(host, str(self.cli), *args), env=self.env,
-                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        self._processes.append(process)
-        return process
+        return self._spawn(host, str(self.cli), *args, stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True)
 
     def call(self, host: str, *args: str, timeout_s: float) -> subprocess.CompletedProcess:
         """Run `turtle-traj ARGS` on `host` to its end."""
