@@ -194,3 +194,19 @@ def test_a_stop_is_never_nudged():
     for _ in range(3):
         predictor.sent(predictor.distinct(Command(0.0, 0.0)))
     assert predictor.distinct(Command(0.0, 0.0)) == Command(0.0, 0.0)
+
+
+def test_a_stop_sent_after_moving_commands_is_not_what_a_standing_turtle_stands_on():
+    """Start of a run on a slow link: the turtle stands while the commands are on their way.
+    The stop sent after them echoes as the standing turtle does, but cannot be in effect
+    before they moved it: all of them are still in flight, and no latency is learnt."""
+    predictor = LatencyPredictor(STEP_S)
+    moving = [Command(1.0 - 0.01 * k, 0.0) for k in range(10)]
+    for command in [*moving, Command(0.0, 0.0)]:
+        predictor.sent(command)
+        assert predictor.observe(0.0, 0.0) == len(predictor._pending())
+    assert predictor.in_flight == 11 and predictor.spread == 0 and not predictor.still
+    assert predictor.observe(*_echo(moving[0])) == 10  # the first one acts at last
+    for command in moving[1:]:  # then each in turn, then the stop: the turtle stands on it
+        predictor.observe(*_echo(command))
+    assert predictor.observe(0.0, 0.0) == 0 and predictor.still

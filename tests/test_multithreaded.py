@@ -4,6 +4,7 @@ would run it: concurrent requests start exactly one run, and the turtle drives e
 Its handlers sit in a ReentrantCallbackGroup (they await the run's end while the control timer
 drives), so on several threads they run at once: a request's check for a running trajectory and
 its claim of the turtle must be one step (the node serialises its state with a lock).
+The simulator runs as a program of its own, as users run it (see the fixture).
 """
 
 from __future__ import annotations
@@ -25,16 +26,22 @@ PLANNING_S = 0.05
 
 
 @pytest.fixture
-def composed(ros_context, monkeypatch):
-    """The trajectory node and a client node in one MultiThreadedExecutor of four threads, our
-    simulator in a SingleThreadedExecutor (as if in a process of its own), each spun on a
-    thread of its own."""
-    from rclpy.executors import MultiThreadedExecutor, SingleThreadedExecutor
+def composed(ros_context, monkeypatch, tmp_path):
+    """The trajectory node and a client node in one MultiThreadedExecutor of four threads,
+    spun on a thread of its own, and our simulator as a program of its own, as users run it.
+
+    In this process the simulator would starve: while a handler's task waits in the pool,
+    rclpy 7.1.6's MultiThreadedExecutor yields it again and again without waiting (ros2/rclpy
+    #1452, fixed upstream by #1547 after Jazzy's 7.1.6), and its spin thread holds the GIL. A
+    simulator thread here stepped its world at 0.3-0.6x real time, and runs aborted for pose
+    silence (0.5-0.7 s): 5 failures in 6 runs of this file.
+    """
+    from rclpy.executors import MultiThreadedExecutor
     from rclpy.node import Node
 
+    from tests.ros_helpers import program
     from turtle_traj.node import trajectory_node
     from turtle_traj.node.trajectory_node import TrajectoryNode
-    from turtle_traj.sim.node import SimNode
 
     plan = trajectory_node.planning.plan
 
@@ -43,34 +50,49 @@ def composed(ros_context, monkeypatch):
         return plan(*args, **kwargs)
     monkeypatch.setattr(trajectory_node.planning, 'plan', slow_plan)
     namespace = '/composed'
-    sim = SimNode(context=ros_context, namespace=namespace)
-    node = TrajectoryNode(context=ros_context, namespace=namespace)
-    client = Node('concurrent_client', context=ros_context, namespace=namespace)
-    composed_executor = MultiThreadedExecutor(num_threads=4, context=ros_context)
-    sim_executor = SingleThreadedExecutor(context=ros_context)
-    composed_executor.add_node(node)
-    composed_executor.add_node(client)
-    sim_executor.add_node(sim)
-    stop = threading.Event()
+    with program('turtle_traj.sim', '--ros-args', '-r', f'__ns:={namespace}', cwd=tmp_path):
+        node = TrajectoryNode(context=ros_context, namespace=namespace)
+        client = Node('concurrent_client', context=ros_context, namespace=namespace)
+        poses = PoseWatch(client)
+        executor = MultiThreadedExecutor(num_threads=4, context=ros_context)
+        executor.add_node(node)
+        executor.add_node(client)
+        stop = threading.Event()
 
-    def spin(executor) -> None:  # until asked: an executor shut down while spinning can raise
-        while not stop.is_set():
-            executor.spin_once(timeout_sec=0.05)
-    spinners = [threading.Thread(target=spin, args=(executor,), daemon=True)
-                for executor in (composed_executor, sim_executor)]
-    for spinner in spinners:
+        def spin() -> None:  # until asked: an executor shut down while spinning can raise
+            while not stop.is_set():
+                executor.spin_once(timeout_sec=0.05)
+        spinner = threading.Thread(target=spin, daemon=True)
         spinner.start()
-    try:
-        yield sim, node, client
-    finally:
-        node.abort_run('the test is over')  # a handler still waiting lets go of its thread
-        stop.set()
-        for spinner in spinners:
+        try:
+            yield poses, node, client
+        finally:
+            node.abort_run('the test is over')  # a handler still waiting lets go of its thread
+            stop.set()
             spinner.join(timeout=10.0)
-        for executor in (composed_executor, sim_executor):
             executor.shutdown()
-        for each in (client, node, sim):
-            each.destroy_node()
+            for each in (client, node):
+                each.destroy_node()
+
+
+class PoseWatch:
+    """The simulator's turtle1 as it reports itself on its pose topic."""
+
+    def __init__(self, node) -> None:
+        from turtlesim.msg import Pose
+        self.count = 0
+        self.last = None
+
+        def on_pose(message) -> None:
+            self.last = message
+            self.count += 1
+        node.create_subscription(Pose, 'turtle1/pose', on_pose, 10)
+
+    def next(self):
+        """The first pose published after this call."""
+        seen = self.count
+        assert _wait(lambda: self.count > seen, 5.0), 'no pose from the simulator'
+        return self.last
 
 
 def _wait(condition, timeout_s: float) -> bool:
@@ -98,7 +120,7 @@ def _matched_both_ways(call, request) -> None:
 def test_concurrent_requests_start_exactly_one_run(composed):
     from turtle_traj.api.ros_interface import make_request, service_type
 
-    sim, node, client = composed
+    poses, node, client = composed
     kind = BY_NAME['polygon']
     assert _wait(lambda: node.ready, 20.0), 'the node never became ready'
     calls = [client.create_client(service_type(kind), f'turtle_traj/{kind.service}')
@@ -119,8 +141,8 @@ def test_concurrent_requests_start_exactly_one_run(composed):
     refused = [response.message for response in responses if not response.success]
     assert len(done) == 1, [response.message for response in responses]
     assert len(refused) == REQUESTS - 1 and all('busy' in reason for reason in refused), refused
-    # one closed polygon driven, once: back where it started, on the simulator's own state
-    turtle = next(iter(sim.world))
+    # one closed polygon driven, once: back where it started, as the simulator reports it
+    turtle = poses.next()
     assert (turtle.x, turtle.y) == pytest.approx((SPAWN_XY_M, SPAWN_XY_M), abs=0.005)
     # heading along its last side: a turn of one exterior angle short of the start's
     exterior = math.tau / POLYGON['sides']
@@ -137,7 +159,7 @@ def test_concurrent_draw_goals_run_one_and_abort_the_rest_as_busy(composed):
     from turtle_traj.api.ros_interface import DRAW_ACTION, DRAW_ACTION_TYPE, make_goal
     from turtle_traj.rosutils.interfaces import interface
 
-    sim, node, client = composed
+    poses, node, client = composed
     assert _wait(lambda: node.ready, 20.0), 'the node never became ready'
     action = ActionClient(client, interface(DRAW_ACTION_TYPE), f'turtle_traj/{DRAW_ACTION}')
     try:
@@ -158,7 +180,7 @@ def test_concurrent_draw_goals_run_one_and_abort_the_rest_as_busy(composed):
                if each.status == GoalStatus.STATUS_ABORTED]
     assert len(succeeded) == 1, [each.result.message for each in ended]
     assert len(aborted) == REQUESTS - 1 and all('busy' in reason for reason in aborted), aborted
-    turtle = next(iter(sim.world))
+    turtle = poses.next()
     assert (turtle.x, turtle.y) == pytest.approx((SPAWN_XY_M, SPAWN_XY_M), abs=0.005)
     assert succeeded[0].result.path_length == pytest.approx(
         POLYGON['sides'] * POLYGON['size'])

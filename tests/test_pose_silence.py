@@ -12,10 +12,12 @@ BEAT_S = 0.05
 
 
 class Clocks:
-    """A node clock and a wall clock, both set by the test."""
+    """A node clock and a wall clock, both set by the test (the node clock on simulated time
+    unless told otherwise, when the two are one)."""
 
-    def __init__(self) -> None:
+    def __init__(self, *, simulated: bool = True) -> None:
         self.node_s, self.wall_s = 100.0, 0.0
+        self.ros_time_is_active = simulated
 
     def now(self) -> Time:
         return Time(nanoseconds=round(self.node_s * 1e9))
@@ -69,3 +71,21 @@ def test_a_late_beat_counts_as_two_at_most_and_a_pose_starts_the_count_again():
     clocks.wall_s += 0.03
     silence.beat()
     assert math.isclose(silence.seconds(), 0.03)  # from the pose, not from the beat before
+
+
+def test_on_the_wall_clock_a_stall_of_this_process_is_not_the_simulators_silence():
+    clocks = Clocks(simulated=False)
+    silence = _silence(clocks)
+    silence.heard()
+    clocks.wall_s += 0.02
+    assert math.isclose(silence.seconds(), 0.02)  # between beats, as time passes
+    for _ in range(20):  # the simulator gone, this process running: every beat counts
+        clocks.wall_s += BEAT_S
+        silence.beat()
+    assert math.isclose(silence.seconds(), 20 * BEAT_S + 0.02)
+    silence.heard()
+    clocks.wall_s += 1.4  # the executor ran none of the callbacks: a pose waits in the queue
+    assert math.isclose(silence.seconds(), 2 * BEAT_S)
+    silence.beat()
+    silence.heard()  # the pose that waited
+    assert silence.seconds() == 0.0

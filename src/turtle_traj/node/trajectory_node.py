@@ -7,7 +7,6 @@ stop arriving (see `PoseSilence`).
 
 from __future__ import annotations
 
-import threading
 from functools import partial
 from pathlib import Path
 
@@ -34,7 +33,7 @@ from turtle_traj.node.commands import CommandServices
 from turtle_traj.node.draw_action import DrawActionServer
 from turtle_traj.node.pen_client import PenClient
 from turtle_traj.node.pose_silence import PoseSilence
-from turtle_traj.node.state_lock import serialized
+from turtle_traj.node.state_lock import StateLock, serialized
 from turtle_traj.node.trajectory_services import TrajectoryServices
 
 _WATCHDOG_PERIOD_S = 0.05
@@ -64,7 +63,7 @@ class TrajectoryNode(Node):
         self._run_done: Future | None = None  # what the run's handler awaits
         # Held by every change of the run's state: the handlers are reentrant, and on a
         # MultiThreadedExecutor run beside the timers and each other (a pose can end its run).
-        self._state_lock = threading.RLock()
+        self._state_lock = StateLock(self.get_logger())
 
         self._base = BaseTopics(self, turtle, self._on_pose)
         self.pose_topic = self._base.pose_topic
@@ -211,11 +210,10 @@ class TrajectoryNode(Node):
         if self._recording is not None:
             self._recording.stop()
         outcome = run.outcome(self._loop.pose, self.now_s())
-        # Two call sites: rclpy refuses one call site logging at two severities.
         if outcome.success:
-            self.get_logger().info(outcomes.summary(outcome))
+            self._state_lock.info(outcomes.summary(outcome))
         else:
-            self.get_logger().warning(outcomes.summary(outcome))
+            self._state_lock.warning(outcomes.summary(outcome))
         if run.plan.pen is None:
             done.set_result(outcome)
         else:  # a drawing answers once the pen is down again, as turtlesim starts it
@@ -241,9 +239,10 @@ class TrajectoryNode(Node):
                     f'running and turtle_name right?')
         return None
 
+    @serialized
     def refuse(self, reason: str) -> outcomes.RunRefused:
         """The refusal of a request, logged."""
-        self.get_logger().warning(reason)
+        self._state_lock.warning(reason)
         return outcomes.RunRefused(reason)
 
     @serialized
@@ -269,7 +268,7 @@ class TrajectoryNode(Node):
             self._recording.start(kind.name, self.settings.control)
         self._plan.publish(outcomes.plan_message(plan.path, Header(
             frame_id=outcomes.PLAN_FRAME_ID, stamp=self.get_clock().now().to_msg())))
-        self.get_logger().info(f'{kind.name}: {outcomes.describe(plan, self.settings.control)}')
+        self._state_lock.info(f'{kind.name}: {outcomes.describe(plan, self.settings.control)}')
         return run, done
 
     @serialized

@@ -44,6 +44,9 @@ _SPREAD_WINDOW = 1024
 _JITTER_PERIODS, _JITTER_LASTS = 1, 32
 
 
+_STANDING = (0.0, 0.0)  # the echo of a turtle that stands: a stop in effect, or no command
+
+
 def _as_echoed(command: Command) -> tuple[float, float]:
     """The (linear_velocity, angular_velocity) a turtlesim pose reports for `command`."""
     return float(np.float32(abs(command.linear))), float(np.float32(command.angular))
@@ -70,7 +73,8 @@ class LatencyPredictor:
         self._seen_in_effect = False
         self._recent: deque[int] = deque(maxlen=_SPREAD_WINDOW)
         self._recent_counts = [0] * (_HISTORY + 1)  # of each count in _recent: its least, most
-        self._echo = (0.0, 0.0)
+        self._echo = _STANDING
+        self._sent_since_pose = 0  # commands sent since the last pose was observed
         self._above_least = 0  # observations in a row with more in flight than the least
 
     def distinct(self, command: Command) -> Command:
@@ -106,6 +110,19 @@ class LatencyPredictor:
         """Record a command as it is published."""
         self._sent.append(command)
         self._sent_echoes.append(_as_echoed(command))
+        self._sent_since_pose += 1
+
+    def _moves_older_than(self, back: int) -> bool:
+        """Whether a command that moves was sent before the one `back` commands ago, and after
+        the one the last pose showed in effect. A turtle that stood and still stands cannot be
+        on a stop sent after such a command: turtlesim takes commands in order, and that one
+        would have moved it first. (Its echo would name the stop: at the start of a run, ten
+        commands on their way looked like none, and the turtle was sent ten more.)"""
+        echoes = list(self._sent_echoes)
+        last_in_effect = (self.in_flight + self._sent_since_pose if self._seen_in_effect
+                          else len(echoes))  # how far back; the whole history before any
+        return any(echoes[-1 - older] != _STANDING
+                   for older in range(back + 1, min(last_in_effect, len(echoes))))
 
     def observe(self, linear_echo: float, angular_echo: float) -> int:
         """Update the count of commands in flight from a pose's velocity echo; return it.
@@ -118,6 +135,9 @@ class LatencyPredictor:
         echo = (linear_echo, angular_echo)
         matches = [back for back, sent in enumerate(reversed(self._sent_echoes))
                    if sent == echo]
+        if echo == _STANDING and self._echo == _STANDING:
+            matches = [back for back in matches if not self._moves_older_than(back)]
+        self._sent_since_pose = 0
         if matches:
             # Between two poses one command is sent and one takes effect: the count holds.
             self.in_flight = min(matches, key=lambda back: abs(back - self.in_flight))
@@ -189,7 +209,7 @@ class LatencyPredictor:
     @property
     def still(self) -> bool:
         """Nothing moves the turtle: it stands, and every command on its way is a stop."""
-        return self._echo == (0.0, 0.0) and all(command == STOP for command in self._pending())
+        return self._echo == _STANDING and all(command == STOP for command in self._pending())
 
     def _pending(self) -> list[Command]:
         return list(self._sent)[len(self._sent) - self.in_flight:] if self.in_flight else []
