@@ -64,12 +64,15 @@ def composed(ros_context, monkeypatch, tmp_path):
                 executor.spin_once(timeout_sec=0.05)
         spinner = threading.Thread(target=spin, daemon=True)
         spinner.start()
+        after_spin: list = []  # what the spin thread may be using: destroyed once it stopped
         try:
-            yield poses, node, client
+            yield poses, node, client, after_spin
         finally:
             node.abort_run('the test is over')  # a handler still waiting lets go of its thread
             stop.set()
             spinner.join(timeout=10.0)
+            for destroy in after_spin:
+                destroy()
             executor.shutdown()
             for each in (client, node):
                 each.destroy_node()
@@ -120,7 +123,7 @@ def _matched_both_ways(call, request) -> None:
 def test_concurrent_requests_start_exactly_one_run(composed):
     from turtle_traj.api.ros_interface import make_request, service_type
 
-    poses, node, client = composed
+    poses, node, client, _ = composed
     kind = BY_NAME['polygon']
     assert _wait(lambda: node.ready, 20.0), 'the node never became ready'
     calls = [client.create_client(service_type(kind), f'turtle_traj/{kind.service}')
@@ -159,21 +162,20 @@ def test_concurrent_draw_goals_run_one_and_abort_the_rest_as_busy(composed):
     from turtle_traj.api.ros_interface import DRAW_ACTION, DRAW_ACTION_TYPE, make_goal
     from turtle_traj.rosutils.interfaces import interface
 
-    poses, node, client = composed
+    poses, node, client, after_spin = composed
     assert _wait(lambda: node.ready, 20.0), 'the node never became ready'
     action = ActionClient(client, interface(DRAW_ACTION_TYPE), f'turtle_traj/{DRAW_ACTION}')
-    try:
-        assert _wait(action.server_is_ready, 20.0)
-        unknown = interface(DRAW_ACTION_TYPE).Goal(trajectory='no_such_kind')  # aborted at once
-        _matched_both_ways(lambda _: action.send_goal_async(unknown), None)
-        goal = make_goal(BY_NAME['polygon'], POLYGON)
-        sent = [action.send_goal_async(goal) for _ in range(REQUESTS)]
-        assert _wait(lambda: all(future.done() for future in sent), 30.0)
-        results = [future.result().get_result_async() for future in sent]
-        assert _wait(lambda: all(result.done() for result in results), 60.0), \
-            'not every goal ended'
-    finally:
-        action.destroy()
+    # rclpy's ActionClient.destroy frees its handle before it leaves the executor's wait set:
+    # destroyed while the spin thread builds one, it killed that thread (RCLError, 2 runs in 6)
+    after_spin.append(action.destroy)
+    assert _wait(action.server_is_ready, 20.0)
+    unknown = interface(DRAW_ACTION_TYPE).Goal(trajectory='no_such_kind')  # aborted at once
+    _matched_both_ways(lambda _: action.send_goal_async(unknown), None)
+    goal = make_goal(BY_NAME['polygon'], POLYGON)
+    sent = [action.send_goal_async(goal) for _ in range(REQUESTS)]
+    assert _wait(lambda: all(future.done() for future in sent), 30.0)
+    results = [future.result().get_result_async() for future in sent]
+    assert _wait(lambda: all(result.done() for result in results), 60.0), 'not every goal ended'
     ended = [result.result() for result in results]
     succeeded = [each for each in ended if each.status == GoalStatus.STATUS_SUCCEEDED]
     aborted = [each.result.message for each in ended
