@@ -38,6 +38,13 @@ CALL_TIMEOUT_S = 60.0  # a call not answered by then has hung
 # fresh node beside a CPU-heavy test; otherwise at most 2.1 mm in this file. The bound is that
 # one period, with a margin; the bench gives the figures over many runs.
 LOSSY_DEVIATION_M = 0.02
+# A 0.2 m move after a cut, by the node's clock. Its approach slows with the latency's spread
+# (each command covers its share of what remains): 0.22-0.44 s with a steady latency, 1.2-1.3 s
+# after a spread of 2 periods seen mid-move, 0.74 s once in the loaded full suite. A cut's
+# stall remembered as jitter made it a 6.1 s crawl (31 periods). Not the call's wall time: a
+# new CLI process takes 2.4-3.6 s to start and find the node under four busy loops, 11 s once
+# in the full suite beside two.
+AFTER_CUT_MOVE_S = 3.0
 
 
 class Hosts:
@@ -165,7 +172,6 @@ def test_a_cut_link_ends_the_run_and_the_next_call_succeeds(hosts, cut_s):
         time.sleep(max(cut + cut_s - time.monotonic(), 0.0))
         stopped_s = hosts.last_move_s() - cut
         hosts.made.link(True)
-        back = time.monotonic()
         said, _ = circle.communicate(timeout=CALL_TIMEOUT_S)
         time.sleep(0.3)
         # and the commands held for the link were dropped, not delivered late (lifespan)
@@ -185,7 +191,10 @@ def test_a_cut_link_ends_the_run_and_the_next_call_succeeds(hosts, cut_s):
         assert circle.returncode == 0 or 'no pose on /turtle1/pose' in said, said
     done = hosts.call('move', '0.2', '--wait', '30')
     _succeeded(done)
-    assert time.monotonic() - back < 5.0, done.stdout
+    # driven at its usual pace: no latency learnt in the cut slows its approach (the node's own
+    # figure; the call's wall time is mostly a new process starting on a loaded machine)
+    elapsed_s = float(re.search(r'elapsed ([0-9.]+) s', done.stdout).group(1))
+    assert elapsed_s < AFTER_CUT_MOVE_S, done.stdout
 
 
 def test_a_simulator_restarted_on_its_host_is_driven_again(hosts):
