@@ -22,10 +22,19 @@ SUBNET = '10.213.{}.{}'
 NFT_TABLE = 'turtle_traj_faults'
 
 
+def _printed(output: str, pattern: str) -> float:
+    found = re.search(pattern, output)
+    return float(found.group(1)) if found else math.nan
+
+
 def reported_deviation_m(output: str) -> float:
     """The maximum deviation a CLI call printed (nan: none)."""
-    found = re.search(r'max deviation ([0-9.]+) m', output)
-    return float(found.group(1)) if found else math.nan
+    return _printed(output, r'max deviation ([0-9.]+) m')
+
+
+def reported_elapsed_s(output: str) -> float:
+    """The run's time, by the node's clock, that a CLI call printed (nan: none)."""
+    return _printed(output, r'elapsed ([0-9.]+) s')
 
 
 class TwoHostsUnavailable(RuntimeError):
