@@ -134,7 +134,7 @@ def drive_turtle_traj(points: np.ndarray, start: Pose2D, limits: Limits, *,
         command = loop.command(settings.control, settings.arena, now)
         if supervisor.ending is not None:
             return None
-        loop.sent(command)
+        loop.sent(command, now)
         return command
     run = drive(controller, world, max_s)
     if supervisor.ending is not None:

@@ -6,6 +6,7 @@ import pytest
 
 from turtle_traj.core.turtlesim_contract import DEFAULT_PEN, SPAWN_XY_M, STEP_S, WORLD_SIZE_M
 from turtle_traj.sim.canvas import Canvas
+from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.physics import World
 from turtle_traj.sim.state import NonFiniteCommand, RotationEnd, SimulationError, normalize_angle
 
@@ -230,3 +231,31 @@ def test_the_colour_sensor_reads_the_pen_as_turtlesims_qt_painter_leaves_it(head
     hits, samples = _pen_colour_samples(heading)
     assert samples == 63
     assert low <= hits <= high
+
+
+def test_command_delay_holds_commands_in_order():
+    delay = CommandDelay(0.032, 0.05, seed=3)
+    for index in range(20):
+        delay.push(index * STEP_S, 'turtle1', index)
+    released = []
+    for step in range(200):
+        released += [message for _turtle, message in delay.due(step * STEP_S)]
+        if step * STEP_S < 0.032:
+            assert not released
+    assert released == list(range(20))
+
+
+def test_command_delay_off_by_default_and_fixed_delay_is_exact():
+    assert not CommandDelay(0.0, 0.0).active
+    delay = CommandDelay(0.032, 0.0)
+    delay.push(1.0, 'turtle1', 'go')
+    assert list(delay.due(1.016)) == []
+    assert list(delay.due(1.032)) == [('turtle1', 'go')]
+
+
+def test_commands_queued_for_a_removed_turtle_are_dropped():
+    delay = CommandDelay(0.032, 0.0)
+    delay.push(0.0, 'turtle1', 'old')
+    delay.push(0.0, 'turtle2', 'other')
+    delay.drop('turtle1')
+    assert list(delay.due(1.0)) == [('turtle2', 'other')]

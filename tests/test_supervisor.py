@@ -42,7 +42,7 @@ class Loop:
         self.control.observe(Pose2D(x, y, theta), 0.0, 0.0)
         plan = planning.plan(name, request, Pose2D(x, y, theta), SETTINGS)
         self.run = self.control.start(plan, arena=ARENA, now_s=0.0)
-        self.latency = self.control.latency
+        self.model = self.control.model
 
     def drive(self, disturb=None, max_steps: int = 20_000) -> list[Pose2D]:
         """Step until the supervisor decides; the poses the turtle reported."""
@@ -59,7 +59,7 @@ class Loop:
             command = control.command(SETTINGS.control, ARENA, step * STEP_S)
             if self.run.ending is not None:
                 return poses
-            control.sent(command)
+            control.sent(command, step * STEP_S)
             self.world.command('turtle1', command.linear, 0.0, command.angular)
             self.world.step()
         raise AssertionError('the run never ended')

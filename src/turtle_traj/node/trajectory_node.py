@@ -68,8 +68,8 @@ class TrajectoryNode(Node):
         self._base = BaseTopics(self, turtle, self._on_pose)
         self.pose_topic = self._base.pose_topic
         self._cmd_vel = self._base.publisher
-        # an odometry that reports measured velocities tells nothing of the commands' latency
-        self._loop.latency.echoes_commands = not self._base.odometry
+        # an odometry reports measured velocities, not the command in effect
+        self._loop.model.echoes = not self._base.odometry
         self._plan = self.create_publisher(
             PathMsg, '~/plan', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
 
@@ -100,8 +100,6 @@ class TrajectoryNode(Node):
 
     @serialized
     def _on_pose(self, pose: Pose2D, linear_echo: float, angular_echo: float) -> None:
-        if self._loop.pose is not None and self._silence.seconds() > self.settings.pose_timeout_s:
-            self._loop.link_restored()  # not after a reset: the link is what it was
         self._loop.observe(pose, linear_echo, angular_echo)
         self._finish_if_ended()  # a jump ends the run
         self._silence.heard()
@@ -132,9 +130,11 @@ class TrajectoryNode(Node):
     @serialized
     def _on_control_timer(self) -> None:
         run = self._run
-        if run is None or self._aborted_for_silence():
+        if run is not None and self._aborted_for_silence():
             return
         command = self._loop.command(self.settings.control, self.settings.arena, self.now_s())
+        if run is None:
+            return
         if command is None:
             self._finish_if_ended()  # which sends the stop
             return
@@ -190,7 +190,7 @@ class TrajectoryNode(Node):
         return f'stopped {run.name}'
 
     def _publish(self, command: Command) -> None:
-        self._loop.sent(command)
+        self._loop.sent(command, self.now_s())
         self._base.publish(command)
 
     @serialized

@@ -1,8 +1,8 @@
 """One path follower for every trajectory: in-place turns and continuous polyline tracking.
 
-Pure Python: `PathFollower.update(pose, config)` returns the next velocity command. It steers
-from the pose predicted for the moment that command takes effect (see `latency`), so the
-latency between pose and command is accounted for, not guessed. Curves are tracked with
+Pure Python: `PathFollower.update(pose, config, prediction)` returns the next velocity command.
+It steers from the pose predicted for the moment that command takes effect (`robot_model`), so
+the latency between pose and command is accounted for, not guessed. Curves are tracked with
 curvature feed-forward plus a heading set-point that steers back onto the path
 (`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
 towards the end of the polyline and, near the end, by the predicted remaining distance per
@@ -21,8 +21,8 @@ import math
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.dynamics import can_stop, stopping_speed, within_reach
-from turtle_traj.core.control.latency import LatencyPredictor
 from turtle_traj.core.control.profile import SpeedProfile, profile_for
+from turtle_traj.core.control.robot_model import Prediction
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 
@@ -32,30 +32,30 @@ _UNPLANNED = object()  # a polyline's speed profile, before it is planned
 
 
 def _braking_speed(remaining: float, deceleration: float, period_s: float,
-                   latency: LatencyPredictor, limited: bool = False) -> float:
+                   prediction: Prediction, limited: bool = False) -> float:
     """Fastest speed from which the turtle still stops within `remaining`.
 
     Near the end a command covers what remains of the predicted remainder in one period, so it
-    lands on the end point (deadbeat) when the latency is steady. When the latency varies by
-    `spread` periods, a command may act that much longer: it covers only its share of the
-    remainder then, and a misjudged period is corrected by the next command (backing up if
-    needed: the remainder is signed).
+    lands on the end point (deadbeat) when the latency is steady. When a command may act
+    `late_steps` periods longer than one, it covers only its share of the remainder, and a
+    misjudged period is corrected by the next command (backing up if needed: the remainder is
+    signed).
     """
     braking = (stopping_speed(remaining, deceleration, period_s) if limited
                else math.sqrt(2.0 * deceleration * remaining))
-    return min(braking, remaining / ((1 + latency.spread) * period_s))
+    return min(braking, remaining / ((1 + prediction.late_steps) * period_s))
 
 
-def _finished(arrived: bool, latency: LatencyPredictor, config: ControlConfig) -> Command | None:
+def _finished(arrived: bool, prediction: Prediction,
+              config: ControlConfig) -> Command | None:
     """None when a leg is over: the predicted pose is there, and the turtle itself too.
 
-    Until then the commands on their way carry the turtle, so hold with a stop. When the
-    latency varies, the turtle must also stand still: a command acting a period longer than
-    predicted would carry it on. A base with acceleration limits must be able to stop within
-    the next period.
+    Until then the commands on their way carry the turtle, so hold with a stop. When a command
+    may act longer than predicted, the turtle must also stand still, or it would carry it on.
+    A base with acceleration limits must be able to stop within the next period.
     """
-    if (arrived and (latency.spread == 0 or latency.still)
-            and (not config.limited or can_stop(latency.last_sent, config))):
+    if (arrived and (prediction.late_steps == 0 or prediction.still)
+            and (not config.limited or can_stop(prediction.velocity, config))):
         return None
     return STOP
 
@@ -87,17 +87,18 @@ class _TurnTracker:
         """How much of the turn is made, 0 to 1."""
         return min(max(self.turned / self.turn.sweep_rad, 0.0), 1.0)
 
-    def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
-               latency: LatencyPredictor) -> Command | None:
+    def update(self, pose: Pose2D, prediction: Prediction,
+               config: ControlConfig) -> Command | None:
+        predicted = prediction.pose
         self.turned += wrap_angle(pose.theta - self.previous)
         self.previous = pose.theta
         remaining = self.turn.sweep_rad - self.turned
         error = remaining - wrap_angle(predicted.theta - pose.theta)
         if abs(error) < config.heading_tolerance:
-            return _finished(abs(remaining) < config.heading_tolerance, latency, config)
+            return _finished(abs(remaining) < config.heading_tolerance, prediction, config)
         rate = min(config.angular_speed,
-                   _braking_speed(max(abs(error) - latency.overrun()[1], 0.0),
-                                  config.angular_braking, config.period_s, latency,
+                   _braking_speed(max(abs(error) - prediction.overrun[1], 0.0),
+                                  config.angular_braking, config.period_s, prediction,
                                   config.limited))
         return Command(0.0, math.copysign(rate, error))
 
@@ -162,10 +163,10 @@ class _PolylineTracker:
             segment == len(self.polyline.points) - 2
             and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
 
-    def update(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig,
-               latency: LatencyPredictor) -> Command | None:
+    def update(self, pose: Pose2D, prediction: Prediction,
+               config: ControlConfig) -> Command | None:
         """Steer from the predicted pose; progress and arrival are the actual pose's."""
-        polyline = self.polyline
+        polyline, predicted = self.polyline, prediction.pose
         actual_segment, actual_fraction, _ = self._project(pose)
         self.fraction = (polyline.cumulative_length[actual_segment] + actual_fraction
                          * polyline.segment_lengths[actual_segment]) / max(polyline.length, 1e-12)
@@ -174,7 +175,7 @@ class _PolylineTracker:
         if self._arrived(predicted, self.segment, remaining):
             arrived = self._arrived(pose, actual_segment,
                                     self._remaining(pose, actual_segment, actual_fraction))
-            return _finished(arrived, latency, config)
+            return _finished(arrived, prediction, config)
         pose = predicted
 
         facing = pose.theta + (math.pi if polyline.reverse else 0.0)
@@ -184,7 +185,7 @@ class _PolylineTracker:
 
         speed = config.linear_speed
         if config.limited:
-            profiled = self._profiled_speed(fraction, latency, config)
+            profiled = self._profiled_speed(fraction, prediction.velocity, config)
             if remaining != math.inf:
                 # the profile ends at rest, so it allows nothing on its last millimetre: a
                 # base that stopped a hair short (its motors lag, its tyres slip) may still
@@ -195,9 +196,9 @@ class _PolylineTracker:
         elif abs(curvature) > 1e-9:
             speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
         if remaining != math.inf:
-            speed = min(speed, _braking_speed(max(abs(remaining) - latency.overrun()[0], 0.0),
-                                              config.linear_braking, config.period_s, latency,
-                                              config.limited))
+            speed = min(speed, _braking_speed(max(abs(remaining) - prediction.overrun[0], 0.0),
+                                              config.linear_braking, config.period_s,
+                                              prediction, config.limited))
             speed = math.copysign(speed, remaining)
         if abs(heading_error) > config.turn_first_angle:
             speed = 0.0
@@ -213,7 +214,7 @@ class _PolylineTracker:
         return Command(linear, angular)
 
 
-    def _profiled_speed(self, fraction: float, latency: LatencyPredictor,
+    def _profiled_speed(self, fraction: float, velocity: Command,
                         config: ControlConfig) -> float:
         """The profile's speed where this command's period ends (from a standstill the
         profile starts at 0: it is the window that accelerates the base). The profile is the
@@ -225,7 +226,7 @@ class _PolylineTracker:
             return config.linear_speed
         arc = (polyline.cumulative_length[self.segment]
                + fraction * polyline.segment_lengths[self.segment])
-        reach = abs(latency.last_sent.linear) + (config.max_linear_accel or 1e6) * config.period_s
+        reach = abs(velocity.linear) + (config.max_linear_accel or 1e6) * config.period_s
         ahead = min(reach, config.linear_speed) * config.period_s
         if polyline.repeat:
             return self._profile.speed_at((arc + ahead) % max(polyline.length, 1e-12))
@@ -242,11 +243,9 @@ class PathFollower:
     """
 
     def __init__(self, path: Path, *, end_tolerance: float | None = None,
-                 latency: LatencyPredictor | None = None, manage_pen: bool = False,
+                 manage_pen: bool = False,
                  profiles: tuple[SpeedProfile | None, ...] = ()) -> None:
-        """:param latency: what the caller knows of the commands it sent (it records them and
-            the pose echoes); without it the follower assumes each command acts at once.
-        :param profiles: each leg's speed profile for a base with acceleration limits, planned
+        """:param profiles: each leg's speed profile for a base with acceleration limits, planned
             with the request (`Plan.profiles`); without them a leg plans its own as it starts.
         """
         self.path = path
@@ -257,7 +256,7 @@ class PathFollower:
         self.leg_index = 0
         self._end_tolerance = end_tolerance
         self._tracker: _TurnTracker | _PolylineTracker | None = None
-        self._latency = latency
+        self._last_command = STOP  # for a caller without a model of the robot
 
     @property
     def done(self) -> bool:
@@ -278,15 +277,20 @@ class PathFollower:
             done += self._tracker.fraction * costs[self.leg_index]
         return min(done / max(sum(costs), 1e-12), 1.0)
 
-    def update(self, pose: Pose2D, config: ControlConfig) -> Command:
+    def update(self, pose: Pose2D, config: ControlConfig,
+               prediction: Prediction | None = None) -> Command:
         """The command for this control period, steered from where the commands still on their
-        way will take the turtle; STOP once done."""
-        if self._latency is None:
-            self._latency = LatencyPredictor(config.period_s)
-        command = self._next_command(pose, self._latency.predict(pose), config)
-        return within_reach(command, self._latency.last_sent, config)
+        way will take the turtle (`prediction`, from `RobotModel.predict`; without it each
+        command is taken to act at once); STOP once done."""
+        if prediction is None:
+            prediction = Prediction.immediate(pose, self._last_command)
+        command = within_reach(self._next_command(pose, prediction, config),
+                               prediction.velocity, config)
+        self._last_command = command
+        return command
 
-    def _next_command(self, pose: Pose2D, predicted: Pose2D, config: ControlConfig) -> Command:
+    def _next_command(self, pose: Pose2D, prediction: Prediction,
+                      config: ControlConfig) -> Command:
         while not self.done:
             leg = self.path.legs[self.leg_index]
             if self._tracker is None:
@@ -302,7 +306,7 @@ class PathFollower:
                            else _UNPLANNED)
                 self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
                                  else _PolylineTracker(leg, tolerance, profile))
-            command = self._tracker.update(pose, predicted, config, self._latency)
+            command = self._tracker.update(pose, prediction, config)
             if command is not None:
                 return command
             self.leg_index += 1

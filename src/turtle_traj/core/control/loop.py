@@ -1,17 +1,17 @@
-"""The control loop of one turtle: a pose in, a command out, latency bookkeeping inside.
+"""The control loop of one turtle: a pose in, a command out, the model of the robot inside.
 
 Pure Python. The trajectory node feeds it from its pose subscription and control timer; the pure
 tests and the benchmarks feed it from `sim.physics.World`, thousands of times faster than ROS.
-The latency predictor lives across runs: how late commands take effect is a property of the link,
-known before the next trajectory starts.
+The model of the robot (`RobotModel`) lives across runs: how late commands take effect is a
+property of the link, known before the next trajectory starts.
 """
 
 from __future__ import annotations
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.latency import LatencyPredictor
 from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.control.robot_model import RobotModel
 from turtle_traj.core.control.supervisor import RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.shapes import Arena
@@ -20,12 +20,13 @@ from turtle_traj.core.geometry.shapes import Arena
 class ControlLoop:
     """One turtle's poses, the commands sent to it, and the run being driven (if any).
 
-    :param step_s: how long each command acts: the simulator's step (turtlesim's 16 ms), not
-        the control period, which may differ.
+    :param step_s: how long each command acts at least: the robot's step (turtlesim's 16 ms),
+        not the control period, which may differ.
+    :param echoes: the pose echoes the command in effect (turtlesim); False for odometry.
     """
 
-    def __init__(self, step_s: float) -> None:
-        self.latency = LatencyPredictor(step_s)
+    def __init__(self, step_s: float, *, echoes: bool = True) -> None:
+        self.model = RobotModel(step_s, echoes=echoes)
         self.run: RunSupervisor | None = None
         self.pose: Pose2D | None = None
         self.standing = True  # the last pose reported zero velocity
@@ -36,12 +37,7 @@ class ControlLoop:
         self.standing = linear_echo == 0.0 and angular_echo == 0.0
         if self.run is not None:
             self.run.observe(pose)
-        self.latency.observe(linear_echo, angular_echo)
-
-    def link_restored(self) -> None:
-        """Poses came back after a silence past pose_timeout (a cut link, a restarted
-        simulator): the latency's spread is judged afresh."""
-        self.latency.forget_spread()
+        self.model.observe(linear_echo, angular_echo)
 
     def forget_pose(self) -> None:
         """The turtle is gone (a reset): no pose until the next one is observed."""
@@ -52,8 +48,7 @@ class ControlLoop:
         """Begin driving `plan` from the last pose observed."""
         if self.pose is None:
             raise RuntimeError('no pose observed yet')
-        self.run = RunSupervisor(plan, start=self.pose, arena=arena, started_s=now_s,
-                                 latency=self.latency)
+        self.run = RunSupervisor(plan, start=self.pose, arena=arena, started_s=now_s)
         return self.run
 
     def take_run(self) -> RunSupervisor | None:
@@ -62,18 +57,19 @@ class ControlLoop:
         return run
 
     def command(self, config: ControlConfig, arena: Arena, now_s: float) -> Command | None:
-        """This period's command for the run; None when there is nothing to send: no run, no
-        pose yet, commands queued at the simulator to drain (`LatencyPredictor.backlog`), or
-        the run has just ended (whoever ends it sends the stop)."""
+        """This period's command for the run (call it on every tick of the control timer, with
+        a run or without); None when there is nothing to send: no run, no pose yet, commands queued at the robot to drain (`RobotModel.excess`), or the run has
+        just ended (whoever ends it sends the stop)."""
+        self.model.ticked(now_s)
         run = self.run
         if run is None or self.pose is None:
             return None
-        if self.latency.backlog:
-            self.latency.held()
+        if self.model.excess:
             return None
-        command = run.command(self.pose, self.standing, config, arena, now_s)
-        return None if run.ending is not None else self.latency.distinct(command)
+        prediction = self.model.predict(self.pose, now_s)
+        command = run.command(self.pose, self.standing, config, arena, now_s, prediction)
+        return None if run.ending is not None else self.model.distinct(command)
 
-    def sent(self, command: Command) -> None:
-        """Record a command as it is published (every one, the stops included)."""
-        self.latency.sent(command)
+    def sent(self, command: Command, now_s: float) -> None:
+        """Record a command as it is published (every one, the stops included; node clock)."""
+        self.model.sent(command, now_s)

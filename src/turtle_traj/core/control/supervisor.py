@@ -18,8 +18,8 @@ import numpy as np
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.follower import PathFollower
-from turtle_traj.core.control.latency import LatencyPredictor
 from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.control.robot_model import Prediction
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
 from turtle_traj.core.geometry.shapes import Arena
@@ -60,12 +60,10 @@ class RunSupervisor:
     returns STOP only. Single-threaded by design: the node calls it from one executor thread.
     """
 
-    def __init__(self, plan: Plan, *, start: Pose2D, arena: Arena, started_s: float,
-                 latency: LatencyPredictor | None = None) -> None:
+    def __init__(self, plan: Plan, *, start: Pose2D, arena: Arena, started_s: float) -> None:
         self.plan = plan
         self.follower = PathFollower(plan.path, end_tolerance=plan.end_tolerance,
-                                     latency=latency, manage_pen=plan.pen is not None,
-                                     profiles=plan.profiles)
+                                     manage_pen=plan.pen is not None, profiles=plan.profiles)
         self.started_s = started_s
         self.ending: tuple[bool, str] | None = None
         self._start_clearance = wall_clearance(arena, start)
@@ -147,10 +145,11 @@ class RunSupervisor:
                             'ROS domain, or this node fell behind the simulator)')
 
     def command(self, pose: Pose2D, standing: bool, config: ControlConfig, arena: Arena,
-                now_s: float) -> Command:
+                now_s: float, prediction: Prediction | None = None) -> Command:
         """The command for this control period; may decide the verdict.
 
         :param standing: the turtle reports zero velocity.
+        :param prediction: the model's prediction for this period (`RobotModel.predict`).
         :param config: the node's control settings (the plan's speeds override them).
         :param now_s: the node clock, seconds.
         """
@@ -180,7 +179,7 @@ class RunSupervisor:
                             f'{config.progress_timeout_s:g} s, {off:.3f} m from it: {why}, or '
                             'something holds it')
             return STOP
-        return self.follower.update(pose, self._config[1])
+        return self.follower.update(pose, self._config[1], prediction)
 
     def _stalled(self, now_s: float, timeout_s: float) -> bool:
         """No progress since `timeout_s` ago. A new leg, a new lap of an endless loop or a

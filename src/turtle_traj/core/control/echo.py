@@ -1,0 +1,52 @@
+"""turtlesim's velocity echo: the evidence of which command acted. Pure Python.
+
+turtlesim's Pose reports the velocities in effect at its step: the linear one as a magnitude,
+both in float32. The newest command sent whose values match the echo is the one acting. On a
+straight line every command is the same, and an echo would match them all; so each command is
+moved by a few float32 steps (a relative 4e-6 at most, towards the command before it) until its
+echo is unlike any other remembered, and the echo names the command in effect on any path.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from turtle_traj.core.control.commands import STOP, Command
+
+Echo = tuple[float, float]  # (|linear|, angular) as float32 values
+STANDING: Echo = (0.0, 0.0)  # a turtle that stands: a stop in effect, or no command yet
+HISTORY = 32  # commands remembered: far more than any latency we can steer through
+
+
+def as_echoed(command: Command) -> Echo:
+    """The (linear_velocity, angular_velocity) a turtlesim pose reports for `command`."""
+    return float(np.float32(abs(command.linear))), float(np.float32(command.angular))
+
+
+def _with(command: Command, on_linear: bool, value: float) -> Command:
+    return (Command(value, command.angular) if on_linear
+            else Command(command.linear, value))
+
+
+def distinct(command: Command, taken: set[Echo], previous: Command) -> Command:
+    """`command` moved by the fewest float32 steps that give it an echo not in `taken`: its
+    speed (its turn rate, when it has no speed), towards `previous`, then on towards zero. So
+    it keeps within any limit of speed it was within, and its change from `previous` grows by a
+    few float32 steps at most. A stop stays a stop; so does a command that runs out of steps."""
+    if command == STOP or as_echoed(command) not in taken:
+        return command
+    on_linear = command.linear != 0.0
+    exact = command.linear if on_linear else command.angular
+    last = previous.linear if on_linear else previous.angular
+    value, towards = np.float32(exact), np.float32(last)
+    if abs(float(value) - last) > abs(exact - last):  # rounded away from the previous one
+        value = np.nextafter(value, towards)
+    for _ in range(HISTORY + 1):
+        candidate = _with(command, on_linear, float(value))
+        if as_echoed(candidate) not in taken:
+            return candidate
+        towards = np.float32(0.0) if value == towards else towards
+        value = np.nextafter(value, towards)
+        if value == 0.0:
+            break
+    return command

@@ -1,0 +1,240 @@
+"""The controller's model of the robot: where it will be when the next command takes effect. Pure.
+
+The model, in one page:
+
+* **The robot steps, and takes commands in order.** At each step (turtlesim's 16 ms) it takes
+  the oldest command that has arrived and not been taken, if any, and integrates with the one in
+  effect; a step with none keeps the last (turtlesim and our bases do exactly this). A command
+  acts until the next one is taken: one step each when the robot has a queue, longer when this
+  node sent the next one late (a busy executor, a skipped period).
+* **Two clocks, one offset.** Commands are stamped as they are sent (node clock, counted in
+  steps). Poses arrive one per robot step, in order, even late ones: counting them counts the
+  robot's steps. A command first seen in effect at pose `k`, sent at step `t`, took `k - t`
+  steps to arrive and act; that offset is the link's latency as the robot's clock sees it. Its
+  floor (`RunningFloor`, of the median of three) is the latency without a queue; how much
+  later than the one before a command arrives (95th percentile) is the jitter. A lost pose,
+  or a cut link, lowers the offsets for good: the floor falls with the second lower one.
+* **One observer says which command is in effect.** turtlesim's pose echoes its velocities
+  (`echo`): the command whose echo matches is in effect, and those sent after it are in flight.
+  Commands act in order, so among equal echoes (a run of stops) the match is the one nearest a
+  step on from the last, never an older one; an echo that matches nothing is someone else's
+  command, and the robot is taken to have stepped on. A base's odometry measures its velocity
+  instead of echoing a command: no command is then known to be in flight.
+* **The prediction** replays the command in effect and every command in flight from the pose,
+  each from the step it arrives (its stamp plus the latency, and not before the step after the
+  one before it) to the next one's, with turtlesim's integration (heading first, then position
+  along the new heading). In lock-step each arrives the step after the one before, exactly.
+* **The uncertainty** is a distribution, not a worst case. `late_steps`, how many steps longer
+  than one the next command may act, is the jitter plus how much later than one step the 95th
+  percentile of this node's control timer fires after the tick before. Each is a running
+  quantile (`RunningQuantile`): a stall seen once moves it by a fraction of a step, which the
+  next observations take back, so approaches stay brisk; jitter that lasts is hedged.
+* **Faults are observations.** A stalled link holds commands back, and its repair lets them
+  through together, to queue at turtlesim's 7-deep subscription: either way commands are
+  overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
+  control loop sends nothing meanwhile (the command before acts on, as predicted); the queue
+  drains. A cut link loses poses too: the step count falls behind, and the floor with it, at
+  the first command seen. An executor that dispatches late: the stamps say how long each
+  command acted; poses it delivers late still count the steps.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass
+
+from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed, distinct
+from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import Pose2D
+
+CONFIDENCE = 0.95  # the share of commands that act no later than predicted
+RATE = 0.25  # steps: the most one observation moves a running quantile
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """What the model says of the robot for this control period (immutable)."""
+
+    pose: Pose2D  # where the robot will be when the next command takes effect
+    velocity: Command  # the command in effect until then: the last one sent
+    late_steps: int = 0  # how many steps longer than one the next command may act
+    # m, rad the robot may move beyond `pose`: the last command sent, acting `late_steps` longer
+    overrun: tuple[float, float] = (0.0, 0.0)
+    still: bool = True  # it stands, and every command on its way is a stop
+
+    @classmethod
+    def immediate(cls, pose: Pose2D, velocity: Command = STOP) -> Prediction:
+        """A robot that takes each command at once (no model: the follower used alone)."""
+        return cls(pose, velocity)
+
+
+@dataclass(frozen=True)
+class _Sent:
+    command: Command
+    echo: Echo
+    stamp: float  # when it was sent, in steps since the first command
+
+
+class RobotModel:
+    """Commands sent, the evidence of which one acts, and the prediction they make.
+
+    :param step_s: how long each command acts at least (the robot's step, turtlesim's 16 ms).
+    :param echoes: the pose echoes the command in effect (turtlesim); False for odometry.
+    """
+
+    def __init__(self, step_s: float, *, echoes: bool = True) -> None:
+        self.step_s = step_s
+        self.echoes = echoes
+        self._sent: deque[_Sent] = deque(maxlen=HISTORY)
+        self._count = 0  # commands sent so far: the next one's number
+        self._origin_s: float | None = None  # the first stamp: steps are counted from it
+        self._poses = 0  # robot steps, as counted by the poses observed
+        self._in_effect: int | None = None  # the number of the command in effect, if known
+        self._echo = STANDING
+        self._latency = RunningFloor(1.0 - CONFIDENCE, RATE)  # steps, without a queue
+        self._latencies: deque[float] = deque(maxlen=3)  # of the last commands seen to act
+        self._jitter = RunningQuantile(CONFIDENCE, RATE)  # steps later than the one before
+        self._last_tick: float | None = None
+        self._follows = RunningQuantile(CONFIDENCE, RATE)  # steps from one tick to the next
+
+    @property
+    def in_flight(self) -> int:
+        """Commands sent after the one in effect at the last pose."""
+        if not self.echoes:
+            return 0
+        if self._in_effect is None:
+            return len(self._sent)
+        return min(self._count - 1 - self._in_effect, len(self._sent))
+
+    @property
+    def last_sent(self) -> Command:
+        """The command in effect when the next one takes over: the last one sent, or before
+        any, the velocity the last pose reported (a magnitude, for turtlesim)."""
+        return self._sent[-1].command if self._sent else Command(*self._echo)
+
+    def distinct(self, command: Command) -> Command:
+        """`command`, moved by a few float32 steps if its echo would name another command
+        remembered (see `echo.distinct`); as it is without an echo."""
+        if not self.echoes:
+            return command
+        return distinct(command, {sent.echo for sent in self._sent}, self.last_sent)
+
+    def ticked(self, now_s: float) -> None:
+        """The control timer fired (node clock, seconds), with a run or without: how long
+        after the last tick says how long a command may act before the next one is sent."""
+        if self._origin_s is None:
+            self._origin_s = now_s
+        tick = self._in_steps(now_s)
+        if self._last_tick is not None:
+            self._follows.add(tick - self._last_tick)
+        self._last_tick = tick
+
+    def sent(self, command: Command, now_s: float) -> None:
+        """Record a command as it is published (node clock, seconds)."""
+        if self._origin_s is None:
+            self._origin_s = now_s
+        self._sent.append(_Sent(command, as_echoed(command), self._in_steps(now_s)))
+        self._count += 1
+
+    def observe(self, linear_echo: float, angular_echo: float) -> None:
+        """A pose's velocity echo: which command is in effect, and so how many are in flight."""
+        self._poses += 1
+        self._echo = echo = (linear_echo, angular_echo)
+        if not self.echoes:
+            return
+        expected = self._count if self._in_effect is None else self._in_effect + 1
+        matches = self._matches(echo)
+        if not matches:  # someone else's command (a stale one, the 1 s timeout): a step on
+            if self._in_effect is not None:
+                self._in_effect = min(expected, self._count - 1)
+            return
+        in_effect = min(matches, key=lambda number: abs(number - expected))
+        first_seen = in_effect != self._in_effect
+        self._in_effect = in_effect
+        if first_seen and len(matches) == 1:  # equal commands tell nothing of the latency
+            self._observe_latency(self._poses - self._sent[in_effect - self._first].stamp)
+
+    def _observe_latency(self, latency: float) -> None:
+        """A command first seen in effect `latency` steps after it was sent. The floor takes
+        the median of the last three: one wrong match (an echo alike by chance) moves nothing,
+        and a latency that changed shows in the second command."""
+        if self._latencies:
+            self._jitter.add(latency - self._latencies[-1])
+        self._latencies.append(latency)
+        if len(self._latencies) == self._latencies.maxlen:
+            self._latency.add(sorted(self._latencies)[1])
+
+    @property
+    def _first(self) -> int:
+        """The number of the oldest command remembered."""
+        return self._count - len(self._sent)
+
+    def _matches(self, echo: Echo) -> list[int]:
+        """The numbers of the commands remembered whose echo is `echo`: those no older than the
+        one in effect at the last pose, as commands take effect in order; any, if none is (the
+        last match was wrong)."""
+        matches = [self._first + index for index, sent in enumerate(self._sent)
+                   if sent.echo == echo]
+        in_order = [number for number in matches if number >= (self._in_effect or 0)]
+        return in_order or matches
+
+    @property
+    def excess(self) -> int:
+        """Commands overdue beyond the jitter: send none now. A command is due at the robot the
+        latency's floor after it was sent; one in flight past that waits (a queue that a burst
+        filled, and one sent a step keeps full) or is held up (a stalled link, whose commands
+        will arrive together). Each period without a command sent lets the robot take one."""
+        floor = self._latency.value
+        if floor is None:
+            return 0
+        pending = list(self._sent)[len(self._sent) - self.in_flight:] if self.in_flight else []
+        overdue = sum(1 for sent in pending if round(sent.stamp + floor) <= self._poses)
+        return max(overdue - max(self._jitter.whole(), 0), 0)
+
+    def predict(self, pose: Pose2D, now_s: float) -> Prediction:
+        """Where the robot will be when the next command takes effect, and how uncertain."""
+        in_flight = self.in_flight
+        pending = [sent.command for sent in list(self._sent)[len(self._sent) - in_flight:]]
+        x, y, theta = pose.x, pose.y, pose.theta
+        for command, steps in self._schedule(in_flight, now_s):
+            for _ in range(steps):
+                theta += command.angular * self.step_s
+                x += command.linear * math.cos(theta) * self.step_s
+                y += command.linear * math.sin(theta) * self.step_s
+        late = self._late_steps()
+        last = self.last_sent  # acts until the next command is taken: maybe `late` longer
+        overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
+        still = self._echo == STANDING and all(command == STOP for command in pending)
+        return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, overrun, still)
+
+    def _schedule(self, in_flight: int, now_s: float) -> list[tuple[Command, int]]:
+        """The command in effect and each one in flight, with the steps each acts after the
+        last pose: from the step it arrives (not before the step after the one before it) to
+        the next one's; the last until the next command, sent now, arrives."""
+        acting = ([self._sent[-1 - in_flight].command] if in_flight < len(self._sent)
+                  else [Command(*self._echo)])
+        acting += [sent.command for sent in list(self._sent)[len(self._sent) - in_flight:]]
+        stamps = [sent.stamp for sent in list(self._sent)[len(self._sent) - in_flight:]]
+        stamps.append(self._in_steps(now_s) if self._origin_s is not None else 0.0)
+        # each arrives the latency after it was sent, without a queue; until the floor is
+        # known, the last latency seen, and before any command was seen to take effect, the
+        # oldest on its way is taken to arrive at the next step
+        latency = self._latency.value
+        if latency is None:
+            latency = self._latencies[-1] if self._latencies else self._poses + 1 - stamps[0]
+        starts, step = [], self._poses
+        for stamp in stamps:
+            step = max(step + 1, round(stamp + latency))
+            starts.append(step)
+        begins = [self._poses + 1, *starts[:-1]]
+        return [(command, end - begin)
+                for command, begin, end in zip(acting, begins, starts, strict=True)]
+
+    def _late_steps(self) -> int:
+        return max(self._jitter.whole(), 0) + max(self._follows.whole(1) - 1, 0)
+
+    def _in_steps(self, stamp_s: float) -> float:
+        return (stamp_s - self._origin_s) / self.step_s

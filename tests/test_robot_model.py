@@ -1,0 +1,303 @@
+"""The model of the robot (pure): which commands are in flight, how long each acts, where they
+take the turtle, and how uncertain that is. Predictions are checked against the simulator's own
+physics (`sim.physics.World`)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.quantile import RunningQuantile
+from turtle_traj.core.control.robot_model import RATE, RobotModel
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.turtlesim_contract import STEP_S
+from turtle_traj.sim.physics import World
+
+COMMANDS = [Command(1.0, 0.5), Command(0.8, -1.0), Command(0.6, 2.0), Command(0.3, 0.1)]
+
+
+def _echo(command: Command) -> tuple[float, float]:
+    """What a turtlesim pose reports for a command in effect (float32, speed as magnitude)."""
+    return float(np.float32(abs(command.linear))), float(np.float32(command.angular))
+
+
+def _send(model: RobotModel, commands, start_step: int = 0) -> None:
+    """Send `commands` one step apart (node clock)."""
+    for index, command in enumerate(commands):
+        model.sent(command, (start_step + index) * STEP_S)
+
+
+@pytest.mark.parametrize('in_effect', range(len(COMMANDS)))
+def test_the_echo_tells_how_many_commands_are_in_flight(in_effect):
+    model = RobotModel(STEP_S)
+    _send(model, COMMANDS)
+    model.observe(*_echo(COMMANDS[in_effect]))
+    assert model.in_flight == len(COMMANDS) - 1 - in_effect
+
+
+def test_an_echo_of_nothing_sent_means_everything_is_in_flight():
+    model = RobotModel(STEP_S)
+    _send(model, COMMANDS[:2])
+    model.observe(0.0, 0.0)
+    assert model.in_flight == 2
+
+
+def test_a_foreign_echo_mid_run_keeps_the_count():
+    model = RobotModel(STEP_S)
+    _send(model, [Command(1.0, 0.0)] * 10)
+    model.observe(*_echo(Command(1.0, 0.0)))
+    assert model.in_flight == 0
+    _send(model, [Command(1.0, 0.0)], 10)
+    model.observe(0.7, 0.3)  # not ours: e.g. a stale command
+    assert model.in_flight == 0  # a step passed: the one sent since is taken to act
+    _send(model, [Command(1.0, 0.0)], 11)
+    model.observe(*_echo(Command(1.0, 0.0)))
+    assert model.in_flight == 0
+
+
+def test_alike_commands_match_one_step_on_never_an_older_one():
+    model = RobotModel(STEP_S)
+    _send(model, [Command(0.5, 0.0), Command(1.0, 0.0), Command(1.0, 0.0)])
+    model.observe(*_echo(Command(0.5, 0.0)))
+    assert model.in_flight == 2
+    _send(model, [Command(1.0, 0.0)], 3)
+    model.observe(*_echo(Command(1.0, 0.0)))
+    assert model.in_flight == 2  # the one after the 0.5 m/s: one step on, not the newest
+    _send(model, [Command(1.0, 0.0)], 4)
+    model.observe(*_echo(Command(1.0, 0.0)))
+    assert model.in_flight == 2  # one step on again: never back to an older alike one
+
+
+@pytest.mark.parametrize('in_flight', [0, 1, 2, 3])
+@pytest.mark.parametrize('theta', [0.0, 3.1, -3.1])
+def test_prediction_matches_the_simulator_physics(in_flight, theta):
+    world = World()
+    turtle = world.spawn(5.0, 5.0, theta)
+    model = RobotModel(STEP_S)
+    _send(model, COMMANDS)
+    acted = COMMANDS[:len(COMMANDS) - in_flight]
+    for command in acted:
+        world.command(turtle.name, command.linear, 0.0, command.angular)
+        world.step()
+    now = Pose2D(turtle.x, turtle.y, turtle.theta)
+    model.observe(*_echo(acted[-1]) if acted else (0.0, 0.0))
+    for command in COMMANDS[len(acted):]:
+        world.command(turtle.name, command.linear, 0.0, command.angular)
+        world.step()
+    predicted = model.predict(now, len(COMMANDS) * STEP_S).pose
+    assert (predicted.x, predicted.y) == pytest.approx((turtle.x, turtle.y), abs=1e-9)
+    assert math.remainder(predicted.theta - turtle.theta, math.tau) == pytest.approx(0.0,
+                                                                                     abs=1e-7)
+
+
+@pytest.mark.parametrize('gaps', [(1, 3, 1), (4, 1, 2), (1, 1, 6)])
+def test_a_command_acts_until_the_next_one_is_sent(gaps):
+    """A busy executor fires the control timer late: the command before acts on, and the
+    robot steps every period with it. The stamps say for how many steps."""
+    world = World()
+    turtle = world.spawn(5.0, 5.0, 0.5)
+    model = RobotModel(STEP_S)
+    model.sent(COMMANDS[0], 0.0)
+    world.command(turtle.name, COMMANDS[0].linear, 0.0, COMMANDS[0].angular)
+    world.step()
+    now = Pose2D(turtle.x, turtle.y, turtle.theta)
+    model.observe(*_echo(COMMANDS[0]))
+    stamp = 0
+    for command, gap in zip(COMMANDS[1:], gaps, strict=True):
+        stamp += gap
+        model.sent(command, stamp * STEP_S)  # sent `gap` steps after the one before
+    for _ in range(gaps[0] - 1):  # the first command acts on meanwhile
+        world.step()
+    for command, acts in zip(COMMANDS[1:], [*gaps[1:], 1], strict=True):
+        world.command(turtle.name, command.linear, 0.0, command.angular)
+        for _ in range(acts):
+            world.step()
+    # the last one acts until the next command, computed now, one step after it was sent
+    predicted = model.predict(now, (stamp + 1) * STEP_S).pose
+    assert (predicted.x, predicted.y) == pytest.approx((turtle.x, turtle.y), abs=1e-9)
+
+
+def _through_a_link(model: RobotModel, commands: list[Command], delays: list[int]) -> None:
+    """Send one command a step; command i arrives `delays[i]` steps later, and the robot takes
+    the oldest arrived one at each step (one a step, in order) and echoes it in its pose."""
+    taken = -1
+    for step, command in enumerate(commands):
+        model.sent(command, step * STEP_S)
+        if taken + 1 < len(commands) and taken + 1 <= step - delays[taken + 1]:
+            taken += 1
+        model.observe(*(_echo(commands[taken]) if taken >= 0 else (0.0, 0.0)))
+
+
+def _distinct_commands(count: int, first: float = 0.1) -> list[Command]:
+    return [Command(first + 0.001 * k, 0.0) for k in range(count)]
+
+
+def _misses(ticks: np.ndarray, delay: float) -> tuple[np.ndarray, np.ndarray]:
+    """Drive the simulator's physics through a link, the robot stepping at whole times and the
+    node ticking at `ticks` (in steps): each tick predicts and sends a command, which arrives
+    `delay` steps later; the robot takes the oldest arrived at each step (one a step, in order)
+    and echoes it in the pose it publishes. For each command that took effect: how far the
+    robot was, when it did, from where the model predicted, and the overrun it allowed."""
+    world = World()
+    turtle = world.spawn(5.0, 5.0, 0.0)
+    model = RobotModel(STEP_S)
+    sent: list[tuple[Command, Pose2D, float, float]] = []  # command, prediction, overrun, due
+    taken, in_effect, misses, allowed = 0, None, [], []
+    for step in range(int(ticks[-1]) + 10):
+        for tick in ticks[(ticks >= step) & (ticks < step + 1)]:
+            pose = Pose2D(turtle.x, turtle.y, turtle.theta)
+            model.ticked(tick * STEP_S)
+            prediction = model.predict(pose, tick * STEP_S)
+            index = len(sent)
+            command = model.distinct(Command(0.5 + 0.4 * math.sin(index / 9.0),
+                                             1.5 * math.cos(index / 7.0)))
+            model.sent(command, tick * STEP_S)
+            sent.append((command, prediction.pose, prediction.overrun[0], tick + delay))
+        if taken < len(sent) and sent[taken][3] <= step + 1:  # the robot's step, at step + 1
+            in_effect, taken = taken, taken + 1
+            _command, predicted, overrun, _due = sent[in_effect]
+            misses.append(math.dist((turtle.x, turtle.y), (predicted.x, predicted.y)))
+            allowed.append(overrun)
+        if in_effect is not None:
+            command = sent[in_effect][0]
+            world.command(turtle.name, command.linear, 0.0, command.angular)
+        world.step()
+        model.observe(*(_echo(sent[in_effect][0]) if in_effect is not None else (0.0, 0.0)))
+    return np.array(misses), np.array(allowed)
+
+
+def test_a_steady_latency_is_predicted_exactly():
+    misses, allowed = _misses(np.arange(400) + 0.5, 2.2)
+    assert misses[10:].max() < 1e-9 and allowed.max() == 0.0
+
+
+def test_a_jittery_timer_is_hedged_and_the_hedge_covers_what_happens():
+    """The node's timer fires up to 0.8 steps early or late: some steps take no new command
+    (the one before acts on), some two (one waits). The prediction is the soonest arrival,
+    and the overrun it allows covers a later one for most commands."""
+    jitter = np.random.default_rng(7).uniform(-0.8, 0.8, 600)
+    ticks = np.maximum.accumulate(np.arange(600) + 0.5 + jitter)
+    misses, allowed = _misses(ticks, 2.2)
+    assert allowed[100:].min() > 0.0  # the jitter is learnt: every approach is hedged
+    assert np.mean(misses[100:] <= allowed[100:] + 1e-9) >= 0.95
+
+
+def test_a_spike_seen_once_does_not_slow_what_follows():
+    """A stall (a cut link, a stalled executor) is one observation among many: it moves a
+    running quantile by a fraction of a step, which the next observations take back."""
+    model = RobotModel(STEP_S)
+    commands = _distinct_commands(400)
+    _through_a_link(model, commands, [1] * 200 + [25] + [1] * 199)
+    assert model.predict(Pose2D(1.0, 1.0, 0.0), 400 * STEP_S).late_steps == 0
+    # the control timer late once: the command before acted 20 steps; then one each
+    for tick in [*range(400), *range(420, 470)]:
+        model.ticked(tick * STEP_S)
+    assert model.predict(Pose2D(1.0, 1.0, 0.0), 470 * STEP_S).late_steps == 0
+
+
+def test_a_timer_that_is_often_late_makes_the_approach_wary():
+    model = RobotModel(STEP_S)
+    stamp = 0
+    for index, command in enumerate(_distinct_commands(100)):
+        stamp += 3 if index % 4 == 0 else 1  # every fourth tick comes two steps late
+        model.ticked(stamp * STEP_S)
+        model.sent(command, stamp * STEP_S)
+    assert model.predict(Pose2D(1.0, 1.0, 0.0), (stamp + 1) * STEP_S).late_steps == 2
+
+
+def test_the_timer_is_learnt_before_the_first_command():
+    """A busy executor delays the control timer while no run is driven too: the first
+    command of a run is already sent with its hedge."""
+    model = RobotModel(STEP_S)
+    for tick in range(0, 200, 4):  # every fourth step
+        model.ticked(tick * STEP_S)
+    assert model.predict(Pose2D(1.0, 1.0, 0.0), 200 * STEP_S).late_steps == 3
+
+
+def test_a_running_quantile_settles_where_its_share_lies_below():
+    high = RunningQuantile(0.95, RATE)
+    assert high.value is None and high.whole(7) == 7
+    for index in range(2000):
+        high.add(2 if index % 50 else 5)  # 2% of fives
+    assert high.whole() == 2
+    for index in range(2000):
+        high.add(2 if index % 10 else 5)  # 10% of fives
+    assert high.whole() == 5
+    low = RunningQuantile(0.05, RATE)
+    for index in range(2000):
+        low.add(2 if index % 10 else 5)
+    assert low.whole() == 2
+
+
+def test_still_only_when_standing_with_nothing_but_stops_on_their_way():
+    model = RobotModel(STEP_S)
+    _send(model, [Command(0.5, 0.0), STOP, STOP])
+    for _ in range(3):
+        model.observe(*_echo(Command(0.5, 0.0)))
+    pose = Pose2D(1.0, 1.0, 0.0)
+    assert not model.predict(pose, 3 * STEP_S).still  # the 0.5 m/s command is in effect
+    model.sent(STOP, 3 * STEP_S)
+    model.observe(0.0, 0.0)
+    assert model.predict(pose, 4 * STEP_S).still
+    model.sent(Command(0.0, 1.0), 4 * STEP_S)
+    model.observe(0.0, 0.0)
+    assert not model.predict(pose, 5 * STEP_S).still  # a turn is on its way
+
+
+@pytest.mark.parametrize('command', [Command(1.0, 0.0), Command(-0.7, 0.3), Command(0.0, -2.0)])
+def test_alike_commands_are_made_smaller_by_float32_steps_until_each_echo_is_unique(command):
+    model = RobotModel(STEP_S)
+    sent = []
+    for step in range(40):
+        sent.append(model.distinct(command))
+        model.sent(sent[-1], step * STEP_S)
+    echoes = [_echo(each) for each in sent]
+    assert len(set(echoes[-32:])) == 32  # each echo names one command of those remembered
+    for each in sent:
+        assert each.linear == pytest.approx(command.linear, rel=4e-6, abs=0.0)
+        assert each.angular == pytest.approx(command.angular, rel=4e-6, abs=0.0)
+        assert math.copysign(1, each.linear) == math.copysign(1, command.linear)
+        # smaller, never larger: a command at a limit stays within it
+        assert abs(each.linear) <= abs(command.linear)
+        assert abs(each.angular) <= abs(command.angular)
+    # the echo of a command now in effect names it, whatever came after
+    model.observe(*_echo(sent[-5]))
+    assert model.in_flight == 4
+
+
+def test_a_stop_is_never_nudged_and_odometry_needs_no_nudging():
+    model = RobotModel(STEP_S)
+    for step in range(3):
+        model.sent(model.distinct(STOP), step * STEP_S)
+    assert model.distinct(STOP) == STOP
+    odometry = RobotModel(STEP_S, echoes=False)
+    for step in range(3):
+        odometry.sent(odometry.distinct(Command(1.0, 0.0)), step * STEP_S)
+    assert odometry.distinct(Command(1.0, 0.0)) == Command(1.0, 0.0)
+    odometry.observe(0.3, 0.0)  # a measured velocity names no command
+    assert odometry.in_flight == 0
+
+
+def test_a_stop_sent_after_moving_commands_is_not_what_a_standing_turtle_stands_on():
+    """Start of a run on a slow link: the turtle stands while the commands are on their way.
+    The stop sent after them echoes as the standing turtle does, but commands act in order:
+    the turtle is on the stop before them, all of them are still in flight, and no latency is
+    learnt."""
+    model = RobotModel(STEP_S)
+    model.sent(STOP, 0.0)
+    model.observe(0.0, 0.0)
+    moving = [Command(1.0 - 0.01 * k, 0.0) for k in range(10)]
+    _send(model, [*moving, STOP], 1)
+    for _ in range(3):
+        model.observe(0.0, 0.0)
+        assert model.in_flight == 11
+    prediction = model.predict(Pose2D(1.0, 1.0, 0.0), 12 * STEP_S)
+    assert prediction.late_steps == 0 and not prediction.still
+    assert prediction.pose.x == pytest.approx(1.0 + sum(c.linear for c in moving) * STEP_S)
+    model.observe(*_echo(moving[0]))  # the first one acts at last
+    assert model.in_flight == 10
+    for command in moving[1:]:  # then each in turn, then the stop: the turtle stands on it
+        model.observe(*_echo(command))
+    model.observe(0.0, 0.0)
+    assert model.in_flight == 0 and model.predict(Pose2D(1.0, 1.0, 0.0), 13 * STEP_S).still
