@@ -43,17 +43,27 @@ def test_an_echo_of_nothing_sent_means_everything_is_in_flight():
     assert model.in_flight == 2
 
 
-def test_a_foreign_echo_mid_run_keeps_the_count():
+def test_a_foreign_echo_mid_run_is_a_step_on():
     model = RobotModel(STEP_S)
     _send(model, [Command(1.0, 0.0)] * 10)
     model.observe(*_echo(Command(1.0, 0.0)))
-    assert model.in_flight == 0
+    assert model.in_flight == 9  # nothing taken before: the first of the alike ones
     _send(model, [Command(1.0, 0.0)], 10)
     model.observe(0.7, 0.3)  # not ours: e.g. a stale command
-    assert model.in_flight == 0  # a step passed: the one sent since is taken to act
-    _send(model, [Command(1.0, 0.0)], 11)
+    assert model.in_flight == 9  # a step passed: the next is taken to act, one more was sent
     model.observe(*_echo(Command(1.0, 0.0)))
-    assert model.in_flight == 0
+    assert model.in_flight == 8
+
+
+def test_a_standing_turtle_stands_as_before_until_a_command_shows():
+    """Poses late at the start of a run (a busy executor) still show the turtle standing as
+    it stood: the stop sent after the moving commands cannot be in effect before they were."""
+    model = RobotModel(STEP_S)
+    _send(model, [Command(1.0, 0.0), Command(0.9, 0.0), STOP])
+    model.observe(0.0, 0.0)
+    assert model.in_flight == 3
+    model.observe(*_echo(Command(1.0, 0.0)))
+    assert model.in_flight == 2
 
 
 def test_alike_commands_match_one_step_on_never_an_older_one():

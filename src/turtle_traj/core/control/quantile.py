@@ -14,12 +14,13 @@ class RunningQuantile:
     """The `share` quantile of what was observed lately (None before any observation).
 
     :param rate: the largest move one observation makes, in the observations' unit.
+    :param prior: the estimate before any observation (None: the first observation).
     """
 
-    def __init__(self, share: float, rate: float) -> None:
+    def __init__(self, share: float, rate: float, prior: float | None = None) -> None:
         self.share = share
         self.rate = rate
-        self.value: float | None = None
+        self.value: float | None = prior
 
     def add(self, observed: float) -> None:
         if self.value is None:

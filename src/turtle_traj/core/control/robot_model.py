@@ -96,9 +96,10 @@ class RobotModel:
         self._echo = STANDING
         self._latency = RunningFloor(1.0 - CONFIDENCE, RATE)  # steps, without a queue
         self._latencies: deque[float] = deque(maxlen=3)  # of the last commands seen to act
-        self._jitter = RunningQuantile(CONFIDENCE, RATE)  # steps later than the one before
+        # steps later than the one before; the timer's steps from one tick to the next
+        self._jitter = RunningQuantile(CONFIDENCE, RATE, prior=0.0)
         self._last_tick: float | None = None
-        self._follows = RunningQuantile(CONFIDENCE, RATE)  # steps from one tick to the next
+        self._follows = RunningQuantile(CONFIDENCE, RATE, prior=1.0)
 
     @property
     def in_flight(self) -> int:
@@ -145,13 +146,17 @@ class RobotModel:
         self._echo = echo = (linear_echo, angular_echo)
         if not self.echoes:
             return
-        expected = self._count if self._in_effect is None else self._in_effect + 1
+        expected = self._first if self._in_effect is None else self._in_effect + 1
         matches = self._matches(echo)
+        if self._in_effect is None and echo == STANDING:  # as it stood before any was taken
+            matches.insert(0, self._first - 1)
         if not matches:  # someone else's command (a stale one, the 1 s timeout): a step on
             if self._in_effect is not None:
                 self._in_effect = min(expected, self._count - 1)
             return
         in_effect = min(matches, key=lambda number: abs(number - expected))
+        if in_effect < self._first:  # none of ours was taken yet
+            return
         first_seen = in_effect != self._in_effect
         self._in_effect = in_effect
         if first_seen and len(matches) == 1:  # equal commands tell nothing of the latency
