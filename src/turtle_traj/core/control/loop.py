@@ -58,8 +58,9 @@ class ControlLoop:
 
     def command(self, config: ControlConfig, arena: Arena, now_s: float) -> Command | None:
         """This period's command for the run (call it on every tick of the control timer, with
-        a run or without); None when there is nothing to send: no run, no pose yet, commands queued at the robot to drain (`RobotModel.excess`), or the run has
-        just ended (whoever ends it sends the stop)."""
+        a run or without); None when there is nothing to send: no run, no pose yet, commands
+        overdue at the robot (`RobotModel.excess`), or the run has just ended (whoever ends it
+        sends the stop)."""
         self.model.ticked(now_s)
         run = self.run
         if run is None or self.pose is None:
