@@ -292,23 +292,28 @@ class PathFollower:
     def _next_command(self, pose: Pose2D, prediction: Prediction,
                       config: ControlConfig) -> Command:
         while not self.done:
-            leg = self.path.legs[self.leg_index]
-            if self._tracker is None:
-                if self.manage_pen and isinstance(leg, Polyline) and leg.pen != self.pen_down:
-                    self.pen_wanted = leg.pen
-                    return STOP
-                self.pen_wanted = None
-                last = self.leg_index == len(self.path.legs) - 1
-                tolerance = config.position_tolerance
-                if last and self._end_tolerance is not None:
-                    tolerance = self._end_tolerance
-                profile = (self._profiles[self.leg_index] if self._profiles
-                           else _UNPLANNED)
-                self._tracker = (_TurnTracker(leg, pose) if isinstance(leg, Turn)
-                                 else _PolylineTracker(leg, tolerance, profile))
+            if self._tracker is None and not self._start_leg(pose, config):
+                return STOP  # waiting for the pen
             command = self._tracker.update(pose, prediction, config)
             if command is not None:
                 return command
             self.leg_index += 1
             self._tracker = None
         return STOP
+
+    def _start_leg(self, pose: Pose2D, config: ControlConfig) -> bool:
+        """Track the current leg from `pose`; False while the pen is not yet as it needs."""
+        leg = self.path.legs[self.leg_index]
+        if self.manage_pen and isinstance(leg, Polyline) and leg.pen != self.pen_down:
+            self.pen_wanted = leg.pen
+            return False
+        self.pen_wanted = None
+        if isinstance(leg, Turn):
+            self._tracker = _TurnTracker(leg, pose)
+            return True
+        last = self.leg_index == len(self.path.legs) - 1
+        tolerance = (self._end_tolerance if last and self._end_tolerance is not None
+                     else config.position_tolerance)
+        profile = self._profiles[self.leg_index] if self._profiles else _UNPLANNED
+        self._tracker = _PolylineTracker(leg, tolerance, profile)
+        return True

@@ -156,30 +156,40 @@ class RunSupervisor:
         if self.ending is not None:
             return STOP
         if self.follower.done:
-            if self._path_done_s is None:
-                self._path_done_s = now_s
-            self._settled_periods += 1
-            if standing or self._settled_periods > SETTLE_PERIODS:
-                self.end(True, f'{self.name} done')
-            return STOP
-        clearance = wall_clearance(arena, pose)
-        if clearance < arena.margin / 2 and clearance < self._start_clearance:
-            self.end(False, f'{self.name} stopped: the turtle came within {clearance:.3f} m of '
-                            f'the wall at ({pose.x:.2f}, {pose.y:.2f})')
-            return STOP
+            return self._settle(standing, now_s)
         if self._config is None or self._config[0] is not config:
             self._config = (config, self.plan.control(config))  # once per settings change
-        if self._stalled(now_s, config.progress_timeout_s):
-            off = self.distance_from_path(pose)
-            why = ('the base does not follow the commands as fast as max_linear_accel and '
-                   'max_angular_accel say (lower them)' if config.limited else
-                   'a base that cannot change speed at once needs max_linear_accel and '
-                   'max_angular_accel set')
-            self.end(False, f'{self.name} aborted: no progress along the path for '
-                            f'{config.progress_timeout_s:g} s, {off:.3f} m from it: {why}, or '
-                            'something holds it')
+        why = self._hazard(pose, config, arena, now_s)
+        if why is not None:
+            self.end(False, why)
             return STOP
         return self.follower.update(pose, self._config[1], prediction)
+
+    def _settle(self, standing: bool, now_s: float) -> Command:
+        """The path is done: wait for the turtle to report standing still (or enough periods)."""
+        if self._path_done_s is None:
+            self._path_done_s = now_s
+        self._settled_periods += 1
+        if standing or self._settled_periods > SETTLE_PERIODS:
+            self.end(True, f'{self.name} done')
+        return STOP
+
+    def _hazard(self, pose: Pose2D, config: ControlConfig, arena: Arena,
+                now_s: float) -> str | None:
+        """Why the run must end now (a wall ahead, no progress), or None."""
+        clearance = wall_clearance(arena, pose)
+        if clearance < arena.margin / 2 and clearance < self._start_clearance:
+            return (f'{self.name} stopped: the turtle came within {clearance:.3f} m of the wall '
+                    f'at ({pose.x:.2f}, {pose.y:.2f})')
+        if not self._stalled(now_s, config.progress_timeout_s):
+            return None
+        why = ('the base does not follow the commands as fast as max_linear_accel and '
+               'max_angular_accel say (lower them)' if config.limited else
+               'a base that cannot change speed at once needs max_linear_accel and '
+               'max_angular_accel set')
+        return (f'{self.name} aborted: no progress along the path for '
+                f'{config.progress_timeout_s:g} s, {self.distance_from_path(pose):.3f} m from '
+                f'it: {why}, or something holds it')
 
     def _stalled(self, now_s: float, timeout_s: float) -> bool:
         """No progress since `timeout_s` ago. A new leg, a new lap of an endless loop or a

@@ -1,0 +1,111 @@
+"""Real time as people use it: `turtle-traj up` (simulator and node in one process, wall-clock
+time, default speeds) and a CLI call per drawing; the figure is each run's elapsed time over the
+node's own "at least" bound, and its deviation.
+
+Several checkouts run side by side, alternating round by round, each from its own `src/` (so an
+old commit is measured with the same script, venv and machine):
+    .venv/bin/python bench/realtime_bench.py [--rounds 3] [--repo PATH ...]
+The kinds are the issue's: the 2 m square, the text "ROS" 1 m high, the star, the circle, a
+go-to and the sine, each from the centre after a reset.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from isolation import isolate
+
+KINDS = {
+    'square': ['draw', 'square', '--size', '2'],
+    'text': ['write', 'ROS', '--height', '1'],
+    'star': ['draw', 'star'],
+    'circle': ['draw', 'circle'],
+    'go_to': ['go-to', '8', '3'],
+    'sine': ['draw', 'sine'],
+}
+ELAPSED = re.compile(r'elapsed ([0-9.]+) s, path [0-9.]+ m, max deviation ([0-9.]+) m')
+BOUND = re.compile(r': [0-9.]+ m of path, [0-9]+ deg of turns in place, at least ([0-9.]+) s')
+
+
+def _env(repo: Path) -> dict[str, str]:
+    return {**os.environ, 'PYTHONPATH': str(repo / 'src')}
+
+
+def _cli(repo: Path, *argv: str) -> str:
+    done = subprocess.run([sys.executable, '-m', 'turtle_traj.cli', *argv], env=_env(repo),
+                          capture_output=True, text=True, timeout=300)
+    return done.stdout + done.stderr
+
+
+def one_round(repo: Path) -> dict[str, tuple[float, float]]:
+    """Each kind's (elapsed / bound, max deviation in mm) from one `turtle-traj up`."""
+    log = repo / '.realtime_bench_up.log'
+    with open(log, 'w') as out:
+        up = subprocess.Popen([sys.executable, '-m', 'turtle_traj.cli', 'up'], env=_env(repo),
+                              stdout=out, stderr=subprocess.STDOUT)
+    try:
+        for _ in range(120):  # the node says what it serves once it is up
+            if 'serving' in log.read_text():
+                break
+            time.sleep(0.25)
+        figures = {}
+        for kind, argv in KINDS.items():
+            _cli(repo, 'reset')
+            said = _cli(repo, *argv)
+            bounds = BOUND.findall(log.read_text())
+            found = ELAPSED.search(said)
+            if not found or not bounds:
+                raise SystemExit(f'{kind} at {repo}: no figures in\n{said}')
+            figures[kind] = (float(found[1]) / float(bounds[-1]), 1000 * float(found[2]))
+        return figures
+    finally:
+        up.terminate()
+        up.wait(timeout=20)
+        log.unlink(missing_ok=True)
+
+
+def _label(repo: Path) -> str:
+    done = subprocess.run(['git', '-C', str(repo), 'rev-parse', '--short', 'HEAD'],
+                          capture_output=True, text=True)
+    dirty = subprocess.run(['git', '-C', str(repo), 'status', '--porcelain', 'src'],
+                           capture_output=True, text=True).stdout.strip()
+    return done.stdout.strip() + ('+' if dirty else '')
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--rounds', type=int, default=3)
+    parser.add_argument('--repo', type=Path, action='append',
+                        help='a checkout to measure (repeatable; default: this one)')
+    args = parser.parse_args()
+    repos = [path.resolve() for path in (args.repo or [Path(__file__).resolve().parents[1]])]
+    isolate('realtime')
+    results: dict[Path, list[dict]] = {repo: [] for repo in repos}
+    for round_ in range(args.rounds):
+        for repo in repos:
+            results[repo].append(one_round(repo))
+            print(f'round {round_ + 1} {_label(repo)} done', file=sys.stderr)
+    labels = {repo: _label(repo) for repo in repos}
+    print('elapsed / bound per round (median, max); max deviation mm')
+    print(f'{"kind":8}' + ''.join(f'  {labels[repo]:>34}' for repo in repos))
+    for kind in KINDS:
+        row = f'{kind:8}'
+        for repo in repos:
+            ratios = [each[kind][0] for each in results[repo]]
+            worst = max(each[kind][1] for each in results[repo])
+            cell = (', '.join(f'{ratio:.2f}' for ratio in ratios)
+                    + f' ({statistics.median(ratios):.2f}, {max(ratios):.2f}) {worst:.1f}')
+            row += f'  {cell:>34}'
+        print(row)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
