@@ -40,15 +40,15 @@ def composed(ros_context, monkeypatch, tmp_path):
     from rclpy.node import Node
 
     from tests.ros_helpers import program
-    from turtle_traj.node import trajectory_node
+    from turtle_traj.node import run_manager
     from turtle_traj.node.trajectory_node import TrajectoryNode
 
-    plan = trajectory_node.planning.plan
+    plan = run_manager.planning.plan
 
     def slow_plan(*args, **kwargs):
         time.sleep(PLANNING_S)
         return plan(*args, **kwargs)
-    monkeypatch.setattr(trajectory_node.planning, 'plan', slow_plan)
+    monkeypatch.setattr(run_manager.planning, 'plan', slow_plan)
     namespace = '/composed'
     with program('turtle_traj.sim', '--ros-args', '-r', f'__ns:={namespace}', cwd=tmp_path):
         node = TrajectoryNode(context=ros_context, namespace=namespace)

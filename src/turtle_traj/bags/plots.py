@@ -8,6 +8,7 @@ picture per trajectory.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -45,24 +46,40 @@ class Run:
         return np.column_stack((self.poses[:, 0], distances))
 
 
+def _odometry(value) -> tuple[float, float, float, float, float]:
+    """x, y, heading, speed and turn rate of a nav_msgs/Odometry."""
+    q, twist = value.pose.pose.orientation, value.twist.twist
+    heading = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+    return (value.pose.pose.position.x, value.pose.pose.position.y, heading, twist.linear.x,
+            twist.angular.z)
+
+
+# The poses a run drives by (the node's pose_source): turtlesim's, or a base's odometry.
+_POSE_TYPES = {
+    'turtlesim/msg/Pose': lambda value: (value.x, value.y, value.theta, value.linear_velocity,
+                                         value.angular_velocity),
+    'nav_msgs/msg/Odometry': _odometry,
+}
+
+
 def read_run(path: Path) -> Run:
     """The run recorded in the bag at `path`.
 
-    :raises BagError: not a readable bag, or one without a turtle's poses.
+    :raises BagError: not a readable bag, or one without poses (turtlesim's or odometry).
     """
     from turtle_traj.bags.writer import BagError
     with Bag(path) as bag:
-        pose_topics = [t for t, kind in bag.topics.items() if kind == 'turtlesim/msg/Pose']
+        pose_topics = [t for t, kind in bag.topics.items() if kind in _POSE_TYPES]
         if not pose_topics:
-            raise BagError(f'{path} has no turtlesim/msg/Pose topic: nothing to plot')
+            raise BagError(f'{path} has no turtlesim/msg/Pose or nav_msgs/msg/Odometry topic: '
+                           'nothing to plot')
         wanted = [pose_topics[0]] + [t for t, kind in bag.topics.items() if kind in (
             'nav_msgs/msg/Path', 'turtle_traj_interfaces/action/Draw_FeedbackMessage')]
         poses, plan, progress = [], np.empty((0, 2)), []
         for message in bag.messages(wanted, deserialize=True):
             value = message.value
             if message.topic == pose_topics[0]:
-                poses.append((message.time_ns * 1e-9, value.x, value.y, value.theta,
-                              value.linear_velocity, value.angular_velocity))
+                poses.append((message.time_ns * 1e-9, *_POSE_TYPES[message.typename](value)))
             elif message.typename == 'nav_msgs/msg/Path':
                 plan = np.array([(p.pose.position.x, p.pose.position.y) for p in value.poses])
             else:

@@ -9,47 +9,30 @@ is rejected by rclpy, which makes a client's repeat of an unanswered request har
 from __future__ import annotations
 
 import math
-from typing import Any, Protocol
 
 from rclpy.action import ActionServer, CancelResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import CallbackGroup
 from rclpy.node import Node
-from rclpy.task import Future
 from turtle_traj_interfaces.action import Draw
 
 from turtle_traj.api.ros_interface import DRAW_ACTION
 from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
-from turtle_traj.core.parameters.settings import Settings
-from turtle_traj.core.registry import BY_NAME, TrajectoryKind
+from turtle_traj.core.registry import BY_NAME
 from turtle_traj.node.outcomes import RunRefused, fill_response
+from turtle_traj.node.running import RunningNode
 from turtle_traj.node.waiting import completion
 
 FEEDBACK_PERIOD_S = 0.1  # node clock: 10 Hz
 
 
-class RunningNode(Protocol):
-    """What the action needs of its node (TrajectoryNode)."""
-
-    pose: Pose2D | None
-    settings: Settings
-
-    def now_s(self) -> float: ...
-
-    def refuse(self, reason: str) -> RunRefused: ...
-
-    def start_run(self, kind: TrajectoryKind, request: Any) -> tuple[RunSupervisor, Future]: ...
-
-    def stop_run(self, run: RunSupervisor) -> None: ...
-
-
 class DrawActionServer:
-    """`~/draw` on `node`: starts runs through the node and reports on them."""
+    """`~/draw` on `node`: starts runs through `runs` and reports on them."""
 
-    def __init__(self, node: RunningNode | Node, callback_group: CallbackGroup) -> None:
-        self._node = node
-        self._runs: dict[bytes, RunSupervisor] = {}  # goals running, by goal id
+    def __init__(self, node: Node, runs: RunningNode, callback_group: CallbackGroup) -> None:
+        self._runs, self._ros = runs, node
+        self._goals: dict[bytes, RunSupervisor] = {}  # goals running, by goal id
         self.name = f'{node.get_fully_qualified_name()}/{DRAW_ACTION}'
         self._server = ActionServer(node, Draw, f'~/{DRAW_ACTION}', self._execute,
                                     cancel_callback=self._on_cancel,
@@ -61,35 +44,35 @@ class DrawActionServer:
 
     def _on_cancel(self, goal_handle: ServerGoalHandle) -> CancelResponse:
         """Stop this goal's run at once (not another's); the goal then ends CANCELED."""
-        run = self._runs.get(bytes(goal_handle.goal_id.uuid))
+        run = self._goals.get(bytes(goal_handle.goal_id.uuid))
         if run is not None:
-            self._node.stop_run(run)
+            self._runs.stop_run(run)
         return CancelResponse.ACCEPT
 
     async def _execute(self, goal_handle: ServerGoalHandle) -> Draw.Result:
-        node, goal = self._node, goal_handle.request
+        runs, goal = self._runs, goal_handle.request
         if goal_handle.is_cancel_requested:  # cancelled before it started
             goal_handle.canceled()
             return fill_response(Draw.Result(),
-                                 Outcome(False, 'cancelled before it started', node.pose))
+                                 Outcome(False, 'cancelled before it started', runs.pose))
         try:
             kind = BY_NAME.get(goal.trajectory)
             if kind is None:
-                raise node.refuse(f'unknown trajectory {goal.trajectory!r}; known: '
+                raise runs.refuse(f'unknown trajectory {goal.trajectory!r}; known: '
                                   f'{", ".join(BY_NAME)}')
-            run, finished = node.start_run(kind, goal)
+            run, finished = runs.start_run(kind, goal)
         except RunRefused as refusal:  # busy, bad numbers, no simulator
             goal_handle.abort()
-            return fill_response(Draw.Result(), Outcome(False, str(refusal), node.pose))
+            return fill_response(Draw.Result(), Outcome(False, str(refusal), runs.pose))
         goal_id = bytes(goal_handle.goal_id.uuid)
-        self._runs[goal_id] = run
-        feedback = node.create_timer(FEEDBACK_PERIOD_S,
-                                     lambda: goal_handle.publish_feedback(self._feedback(run)))
+        self._goals[goal_id] = run
+        feedback = self._ros.create_timer(
+            FEEDBACK_PERIOD_S, lambda: goal_handle.publish_feedback(self._feedback(run)))
         try:
-            outcome = await completion(node, finished)
+            outcome = await completion(self._ros, finished)
         finally:
-            node.destroy_timer(feedback)
-            del self._runs[goal_id]
+            self._ros.destroy_timer(feedback)
+            del self._goals[goal_id]
         if goal_handle.is_cancel_requested:
             goal_handle.canceled()
         elif outcome.success:
@@ -99,9 +82,9 @@ class DrawActionServer:
         return fill_response(Draw.Result(), outcome)
 
     def _feedback(self, run: RunSupervisor) -> Draw.Feedback:
-        node = self._node
-        pose = node.pose or Pose2D(math.nan, math.nan, math.nan)
+        runs = self._runs
+        pose = runs.pose or Pose2D(math.nan, math.nan, math.nan)
         return Draw.Feedback(
-            progress=run.progress(node.settings.control), distance=run.distance,
-            elapsed=node.now_s() - run.started_s, deviation=run.deviation,
+            progress=run.progress(runs.settings.control), distance=run.distance,
+            elapsed=runs.now_s() - run.started_s, deviation=run.deviation,
             x=pose.x, y=pose.y, theta=pose.theta)

@@ -11,16 +11,18 @@ from turtle_traj.api.ros_interface import DRAW_ACTION
 from turtle_traj.bags.recorder import TopicRecorder
 from turtle_traj.bags.writer import BagError
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.node.base_topics import BaseTopics
 
 
 class RunRecording:
-    """Records `node`'s turtle topics, plan and draw action from `start` to `stop`, into a bag
-    named after the trajectory and the time in `folder`. A failure is logged: runs go on."""
+    """Records the pose and command topics the node drives by (turtlesim's, or a base's odometry
+    and TwistStamped), its plan and its draw action from `start` to `stop`, into a bag named
+    after the trajectory and the time in `folder`. A failure is logged: runs go on."""
 
-    def __init__(self, node: Node, turtle: str, folder: Path) -> None:
+    def __init__(self, node: Node, base: BaseTopics, folder: Path) -> None:
         self._node, self.folder = node, folder
         self._recorder = TopicRecorder(node, [
-            f'{turtle}/pose', f'{turtle}/cmd_vel', '~/plan',
+            base.pose_topic, base.publisher.topic_name, '~/plan',
             f'~/{DRAW_ACTION}/_action/feedback', f'~/{DRAW_ACTION}/_action/status'])
 
     def start(self, trajectory: str, control: ControlConfig) -> None:

@@ -1,0 +1,264 @@
+"""The trajectory node's runs: one driven at a time, from the request to its outcome.
+
+`RunManager` is not a Node: it owns the control loop, the lock over the run's state, the pose
+watchdog, the pen and the recording, and uses its node's topics, clock and logger. The
+services, the draw action and the commands reach it through `RunningNode` (`node.running`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import partial
+from pathlib import Path
+
+from nav_msgs.msg import Path as PathMsg
+from rclpy.callback_groups import CallbackGroup
+from rclpy.duration import Duration
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile
+from rclpy.task import Future
+from std_msgs.msg import Header
+
+from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.loop import ControlLoop
+from turtle_traj.core.control.supervisor import RunSupervisor
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.parameters.settings import Settings
+from turtle_traj.core.planning import planner as planning
+from turtle_traj.core.planning.planner import PlanError
+from turtle_traj.core.registry import TrajectoryKind
+from turtle_traj.core.turtlesim_contract import STEP_S
+from turtle_traj.node import outcomes
+from turtle_traj.node.base_topics import BaseTopics
+from turtle_traj.node.pen_client import PenClient
+from turtle_traj.node.pose_silence import PoseSilence
+from turtle_traj.node.state_lock import StateLock, serialized
+
+WATCHDOG_PERIOD_S = 0.05
+
+
+class RunManager:
+    """Runs of one turtle on `node`: its pose in, its commands out, one run at a time.
+
+    :param settings: the node's settings now (they change with its parameters).
+    :param record_dir: a folder for a bag of each run, or None.
+    """
+
+    def __init__(self, node: Node, turtle: str, settings: Callable[[], Settings], *,
+                 callback_group: CallbackGroup, record_dir: str | None = None) -> None:
+        self._node = node
+        self._settings = settings
+        self._loop = ControlLoop(STEP_S)
+        self._silence = PoseSilence(node.get_clock(), WATCHDOG_PERIOD_S)
+        self._run_done: Future | None = None  # what the run's handler awaits
+        # Held by every change of the run's state: the handlers are reentrant, and on a
+        # MultiThreadedExecutor run beside the timers and each other (a pose can end its run).
+        self._state_lock = StateLock(node.get_logger())
+        self._base = BaseTopics(node, turtle, self._on_pose)
+        self.pose_topic = self._base.pose_topic
+        self._loop.model.echoes = not self._base.odometry  # odometry measures, not echoes
+        self._plan = node.create_publisher(
+            PathMsg, '~/plan', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+        self._pen = PenClient(node, turtle, callback_group=callback_group)
+        self._recording = None  # rosbags is loaded only when runs are recorded
+        if record_dir:
+            from turtle_traj.node.run_recording import RunRecording
+            self._recording = RunRecording(node, self._base, Path(record_dir))
+
+    @property
+    def settings(self) -> Settings:
+        return self._settings()
+
+    @property
+    def command_topic(self) -> str:
+        return self._base.publisher.topic_name
+
+    @property
+    def pose(self) -> Pose2D | None:
+        """The driven turtle's latest pose (None before the first, or after a reset)."""
+        return self._loop.pose
+
+    @property
+    def run(self) -> RunSupervisor | None:
+        return self._loop.run
+
+    @property
+    def pen_ready(self) -> bool:
+        """The simulator's set_pen is found (drawings need it)."""
+        return self._pen.ready
+
+    def now_s(self) -> float:
+        """The node clock, seconds."""
+        return self._node.get_clock().now().nanoseconds * 1e-9
+
+    @serialized
+    def _on_pose(self, pose: Pose2D, linear_echo: float, angular_echo: float) -> None:
+        self._loop.observe(pose, linear_echo, angular_echo)
+        self._finish_if_ended()  # a jump ends the run
+        self._silence.heard()
+
+    @serialized
+    def on_control_timer(self) -> None:
+        """The control timer's tick: this period's command for the run, if one runs."""
+        run = self.run
+        if run is not None and self._aborted_for_silence():
+            return
+        command = self._loop.command(self.settings.control, self.settings.arena, self.now_s())
+        if run is None:
+            return
+        if command is None:
+            self._finish_if_ended()  # which sends the stop
+            return
+        self._publish(command)
+        if run.pen_wanted is not None and not self._pen.busy:
+            self._pen.set(run.plan.pen, down=run.pen_wanted,
+                          then=partial(self._pen_answered, run, run.pen_wanted))
+
+    @serialized
+    def _pen_answered(self, run: RunSupervisor, down: bool, answered: bool) -> None:
+        if answered and run is self.run:
+            run.pen_is(down)
+
+    @serialized
+    def on_watchdog(self) -> None:
+        """The watchdog's beat (steady clock): the pen's answer and the poses, in time."""
+        self._silence.beat()
+        if self._pen.give_up_if_late():
+            self.abort_run(f'{self._pen.service_name} did not answer within '
+                           f'{self._pen.timeout_s:g} s; is the simulator still running?')
+        if self.run is not None:
+            self._aborted_for_silence()
+
+    def _aborted_for_silence(self) -> bool:
+        """End the run if the poses have been silent past pose_timeout; whether it did. Checked
+        on each tick (node clock: in lock-step, simulated seconds pass between two wall-clock
+        beats) and each beat of the watchdog (a vanished simulator stops the node clock too)."""
+        silence, timeout_s = self._silence.seconds(), self.settings.pose_timeout_s
+        if silence > timeout_s:
+            self.abort_run(f'no pose on {self.pose_topic} for {silence:.2f} s (pose_timeout '
+                           f'{timeout_s:g} s); is the simulator still running?')
+        return silence > timeout_s
+
+    @serialized
+    def shutdown_turtle(self) -> None:
+        """End any run and leave the turtle standing (on program exit)."""
+        self.abort_run('the node is shutting down')
+        self._publish(STOP)
+
+    @serialized
+    def abort_run(self, why: str) -> None:
+        """End the run, if one runs, as failed: '<trajectory> aborted: <why>'."""
+        if self.run is not None:
+            self._finish(False, f'{self.run.name} aborted: {why}')
+
+    @serialized
+    def stop(self) -> str:
+        """Stop the turtle, and the run if one runs; what was stopped."""
+        run = self.run
+        self._publish(STOP)
+        if run is None:
+            return 'nothing was running; turtle stopped'
+        self.stop_run(run)
+        return f'stopped {run.name}'
+
+    @serialized
+    def send_stop(self) -> None:
+        """Publish a stop (harmless while no run is driven)."""
+        self._publish(STOP)
+
+    def _publish(self, command: Command) -> None:
+        self._loop.sent(command, self.now_s())
+        self._base.publish(command)
+
+    @serialized
+    def _finish(self, success: bool, message: str) -> None:
+        """End the run now with this verdict (unless it already had one)."""
+        if self.run is not None:
+            self.run.end(success, message)
+            self._finish_if_ended()
+
+    def _finish_if_ended(self) -> None:
+        run, done = self.run, self._run_done
+        if run is None or run.ending is None:
+            return
+        self._loop.take_run()
+        self._run_done = None
+        self._publish(STOP)
+        if self._recording is not None:
+            self._recording.stop()
+        outcome = run.outcome(self._loop.pose, self.now_s())
+        if outcome.success:
+            self._state_lock.info(outcomes.summary(outcome))
+        else:
+            self._state_lock.warning(outcomes.summary(outcome))
+        if run.plan.pen is None:
+            done.set_result(outcome)
+        else:  # a drawing answers once the pen is down again, as turtlesim starts it
+            self._pen.set(self.settings.pen, down=True,
+                          then=lambda _answered: done.set_result(outcome))
+
+    def refusal(self) -> str | None:
+        """Why a request would be refused now (None: it would be accepted)."""
+        if self.run is not None:
+            return (f'busy: {self.run.name} is running; wait for it or call '
+                    f'{self._node.resolve_service_name("~/stop")} (std_srvs/srv/Trigger) to '
+                    'stop it')
+        silence = self._silence.seconds()
+        if self._loop.pose is None or silence > self.settings.pose_timeout_s:
+            heard = 'never' if self._loop.pose is None else f'not for {silence:.1f} s'
+            return (f'no pose on {self.pose_topic} ({heard}): is the simulator running and '
+                    f'turtle_name right?')
+        if self._base.publisher.get_subscription_count() == 0:
+            return (f'nothing subscribes to {self.command_topic} yet: is the simulator '
+                    f'running and turtle_name right?')
+        return None
+
+    @serialized
+    def refuse(self, reason: str) -> outcomes.RunRefused:
+        """The refusal of a request, logged."""
+        self._state_lock.warning(reason)
+        return outcomes.RunRefused(reason)
+
+    @serialized
+    def start_run(self, kind: TrajectoryKind, request) -> tuple[RunSupervisor, Future]:
+        """Plan `request` and drive it: the run, and the future of its Outcome.
+
+        :raises RunRefused: busy, a request that cannot be planned, or no simulator (logged).
+        """
+        refusal = self.refusal()
+        if refusal is not None:
+            raise self.refuse(refusal)
+        settings = self.settings
+        try:
+            plan = planning.plan(kind.name, request, self._loop.pose, settings)
+        except PlanError as error:
+            raise self.refuse(f'{kind.name} refused: {error}') from None
+        if plan.pen is not None and not self._pen.ready:
+            raise self.refuse(f'{kind.name} refused: it lifts the pen between strokes, and the '
+                              f'simulator service {self._pen.service_name} is not available')
+        self._silence.was_busy()  # planning held the executor: the poses wait in its queue
+        run = self._loop.start(plan, arena=settings.arena, now_s=self.now_s())
+        self._run_done = done = Future()
+        if self._recording is not None:
+            self._recording.start(kind.name, settings.control)
+        self._plan.publish(outcomes.plan_message(plan.path, Header(
+            frame_id=outcomes.PLAN_FRAME_ID, stamp=self._node.get_clock().now().to_msg())))
+        self._state_lock.info(f'{kind.name}: {outcomes.describe(plan, settings.control)}')
+        return run, done
+
+    @serialized
+    def stop_run(self, run: RunSupervisor) -> None:
+        """End `run` at once as stopped by request, if it is still the one running."""
+        if run is self.run:
+            run.request_stop()
+            self._finish_if_ended()
+
+    @serialized
+    def forget_turtle(self) -> None:
+        """The simulator made a new turtle: no pose until its first one (a reset)."""
+        self._loop.forget_pose()
+        self._silence.forget()
+
+    def commands_heard(self) -> bool:
+        """The simulator acknowledged every command sent (a question: it sends nothing)."""
+        return self._base.publisher.wait_for_all_acked(Duration())

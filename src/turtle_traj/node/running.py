@@ -1,0 +1,47 @@
+"""What the services, the draw action and the commands need of the node's runs
+(`RunManager` is it): they reach the runs through this, never the node class."""
+
+from __future__ import annotations
+
+from typing import Any, Protocol
+
+from rclpy.task import Future
+
+from turtle_traj.core.control.supervisor import RunSupervisor
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.parameters.settings import Settings
+from turtle_traj.core.registry import TrajectoryKind
+from turtle_traj.node.outcomes import RunRefused
+
+
+class RunningNode(Protocol):
+    """One turtle's runs, one at a time."""
+
+    @property
+    def pose(self) -> Pose2D | None: ...
+
+    @property
+    def settings(self) -> Settings: ...
+
+    @property
+    def pen_ready(self) -> bool: ...
+
+    def now_s(self) -> float: ...
+
+    def refusal(self) -> str | None: ...
+
+    def refuse(self, reason: str) -> RunRefused: ...
+
+    def start_run(self, kind: TrajectoryKind, request: Any) -> tuple[RunSupervisor, Future]: ...
+
+    def stop_run(self, run: RunSupervisor) -> None: ...
+
+    def stop(self) -> str: ...
+
+    def abort_run(self, why: str) -> None: ...
+
+    def forget_turtle(self) -> None: ...
+
+    def send_stop(self) -> None: ...
+
+    def commands_heard(self) -> bool: ...
