@@ -99,6 +99,31 @@ def test_the_command_timeout_stops_the_wheels(base):
     assert 0.2 * 0.5 - ramp_m - 0.005 < stopped[1] < 0.2 * (0.5 + 0.016) + ramp_m + 0.005
 
 
+def test_a_command_delay_holds_each_command_that_long(ros_context, tmp_path):
+    """`command_delay`: a latency for tests. A command takes effect that much later in
+    simulated time (the base's speed then starts to follow it), and a run still ends where
+    it should, its commands in flight counted from the odometry."""
+    system = BaseSystem(context=ros_context, output_dir=tmp_path,
+                        base_parameters={'command_delay': 0.048})
+    try:
+        publisher = system.client.create_publisher(TwistStamped, 'cmd_vel', TURTLE_TOPIC_QOS)
+        assert system.spin_until(lambda: publisher.get_subscription_count() > 0, timeout_s=5.0)
+        command = TwistStamped()
+        command.twist.linear.x = 0.1
+        publisher.publish(command)
+        sent_s = system.sim_time_s
+        system.spin_until(lambda: system.sim.limiter.linear > 0.0, timeout_s=5.0)
+        assert system.sim_time_s - sent_s == pytest.approx(0.048, abs=0.017)
+        publisher.publish(TwistStamped())
+        system.spin_sim_seconds(0.3)
+        response = system.call(Move, 'move', Move.Request(distance=0.2))
+        assert response.success, response.message
+        moved = system.odometry[-1][1] - system.odometry[0][1]
+        assert moved == pytest.approx(0.2, abs=0.002)
+    finally:
+        system.close()
+
+
 def test_a_twist_only_base_is_driven_with_twist(ros_context, tmp_path):
     system = BaseSystem(context=ros_context, output_dir=tmp_path,
                         base_parameters={'cmd_vel_type': 'Twist'})

@@ -285,8 +285,23 @@ def test_a_stop_is_never_nudged_and_odometry_needs_no_nudging():
     for step in range(3):
         odometry.sent(odometry.distinct(Command(1.0, 0.0)), step * STEP_S)
     assert odometry.distinct(Command(1.0, 0.0)) == Command(1.0, 0.0)
-    odometry.observe(0.3, 0.0)  # a measured velocity names no command
-    assert odometry.in_flight == 0
+    odometry.observe(0.3, 0.0)  # a measured velocity near none of them: none acts yet
+    assert odometry.in_flight == 3
+
+
+def test_a_measured_velocity_names_the_command_of_a_ramp_it_lies_near():
+    """A base's odometry measures its velocity: noisy, near the command in effect. On a ramp
+    (braking at 0.05 m/s a period) the nearest names the command, and the latency is learnt;
+    at a steady speed every command is near, and the count in flight is kept."""
+    model = RobotModel(STEP_S, echoes=False)
+    commands = [Command(0.5 - 0.05 * k, 0.0) for k in range(10)] + [Command(0.05, 0.0)] * 10
+    for step, command in enumerate(commands):
+        model.sent(command, step * STEP_S)
+        if step >= 3:  # three steps late, measured 3 mm/s off
+            model.observe(commands[step - 3].linear + (0.003 if step % 2 else -0.003), 0.0)
+            assert model.in_flight == 3
+    prediction = model.predict(Pose2D(0.0, 0.0, 0.0), 20 * STEP_S)
+    assert prediction.pose.x == pytest.approx(3 * 0.05 * STEP_S)
 
 
 def test_a_stop_sent_after_moving_commands_is_not_what_a_standing_turtle_stands_on():

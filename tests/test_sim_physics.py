@@ -5,8 +5,8 @@ import math
 import pytest
 
 from turtle_traj.core.turtlesim_contract import DEFAULT_PEN, SPAWN_XY_M, STEP_S, WORLD_SIZE_M
+from turtle_traj.rosutils.delay import CommandDelay
 from turtle_traj.sim.canvas import Canvas
-from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.physics import World
 from turtle_traj.sim.state import NonFiniteCommand, RotationEnd, SimulationError, normalize_angle
 

@@ -23,6 +23,7 @@ from turtle_traj.base.drive import DriveLimits, VelocityLimiter, wheel_speeds
 from turtle_traj.base.odometry import WheelOdometry
 from turtle_traj.base.parameters import LIMITS, declare_parameters
 from turtle_traj.base.physics import DiffDrivePhysics
+from turtle_traj.rosutils.delay import CommandDelay
 from turtle_traj.rosutils.lockstep import clock_message
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
@@ -72,6 +73,7 @@ class BaseNode(Node):
         self.odometry.update(*self.physics.wheel_angles(), self.period_s)
         self._command = (0.0, 0.0)
         self._command_time_s: float | None = None  # none yet: standing
+        self._delay = CommandDelay(declared.command_delay_s, declared.command_jitter_s)
         self.clipped_commands = 0  # steps whose wheel speeds were scaled to the motors' limit
         self.timed_out = 0  # times the wheels were stopped for want of commands
         self.step_listeners: list[Callable[[], None]] = []
@@ -114,7 +116,10 @@ class BaseNode(Node):
             self.get_logger().error(f'ignoring a non-finite cmd_vel {command}',
                                     throttle_duration_sec=1.0)
             return
-        self._command, self._command_time_s = command, self.time_s
+        if self._delay.active:
+            self._delay.push(self.time_s, 'base', command)
+        else:
+            self._command, self._command_time_s = command, self.time_s
 
     def _wanted(self) -> tuple[float, float]:
         """The command to head for: the latest, or a stop once it is older than the timeout."""
@@ -132,6 +137,8 @@ class BaseNode(Node):
     def step(self) -> None:
         """One period of the base: command through the limits to the wheels, the physics,
         then the odometry and the ground truth published."""
+        for _base, command in self._delay.due(self.time_s):  # a delayed command arrives
+            self._command, self._command_time_s = command, self.time_s
         linear, angular = self.limiter.limit(*self._wanted(), self.period_s)
         left, right, clipped = wheel_speeds(
             linear, angular, wheel_radius=self.spec.wheel_radius,

@@ -46,6 +46,9 @@ RUNNING = {
     'cmd_vel_type': ('TwistStamped', "Message type on cmd_vel: 'TwistStamped' (ROS 2 Jazzy's "
                      "bases) or 'Twist'", None, None),
     'time_scale': (1.0, 'Simulated seconds per wall-clock second', 0.1, 1000.0),
+    'command_delay': (0.0, 'Apply each cmd_vel this much later, in simulated time, order kept: '
+                      'a latency for tests [s]', 0.0, 1.0),
+    'command_jitter': (0.0, 'and a further random share of this, seeded [s]', 0.0, 1.0),
     'publish_clock': (False, 'Publish simulated time on /clock', None, None),
 }
 LIVE = frozenset(LIMITS) | {'cmd_vel_timeout'}
@@ -69,6 +72,8 @@ class BaseParameters:
     cmd_vel_type: str
     time_scale: float
     publish_clock: bool
+    command_delay_s: float = 0.0
+    command_jitter_s: float = 0.0
 
 
 def _range(low: float, high: float) -> ParameterDescriptor:
@@ -128,4 +133,4 @@ def declare_parameters(node: Node) -> BaseParameters:
         raise BaseConfigError('; '.join(problems))
     return BaseParameters(spec, DriveLimits(**limits), run['encoder_resolution'], period,
                           run['cmd_vel_timeout'], cmd_vel_type, run['time_scale'],
-                          run['publish_clock'])
+                          run['publish_clock'], run['command_delay'], run['command_jitter'])

@@ -18,10 +18,10 @@ from turtle_traj_interfaces.srv import SaveImage
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
 
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, STEP_S
+from turtle_traj.rosutils.delay import CommandDelay
 from turtle_traj.rosutils.lockstep import clock_message
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 from turtle_traj.sim.canvas import Canvas
-from turtle_traj.sim.delay import CommandDelay
 from turtle_traj.sim.endpoints import TurtleEndpoints
 from turtle_traj.sim.parameters import declare_parameters
 from turtle_traj.sim.physics import Inertia, World

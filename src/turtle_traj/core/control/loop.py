@@ -66,6 +66,7 @@ class ControlLoop:
         if run is None or self.pose is None:
             return None
         if self.model.excess:
+            run.watch(self.pose, config, arena, now_s)  # a wall, or no progress, all the same
             return None
         prediction = self.model.predict(self.pose, now_s)
         command = run.command(self.pose, self.standing, config, arena, now_s, prediction)

@@ -16,10 +16,12 @@ The model, in one page:
   or a cut link, lowers the offsets for good: the floor falls with the second lower one.
 * **One observer says which command is in effect.** turtlesim's pose echoes its velocities
   (`echo`): the command whose echo matches is in effect, and those sent after it are in flight.
-  Commands act in order, so among equal echoes (a run of stops) the match is the one nearest a
-  step on from the last, never an older one; an echo that matches nothing is someone else's
-  command, and the robot is taken to have stepped on. A base's odometry measures its velocity
-  instead of echoing a command: no command is then known to be in flight.
+  Commands act in order, so among equal echoes (a run of stops) the match is the one nearest
+  the command due by now (sent a latency ago; before the latency is known, a step on from the
+  last), never an older one; an echo that matches nothing is someone else's command, and the
+  robot is taken to have stepped on. A base's odometry measures its velocity
+  instead: a command is in effect when the measurement lies near it (`echo.MEASURED_WITHIN`),
+  and a ramp of commands (braking to a corner) names them one by one.
 * **The prediction** replays the command in effect and every command in flight from the pose,
   each from the step it arrives (its stamp plus the latency, and not before the step after the
   one before it) to the next one's, with turtlesim's integration (heading first, then position
@@ -33,9 +35,10 @@ The model, in one page:
   through together, to queue at turtlesim's 7-deep subscription: either way commands are
   overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
   control loop sends nothing meanwhile (the command before acts on, as predicted); the queue
-  drains. A cut link loses poses too: the step count falls behind, and the floor with it, at
-  the first command seen. An executor that dispatches late: the stamps say how long each
-  command acted; poses it delivers late still count the steps.
+  drains (a hold still ends a run that makes no progress). A cut link loses poses too: the step
+  count falls behind, and the floor with it, at the second command seen. An executor that
+  dispatches late: the stamps say how long each command acted; poses it delivers late still
+  count the steps.
 """
 
 from __future__ import annotations
@@ -45,7 +48,15 @@ from collections import deque
 from dataclasses import dataclass
 
 from turtle_traj.core.control.commands import STOP, Command
-from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed, distinct
+from turtle_traj.core.control.echo import (
+    HISTORY,
+    STANDING,
+    Echo,
+    alike,
+    as_echoed,
+    distance,
+    distinct,
+)
 from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
@@ -82,7 +93,8 @@ class RobotModel:
     """Commands sent, the evidence of which one acts, and the prediction they make.
 
     :param step_s: how long each command acts at least (the robot's step, turtlesim's 16 ms).
-    :param echoes: the pose echoes the command in effect (turtlesim); False for odometry.
+    :param echoes: the pose echoes the command in effect (turtlesim); False: it measures the
+        velocity (odometry), near the command in effect.
     """
 
     def __init__(self, step_s: float, *, echoes: bool = True) -> None:
@@ -104,8 +116,6 @@ class RobotModel:
     @property
     def in_flight(self) -> int:
         """Commands sent after the one in effect at the last pose."""
-        if not self.echoes:
-            return 0
         if self._in_effect is None:
             return len(self._sent)
         return min(self._count - 1 - self._in_effect, len(self._sent))
@@ -144,23 +154,38 @@ class RobotModel:
         """A pose's velocity echo: which command is in effect, and so how many are in flight."""
         self._poses += 1
         self._echo = echo = (linear_echo, angular_echo)
-        if not self.echoes:
-            return
-        expected = self._first if self._in_effect is None else self._in_effect + 1
+        expected = self._expected()
         matches = self._matches(echo)
-        if self._in_effect is None and echo == STANDING:  # as it stood before any was taken
+        if self._in_effect is None and self._standing:  # as it stood before any was taken
             matches.insert(0, self._first - 1)
         if not matches:  # someone else's command (a stale one, the 1 s timeout): a step on
             if self._in_effect is not None:
                 self._in_effect = min(expected, self._count - 1)
             return
-        in_effect = min(matches, key=lambda number: abs(number - expected))
+        # the nearest a step on; between two as near, the newer (a base standing after a tiny
+        # command is as near to it as to the stop after it)
+        in_effect = min(matches, key=lambda number: (abs(number - expected), -number))
         if in_effect < self._first:  # none of ours was taken yet
             return
         first_seen = in_effect != self._in_effect
         self._in_effect = in_effect
         if first_seen and len(matches) == 1:  # equal commands tell nothing of the latency
             self._observe_latency(self._poses - self._sent[in_effect - self._first].stamp)
+
+    def _expected(self) -> int:
+        """The command the pose most likely shows, had it no evidence: one step on from the
+        last; once the latency is known, the newest due by now (sent a latency ago)."""
+        floor = self._latency.value
+        if floor is None or not self._sent:
+            return self._first if self._in_effect is None else self._in_effect + 1
+        due = [self._first + index for index, sent in enumerate(self._sent)
+               if round(sent.stamp + floor) <= self._poses]
+        return due[-1] if due else self._first - 1
+
+    @property
+    def _standing(self) -> bool:
+        """The last pose shows the robot standing."""
+        return alike(self._echo, STANDING, exact=self.echoes)
 
     def _observe_latency(self, latency: float) -> None:
         """A command first seen in effect `latency` steps after it was sent. The floor takes
@@ -178,13 +203,25 @@ class RobotModel:
         return self._count - len(self._sent)
 
     def _matches(self, echo: Echo) -> list[int]:
-        """The numbers of the commands remembered whose echo is `echo`: those no older than the
-        one in effect at the last pose, as commands take effect in order; any, if none is (the
-        last match was wrong)."""
-        matches = [self._first + index for index, sent in enumerate(self._sent)
-                   if sent.echo == echo]
-        in_order = [number for number in matches if number >= (self._in_effect or 0)]
-        return in_order or matches
+        """The numbers of the commands remembered that the pose cannot tell from the one in
+        effect: those whose echo is `echo` (within half a `MEASURED_WITHIN` of the nearest, for
+        a measurement), no older than the one in effect at the last pose, as commands take
+        effect in order. An exact echo of an older one only says the last match was wrong; a
+        measurement near an older one says nothing (a base that holds its speed is near every
+        command that ramped up to it)."""
+        near = self._near(echo)
+        in_order = [(far, number) for far, number in near if number >= (self._in_effect or 0)]
+        near = in_order or (near if self.echoes else [])
+        if not near:
+            return []
+        nearest = min(far for far, _ in near)
+        return [number for far, number in near if far <= nearest + 0.5]
+
+    def _near(self, echo: Echo) -> list[tuple[float, int]]:
+        """(distance, number) of each command remembered that the pose may show."""
+        near = [(distance(echo, sent.echo, exact=self.echoes), self._first + index)
+                for index, sent in enumerate(self._sent)]
+        return [(far, number) for far, number in near if far <= 1.0]
 
     @property
     def excess(self) -> int:
@@ -212,7 +249,7 @@ class RobotModel:
         late = self._late_steps()
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
-        still = self._echo == STANDING and all(command == STOP for command in pending)
+        still = self._standing and all(command == STOP for command in pending)
         return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, overrun, still)
 
     def _schedule(self, in_flight: int, now_s: float) -> list[tuple[Command, int]]:

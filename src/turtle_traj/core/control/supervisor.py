@@ -165,6 +165,14 @@ class RunSupervisor:
             return STOP
         return self.follower.update(pose, self._config[1], prediction)
 
+    def watch(self, pose: Pose2D, config: ControlConfig, arena: Arena, now_s: float) -> None:
+        """A period with no command sent (commands wait at the robot): end the run if it must
+        end all the same (a wall ahead, no progress for too long)."""
+        if self.ending is None and not self.follower.done:
+            why = self._hazard(pose, config, arena, now_s)
+            if why is not None:
+                self.end(False, why)
+
     def _settle(self, standing: bool, now_s: float) -> Command:
         """The path is done: wait for the turtle to report standing still (or enough periods)."""
         if self._path_done_s is None:
