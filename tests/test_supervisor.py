@@ -35,13 +35,14 @@ class Loop:
     """One trajectory run: the physics and the node's control loop, a 16 ms step apart."""
 
     def __init__(self, name: str, request, x: float = 5.5, y: float = 5.5,
-                 theta: float = 0.0) -> None:
+                 theta: float = 0.0, settings=SETTINGS) -> None:
         self.world = World()
         self.turtle = self.world.spawn(x, y, theta, 'turtle1')
         self.control = ControlLoop(STEP_S)
         self.control.observe(Pose2D(x, y, theta), 0.0, 0.0)
-        plan = planning.plan(name, request, Pose2D(x, y, theta), SETTINGS)
-        self.run = self.control.start(plan, arena=ARENA, now_s=0.0)
+        self.settings = settings
+        plan = planning.plan(name, request, Pose2D(x, y, theta), settings)
+        self.run = self.control.start(plan, arena=settings.arena, now_s=0.0)
         self.model = self.control.model
 
     def drive(self, disturb=None, max_steps: int = 20_000) -> list[Pose2D]:
@@ -56,7 +57,8 @@ class Loop:
             # the velocity echo as turtlesim's Pose carries it: float32
             control.observe(pose, float(np.float32(turtle.linear_speed)),
                             float(np.float32(turtle.omega)))
-            command = control.command(SETTINGS.control, ARENA, step * STEP_S)
+            command = control.command(self.settings.control, self.settings.arena,
+                                      step * STEP_S)
             if self.run.ending is not None:
                 return poses
             control.sent(command, step * STEP_S)

@@ -65,4 +65,4 @@ def describe(plan: Plan, control: ControlConfig) -> str:
     """A plan in one log line: its length, its turns in place, its least duration."""
     path = plan.path
     return (f'{path.length:.2f} m of path, {math.degrees(path.turning):.0f} deg of turns in '
-            f'place, at least {plan.lower_bound_s(control):.1f} s')
+            f'place, at least {plan.least_time_s(control):.1f} s')

@@ -7,6 +7,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.duration import least_time_s
 from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.path import Path
 from turtle_traj.core.turtlesim_contract import PenStyle
@@ -41,3 +42,7 @@ class Plan:
         """Kinematic lower bound of the run's duration at its top speeds (under `config`)."""
         run = self.control(config)
         return self.path.lower_bound_s(run.linear_speed, run.angular_speed)
+
+    def least_time_s(self, config: ControlConfig) -> float:
+        """The least time the controller can take, at its limits (`duration.least_time_s`)."""
+        return least_time_s(self.path, self.control(config), self.profiles)
