@@ -6,12 +6,15 @@ Several checkouts run side by side, alternating round by round, each from its ow
 old commit is measured with the same script, venv and machine):
     .venv/bin/python bench/realtime_bench.py [--rounds 3] [--repo PATH ...]
 The kinds are the issue's: the 2 m square, the text "ROS" 1 m high, the star, the circle, a
-go-to and the sine, each from the centre after a reset.
+go-to and the sine, each from the centre after a reset. The bound is the kinematic one (length
+over the default top speed, turns over the default top turn rate), from the plan the node logs:
+the same for every commit, whatever its own "at least" says.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import re
 import statistics
@@ -21,6 +24,7 @@ import time
 from pathlib import Path
 
 from isolation import isolate
+from turtle_traj.core.parameters.table import DEFAULTS
 
 KINDS = {
     'square': ['draw', 'square', '--size', '2'],
@@ -31,7 +35,9 @@ KINDS = {
     'sine': ['draw', 'sine'],
 }
 ELAPSED = re.compile(r'elapsed ([0-9.]+) s, path [0-9.]+ m, max deviation ([0-9.]+) m')
-BOUND = re.compile(r': [0-9.]+ m of path, [0-9]+ deg of turns in place, at least ([0-9.]+) s')
+# the node's plan line: path length and turns in place, from which the kinematic bound is
+# computed here (length over top speed, turns over top turn rate), the same for every commit
+PLAN = re.compile(r': ([0-9.]+) m of path, ([0-9]+) deg of turns in place, at least')
 
 
 def _env(repo: Path) -> dict[str, str]:
@@ -59,11 +65,14 @@ def one_round(repo: Path) -> dict[str, tuple[float, float]]:
         for kind, argv in KINDS.items():
             _cli(repo, 'reset')
             said = _cli(repo, *argv)
-            bounds = BOUND.findall(log.read_text())
+            plans = PLAN.findall(log.read_text())
             found = ELAPSED.search(said)
-            if not found or not bounds:
+            if not found or not plans:
                 raise SystemExit(f'{kind} at {repo}: no figures in\n{said}')
-            figures[kind] = (float(found[1]) / float(bounds[-1]), 1000 * float(found[2]))
+            length, turns = (float(value) for value in plans[-1])
+            bound = (length / DEFAULTS['linear_speed']
+                     + math.radians(turns) / DEFAULTS['angular_speed'])
+            figures[kind] = (float(found[1]) / bound, 1000 * float(found[2]))
         return figures
     finally:
         up.terminate()
