@@ -285,23 +285,47 @@ def test_a_stop_is_never_nudged_and_odometry_needs_no_nudging():
     for step in range(3):
         odometry.sent(odometry.distinct(Command(1.0, 0.0)), step * STEP_S)
     assert odometry.distinct(Command(1.0, 0.0)) == Command(1.0, 0.0)
-    odometry.observe(0.3, 0.0)  # a measured velocity near none of them: none acts yet
-    assert odometry.in_flight == 3
+    odometry.observe(0.3, 0.0)  # a measured velocity names no command, and no latency is
+    assert odometry.in_flight == 0  # known yet: none is taken to be in flight
 
 
-def test_a_measured_velocity_names_the_command_of_a_ramp_it_lies_near():
-    """A base's odometry measures its velocity: noisy, near the command in effect. On a ramp
-    (braking at 0.05 m/s a period) the nearest names the command, and the latency is learnt;
-    at a steady speed every command is near, and the count in flight is kept."""
+def _base_with_delay(delay: int, commands: list[Command]) -> RobotModel:
+    """A base that acts on each command `delay` steps after it was sent, one command a step,
+    its odometry (pose and measured velocity) observed after every step."""
     model = RobotModel(STEP_S, echoes=False)
-    commands = [Command(0.5 - 0.05 * k, 0.0) for k in range(10)] + [Command(0.05, 0.0)] * 10
+    world = World()
+    base = world.spawn(5.0, 5.0, 0.0)
     for step, command in enumerate(commands):
+        model.ticked(step * STEP_S)
         model.sent(command, step * STEP_S)
-        if step >= 3:  # three steps late, measured 3 mm/s off
-            model.observe(commands[step - 3].linear + (0.003 if step % 2 else -0.003), 0.0)
-            assert model.in_flight == 3
-    prediction = model.predict(Pose2D(0.0, 0.0, 0.0), 20 * STEP_S)
-    assert prediction.pose.x == pytest.approx(3 * 0.05 * STEP_S)
+        acting = commands[step - delay] if step >= delay else STOP
+        world.command(base.name, acting.linear, 0.0, acting.angular)
+        world.step()
+        model.observe(abs(acting.linear), acting.angular,
+                      Pose2D(base.x, base.y, base.theta))
+    return model
+
+
+@pytest.mark.parametrize('delay', [0, 3, 7])
+def test_odometry_gives_the_latency_that_explains_the_motion(delay):
+    """Commands that vary (a weave) tell every latency apart: the fitted one is the delay,
+    and the commands in flight are the ones sent since the one due."""
+    weave = [Command(0.2 + 0.1 * math.sin(k / 5), 1.5 * math.sin(k / 4)) for k in range(120)]
+    model = _base_with_delay(delay, weave)
+    assert model.in_flight == delay
+    pose = Pose2D(1.0, 1.0, 0.0)
+    predicted = model.predict(pose, 120 * STEP_S).pose
+    world = World()  # the commands in flight, replayed on the physics from `pose`
+    base = world.spawn(1.0, 1.0, 0.0)
+    for command in weave[len(weave) - delay:]:
+        world.command(base.name, command.linear, 0.0, command.angular)
+        world.step()
+    assert (predicted.x, predicted.y) == pytest.approx((base.x, base.y), abs=1e-9)
+
+
+def test_odometry_on_one_command_tells_no_latency():
+    model = _base_with_delay(3, [Command(0.2, 0.5)] * 60)
+    assert model.in_flight == 0  # cruising fits every latency alike: none learnt
 
 
 def test_a_stop_sent_after_moving_commands_is_not_what_a_standing_turtle_stands_on():

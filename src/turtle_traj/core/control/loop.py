@@ -37,7 +37,7 @@ class ControlLoop:
         self.standing = linear_echo == 0.0 and angular_echo == 0.0
         if self.run is not None:
             self.run.observe(pose)
-        self.model.observe(linear_echo, angular_echo)
+        self.model.observe(linear_echo, angular_echo, pose)
 
     def forget_pose(self) -> None:
         """The turtle is gone (a reset): no pose until the next one is observed."""

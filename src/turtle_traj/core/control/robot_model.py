@@ -19,9 +19,9 @@ The model, in one page:
   Commands act in order, so among equal echoes (a run of stops) the match is the one nearest
   the command due by now (sent a latency ago; before the latency is known, a step on from the
   last), never an older one; an echo that matches nothing is someone else's command, and the
-  robot is taken to have stepped on. A base's odometry measures its velocity
-  instead: a command is in effect when the measurement lies near it (`echo.MEASURED_WITHIN`),
-  and a ramp of commands (braking to a corner) names them one by one.
+  robot is taken to have stepped on. A base's odometry measures its velocity instead, which
+  names no command: the latency that best explains the last poses' motion (`DelayFit`) is
+  observed, and the command due by now is in effect.
 * **The prediction** replays the command in effect and every command in flight from the pose,
   each from the step it arrives (its stamp plus the latency, and not before the step after the
   one before it) to the next one's, with turtlesim's integration (heading first, then position
@@ -48,6 +48,7 @@ from collections import deque
 from dataclasses import dataclass
 
 from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.delay_fit import DelayFit
 from turtle_traj.core.control.echo import (
     HISTORY,
     STANDING,
@@ -87,6 +88,7 @@ class _Sent:
     command: Command
     echo: Echo
     stamp: float  # when it was sent, in steps since the first command
+    poses: int  # poses observed by then: it acts at a later step
 
 
 class RobotModel:
@@ -106,6 +108,7 @@ class RobotModel:
         self._poses = 0  # robot steps, as counted by the poses observed
         self._in_effect: int | None = None  # the number of the command in effect, if known
         self._echo = STANDING
+        self._fit = DelayFit(step_s)  # a measured velocity's latency, from the poses
         self._latency = RunningFloor(1.0 - CONFIDENCE, RATE)  # steps, without a queue
         self._latencies: deque[float] = deque(maxlen=3)  # of the last commands seen to act
         # steps later than the one before; the timer's steps from one tick to the next
@@ -147,13 +150,18 @@ class RobotModel:
         """Record a command as it is published (node clock, seconds)."""
         if self._origin_s is None:
             self._origin_s = now_s
-        self._sent.append(_Sent(command, as_echoed(command), self._in_steps(now_s)))
+        self._sent.append(_Sent(command, as_echoed(command), self._in_steps(now_s), self._poses))
         self._count += 1
 
-    def observe(self, linear_echo: float, angular_echo: float) -> None:
-        """A pose's velocity echo: which command is in effect, and so how many are in flight."""
+    def observe(self, linear_echo: float, angular_echo: float, pose: Pose2D | None = None) -> None:
+        """A pose's velocity echo: which command is in effect, and so how many are in flight.
+        A measured velocity (odometry) names none: the pose itself, fitted, gives the latency
+        (`DelayFit`), and the command due by now is in effect."""
         self._poses += 1
         self._echo = echo = (linear_echo, angular_echo)
+        if not self.echoes:
+            self._observe_motion(pose)
+            return
         expected = self._expected()
         matches = self._matches(echo)
         if self._in_effect is None and self._standing:  # as it stood before any was taken
@@ -171,6 +179,19 @@ class RobotModel:
         self._in_effect = in_effect
         if first_seen and len(matches) == 1:  # equal commands tell nothing of the latency
             self._observe_latency(self._poses - self._sent[in_effect - self._first].stamp)
+
+    def _observe_motion(self, pose: Pose2D | None) -> None:
+        if pose is not None:
+            self._fit.add(self._poses, pose)
+        if self._sent:
+            lowest = min(sent.poses + 1 - math.floor(sent.stamp) for sent in self._sent)
+            latency = self._fit.best([(sent.stamp, sent.command) for sent in self._sent],
+                                     lowest)
+            if latency is not None:
+                self._observe_latency(latency)
+        # the command due by now; before the latency is known, the last sent (none in flight)
+        self._in_effect = (self._expected() if self._latency.value is not None
+                           else self._count - 1 if self._sent else None)
 
     def _expected(self) -> int:
         """The command the pose most likely shows, had it no evidence: one step on from the
