@@ -1,17 +1,13 @@
-"""The velocity a pose reports: the evidence of which command acted. Pure Python.
+"""turtlesim's velocity echo: the evidence of which command acted. Pure Python.
 
 turtlesim's Pose reports the velocities in effect at its step: the linear one as a magnitude,
 both in float32. The newest command sent whose values match the echo is the one acting. On a
 straight line every command is the same, and an echo would match them all; so each command is
 moved by a few float32 steps (a relative 4e-6 at most, towards the command before it) until its
-echo is unlike any other remembered, and the echo names the command in effect on any path. A
-base's odometry measures its velocity instead: the command in effect is one it lies near, and
-the commands of a ramp (braking, accelerating) name themselves.
+echo is unlike any other remembered, and the echo names the command in effect on any path.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
@@ -20,31 +16,11 @@ from turtle_traj.core.control.commands import STOP, Command
 Echo = tuple[float, float]  # (|linear|, angular) as float32 values
 STANDING: Echo = (0.0, 0.0)  # a turtle that stands: a stop in effect, or no command yet
 HISTORY = 32  # commands remembered: far more than any latency we can steer through
-# A base's odometry measures its velocity (wheel encoders, differenced each period): a command is
-# in effect when the measurement lies within this of it (m/s, rad/s). An encoder of 4096 ticks a
-# turn on 33 mm wheels 0.16 m apart, read at 62.5 Hz, resolves 3 mm/s and 0.04 rad/s; a base
-# accelerating at 2.5 m/s^2 changes its command by 0.04 m/s a period.
-MEASURED_WITHIN: Echo = (0.01, 0.05)
 
 
 def as_echoed(command: Command) -> Echo:
     """The (linear_velocity, angular_velocity) a turtlesim pose reports for `command`."""
     return float(np.float32(abs(command.linear))), float(np.float32(command.angular))
-
-
-def distance(measured: Echo, echo: Echo, *, exact: bool) -> float:
-    """How far a pose reporting `measured` lies from a command whose echo is `echo`, in
-    `MEASURED_WITHIN`s (the larger of speed and turn rate): 1 or less, it may be in effect. An
-    exact echo (turtlesim's) is 0 from its command and infinitely far from any other."""
-    if exact:
-        return 0.0 if measured == echo else math.inf
-    return max(abs(measured[0] - echo[0]) / MEASURED_WITHIN[0],
-               abs(measured[1] - echo[1]) / MEASURED_WITHIN[1])
-
-
-def alike(measured: Echo, echo: Echo, *, exact: bool) -> bool:
-    """Whether a pose reporting `measured` may show a command whose echo is `echo`."""
-    return distance(measured, echo, exact=exact) <= 1.0
 
 
 def _with(command: Command, on_linear: bool, value: float) -> Command:

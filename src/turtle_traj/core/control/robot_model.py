@@ -49,21 +49,16 @@ from dataclasses import dataclass
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.delay_fit import DelayFit
-from turtle_traj.core.control.echo import (
-    HISTORY,
-    STANDING,
-    Echo,
-    alike,
-    as_echoed,
-    distance,
-    distinct,
-)
+from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed, distinct
 from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
 
 CONFIDENCE = 0.95  # the share of commands that act no later than predicted
 RATE = 0.25  # steps: the most one observation moves a running quantile
+# A base whose odometry measures less than this (m/s, rad/s) stands: a few encoder ticks a
+# period (an XL430's 4096 a turn on 33 mm wheels 0.16 m apart, at 62.5 Hz: 3 mm/s, 0.04 rad/s).
+MEASURED_STILL = (0.01, 0.05)
 
 
 @dataclass(frozen=True)
@@ -170,9 +165,7 @@ class RobotModel:
             if self._in_effect is not None:
                 self._in_effect = min(expected, self._count - 1)
             return
-        # the nearest a step on; between two as near, the newer (a base standing after a tiny
-        # command is as near to it as to the stop after it)
-        in_effect = min(matches, key=lambda number: (abs(number - expected), -number))
+        in_effect = min(matches, key=lambda number: abs(number - expected))
         if in_effect < self._first:  # none of ours was taken yet
             return
         first_seen = in_effect != self._in_effect
@@ -206,7 +199,8 @@ class RobotModel:
     @property
     def _standing(self) -> bool:
         """The last pose shows the robot standing."""
-        return alike(self._echo, STANDING, exact=self.echoes)
+        return self._echo == STANDING if self.echoes else all(
+            abs(value) <= within for value, within in zip(self._echo, MEASURED_STILL, strict=True))
 
     def _observe_latency(self, latency: float) -> None:
         """A command first seen in effect `latency` steps after it was sent. The floor takes
@@ -224,25 +218,13 @@ class RobotModel:
         return self._count - len(self._sent)
 
     def _matches(self, echo: Echo) -> list[int]:
-        """The numbers of the commands remembered that the pose cannot tell from the one in
-        effect: those whose echo is `echo` (within half a `MEASURED_WITHIN` of the nearest, for
-        a measurement), no older than the one in effect at the last pose, as commands take
-        effect in order. An exact echo of an older one only says the last match was wrong; a
-        measurement near an older one says nothing (a base that holds its speed is near every
-        command that ramped up to it)."""
-        near = self._near(echo)
-        in_order = [(far, number) for far, number in near if number >= (self._in_effect or 0)]
-        near = in_order or (near if self.echoes else [])
-        if not near:
-            return []
-        nearest = min(far for far, _ in near)
-        return [number for far, number in near if far <= nearest + 0.5]
-
-    def _near(self, echo: Echo) -> list[tuple[float, int]]:
-        """(distance, number) of each command remembered that the pose may show."""
-        near = [(distance(echo, sent.echo, exact=self.echoes), self._first + index)
-                for index, sent in enumerate(self._sent)]
-        return [(far, number) for far, number in near if far <= 1.0]
+        """The numbers of the commands remembered whose echo is `echo`: those no older than the
+        one in effect at the last pose, as commands take effect in order; any, if none is (the
+        last match was wrong)."""
+        matches = [self._first + index for index, sent in enumerate(self._sent)
+                   if sent.echo == echo]
+        in_order = [number for number in matches if number >= (self._in_effect or 0)]
+        return in_order or matches
 
     @property
     def excess(self) -> int:
