@@ -310,3 +310,30 @@ def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
     off = NearestOnPolyline(path).distances(moved[:int(np.count_nonzero(speeds > 0))])
     print(f'real-time replay: {1e3 * off.max():.1f} mm at most from the recorded path, '
           f'median {1e3 * np.median(off):.1f} mm')
+
+
+def test_a_run_on_a_base_records_its_odometry_and_stamped_commands(ros_context, tmp_path):
+    """On a base the node drives by nav_msgs/Odometry and commands geometry_msgs/TwistStamped:
+    those are what it records, and what `plot` draws."""
+    pytest.importorskip('mujoco')
+    from turtle_traj_interfaces.srv import Move
+
+    from turtle_traj.apps.base_system import BaseSystem
+    from turtle_traj.bags.plots import read_run
+    system = BaseSystem(context=ros_context, output_dir=tmp_path / 'output',
+                        record_dir=str(tmp_path / 'bags'))
+    try:
+        assert system.call(Move, 'move', Move.Request(distance=0.3)).success
+        odometry = np.array([(x, y) for _t, x, y, _yaw in system.odometry])
+    finally:
+        system.close()
+    (bag,) = (tmp_path / 'bags').iterdir()
+    with Bag(bag) as reader:
+        assert reader.topics['/odom'] == 'nav_msgs/msg/Odometry'
+        assert reader.topics['/cmd_vel'] == 'geometry_msgs/msg/TwistStamped'
+        commands = [m.value.twist.linear.x for m in reader.messages(['/cmd_vel'],
+                                                                   deserialize=True)]
+    assert max(commands) > 0.1 and commands[-1] == 0.0
+    run = read_run(bag)
+    assert run.poses[-1, 1] == pytest.approx(odometry[-1, 0], abs=1e-3)  # where it drove
+    assert run.poses[:, 1].max() == pytest.approx(0.3, abs=0.003)
