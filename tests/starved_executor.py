@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from turtle_traj.core.control.commands import STOP
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
@@ -67,7 +68,7 @@ class Outcome:
     elapsed_s: float
     bound_s: float
     max_deviation_m: float
-    end: tuple[float, float]
+    end: tuple[float, float]  # where the turtle stood a second after the run ended
 
 
 def drive(name: str, request, seed: int, timer: Stalls = TIMER, poses_held: Stalls = POSES,
@@ -106,6 +107,7 @@ def drive(name: str, request, seed: int, timer: Stalls = TIMER, poses_held: Stal
         if now >= timer_free and now >= next_tick:
             command = loop.command(settings.control, settings.arena, now / 1000)
             if run.ending is not None:
+                commands.append(STOP)  # the node's last word: a stop
                 break
             if command is not None:
                 loop.sent(command, now / 1000) if stamped else loop.sent(command)
@@ -115,6 +117,11 @@ def drive(name: str, request, seed: int, timer: Stalls = TIMER, poses_held: Stal
         if run.ending is not None:
             break
     ended = run.outcome(loop.pose, now / 1000)
+    for _ in range(64):  # a second more: what was still on its way acts, then the stop
+        if commands:
+            command = commands.popleft()
+            world.command('turtle1', command.linear, 0.0, command.angular)
+        world.step()
     return Outcome(ended.success, ended.message, ended.elapsed_s,
                    plan.lower_bound_s(plan.control(settings.control)), ended.max_deviation,
                    (turtle.x, turtle.y))
