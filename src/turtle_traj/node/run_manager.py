@@ -48,15 +48,15 @@ class RunManager:
                  callback_group: CallbackGroup, record_dir: str | None = None) -> None:
         self._node = node
         self._settings = settings
-        self._loop = ControlLoop(STEP_S)
         self._silence = PoseSilence(node.get_clock(), WATCHDOG_PERIOD_S)
         self._run_done: Future | None = None  # what the run's handler awaits
         # Held by every change of the run's state: the handlers are reentrant, and on a
         # MultiThreadedExecutor run beside the timers and each other (a pose can end its run).
         self._state_lock = StateLock(node.get_logger())
-        self._base = BaseTopics(node, turtle, self._on_pose)
+        self._base = BaseTopics(node, turtle, self._on_pose)  # poses come once it spins
         self.pose_topic = self._base.pose_topic
-        self._loop.model.echoes = not self._base.odometry  # odometry measures, not echoes
+        # turtlesim's pose echoes the command in effect; odometry measures the velocity
+        self._loop = ControlLoop(STEP_S, echoes=not self._base.odometry)
         self._plan = node.create_publisher(
             PathMsg, '~/plan', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
         self._pen = PenClient(node, turtle, callback_group=callback_group)

@@ -16,12 +16,11 @@ The model, in one page:
   or a cut link, lowers the offsets for good: the floor falls with the second lower one.
 * **One observer says which command is in effect.** turtlesim's pose echoes its velocities
   (`echo`): the command whose echo matches is in effect, and those sent after it are in flight.
-  Commands act in order, so among equal echoes (a run of stops) the match is the one nearest
-  the command due by now (sent a latency ago; before the latency is known, a step on from the
-  last), never an older one; an echo that matches nothing is someone else's command, and the
-  robot is taken to have stepped on. A base's odometry measures its velocity instead, which
-  names no command: the latency that best explains the last poses' motion (`DelayFit`) is
-  observed, and the command due by now is in effect.
+  Commands act in order, so among equal echoes (a run of stops) the match is the one nearest a
+  step on from the last, never an older one; an echo that matches nothing is someone else's
+  command, and the robot is taken to have stepped on. A base's odometry measures its velocity
+  instead, which names no command: the latency that best explains the last poses' motion
+  (`DelayFit`) is observed, and the command due by now is in effect.
 * **The prediction** replays the command in effect and every command in flight from the pose,
   each from the step it arrives (its stamp plus the latency, and not before the step after the
   one before it) to the next one's, with turtlesim's integration (heading first, then position
@@ -157,7 +156,10 @@ class RobotModel:
         if not self.echoes:
             self._observe_motion(pose)
             return
-        expected = self._expected()
+        # among equal echoes, the one a step on from the last (the latency's floor is the
+        # earliest a command may act: as a guess it would skip a moving command still on its
+        # way between two stops, and the prediction would miss its step)
+        expected = self._first if self._in_effect is None else self._in_effect + 1
         matches = self._matches(echo)
         if self._in_effect is None and self._standing:  # as it stood before any was taken
             matches.insert(0, self._first - 1)
@@ -183,17 +185,14 @@ class RobotModel:
             if latency is not None:
                 self._observe_latency(latency)
         # the command due by now; before the latency is known, the last sent (none in flight)
-        self._in_effect = (self._expected() if self._latency.value is not None
+        self._in_effect = (self._due() if self._latency.value is not None
                            else self._count - 1 if self._sent else None)
 
-    def _expected(self) -> int:
-        """The command the pose most likely shows, had it no evidence: one step on from the
-        last; once the latency is known, the newest due by now (sent a latency ago)."""
-        floor = self._latency.value
-        if floor is None or not self._sent:
-            return self._first if self._in_effect is None else self._in_effect + 1
+    def _due(self) -> int:
+        """The newest command due by now: sent the latency's floor ago (a measured velocity
+        names no command: this is the one taken to act)."""
         due = [self._first + index for index, sent in enumerate(self._sent)
-               if round(sent.stamp + floor) <= self._poses]
+               if round(sent.stamp + self._latency.value) <= self._poses]
         return due[-1] if due else self._first - 1
 
     @property
