@@ -34,7 +34,8 @@ The model, in one page:
   through together, to queue at turtlesim's 7-deep subscription: either way commands are
   overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
   control loop sends nothing meanwhile (the command before acts on, as predicted); the queue
-  drains (a hold still ends a run that makes no progress). A cut link loses poses too: the step
+  drains (a hold still ends a run that makes no progress). A command in flight past its 0.2 s
+  lifespan was dropped by the writer (a loss repaired too late): it is in flight no longer. A cut link loses poses too: the step
   count falls behind, and the floor with it, at the second command seen. An executor that
   dispatches late: the stamps say how long each command acted; poses it delivers late still
   count the steps.
@@ -46,7 +47,7 @@ import math
 from collections import deque
 from dataclasses import dataclass
 
-from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, STOP, Command
 from turtle_traj.core.control.delay_fit import DelayFit
 from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed, distinct
 from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile
@@ -139,6 +140,12 @@ class RobotModel:
         if self._last_tick is not None:
             self._follows.add(tick - self._last_tick)
         self._last_tick = tick
+        # a command in flight past its lifespan was dropped on the way (the writer keeps it no
+        # longer): it will never act, and nothing waits for it
+        lifespan = COMMAND_LIFESPAN_S / self.step_s
+        while (self._in_effect is not None and self.in_flight
+               and self._sent[-self.in_flight].stamp < tick - lifespan):
+            self._in_effect += 1
 
     def sent(self, command: Command, now_s: float) -> None:
         """Record a command as it is published (node clock, seconds)."""
