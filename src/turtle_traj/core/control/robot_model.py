@@ -35,10 +35,10 @@ The model, in one page:
   overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
   control loop sends nothing meanwhile (the command before acts on, as predicted); the queue
   drains (a hold still ends a run that makes no progress). A command in flight past its 0.2 s
-  lifespan was dropped by the writer (a loss repaired too late): it is in flight no longer. A cut link loses poses too: the step
-  count falls behind, and the floor with it, at the second command seen. An executor that
-  dispatches late: the stamps say how long each command acted; poses it delivers late still
-  count the steps.
+  lifespan was dropped by the writer (a loss repaired too late): it is in flight no longer. A
+  cut link loses poses too: the step count falls behind, and the floor with it, at the second
+  command seen. An executor that dispatches late: the stamps say how long each command acted;
+  poses it delivers late still count the steps.
 """
 
 from __future__ import annotations
