@@ -91,7 +91,7 @@ class RobotModel:
 
     :param step_s: how long each command acts at least (the robot's step, turtlesim's 16 ms).
     :param echoes: the pose echoes the command in effect (turtlesim); False: it measures the
-        velocity (odometry), near the command in effect.
+        velocity (odometry), and the latency is fitted to the poses (`DelayFit`).
     """
 
     def __init__(self, step_s: float, *, echoes: bool = True) -> None:
@@ -241,16 +241,14 @@ class RobotModel:
         floor = self._latency.value
         if floor is None:
             return 0
-        pending = list(self._sent)[len(self._sent) - self.in_flight:] if self.in_flight else []
-        overdue = sum(1 for sent in pending if round(sent.stamp + floor) <= self._poses)
+        overdue = sum(1 for sent in self._pending() if round(sent.stamp + floor) <= self._poses)
         return max(overdue - max(self._jitter.whole(), 0), 0)
 
     def predict(self, pose: Pose2D, now_s: float) -> Prediction:
         """Where the robot will be when the next command takes effect, and how uncertain."""
-        in_flight = self.in_flight
-        pending = [sent.command for sent in list(self._sent)[len(self._sent) - in_flight:]]
+        pending = self._pending()
         x, y, theta = pose.x, pose.y, pose.theta
-        for command, steps in self._schedule(in_flight, now_s):
+        for command, steps in self._schedule(pending, now_s):
             for _ in range(steps):
                 theta += command.angular * self.step_s
                 x += command.linear * math.cos(theta) * self.step_s
@@ -258,17 +256,22 @@ class RobotModel:
         late = self._late_steps()
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
-        still = self._standing and all(command == STOP for command in pending)
+        still = self._standing and all(sent.command == STOP for sent in pending)
         return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, overrun, still)
 
-    def _schedule(self, in_flight: int, now_s: float) -> list[tuple[Command, int]]:
+    def _pending(self) -> list[_Sent]:
+        """The commands in flight, oldest first."""
+        in_flight = self.in_flight
+        return list(self._sent)[len(self._sent) - in_flight:] if in_flight else []
+
+    def _schedule(self, pending: list[_Sent], now_s: float) -> list[tuple[Command, int]]:
         """The command in effect and each one in flight, with the steps each acts after the
         last pose: from the step it arrives (not before the step after the one before it) to
         the next one's; the last until the next command, sent now, arrives."""
-        acting = ([self._sent[-1 - in_flight].command] if in_flight < len(self._sent)
+        acting = ([self._sent[-1 - len(pending)].command] if len(pending) < len(self._sent)
                   else [Command(*self._echo)])
-        acting += [sent.command for sent in list(self._sent)[len(self._sent) - in_flight:]]
-        stamps = [sent.stamp for sent in list(self._sent)[len(self._sent) - in_flight:]]
+        acting += [sent.command for sent in pending]
+        stamps = [sent.stamp for sent in pending]
         stamps.append(self._in_steps(now_s) if self._origin_s is not None else 0.0)
         # each arrives the latency after it was sent, without a queue; until the floor is
         # known, the last latency seen, and before any command was seen to take effect, the
