@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import errno
 import os
+import random
 import shutil
 import signal
+import struct
 import subprocess
 import sys
 
@@ -178,12 +180,13 @@ def test_a_full_disk_ends_the_recording_and_keeps_what_came_before(tmp_path, mon
 
 
 @pytest.mark.parametrize('problem', ['missing', 'a file', 'no metadata', 'corrupt',
-                                     'truncated'])
+                                     'a huge record', 'truncated'])
 def test_a_bad_bag_is_refused_saying_what_is_wrong(recorded, tmp_path, problem):
     path, _ = recorded
     bad = tmp_path / 'bad'
     expected = {'missing': 'no bag at', 'a file': 'is not a bag folder',
                 'no metadata': 'has no metadata.yaml', 'corrupt': 'is not a readable bag',
+                'a huge record': 'is not a readable bag',
                 'truncated': 'is not a readable bag'}[problem]
     if problem == 'a file':
         bad.write_text('hello')
@@ -193,7 +196,10 @@ def test_a_bad_bag_is_refused_saying_what_is_wrong(recorded, tmp_path, problem):
         if problem == 'no metadata':
             (bad / 'metadata.yaml').unlink()
         elif problem == 'corrupt':
-            mcap_file.write_bytes(b'\x89MCAP0\r\n' + os.urandom(4000))
+            mcap_file.write_bytes(b'\x89MCAP0\r\n' + random.Random(7).randbytes(4000))
+        elif problem == 'a huge record':  # a header record claiming 2**63 - 1 bytes
+            mcap_file.write_bytes(b'\x89MCAP0\r\n\x01' + struct.pack('<Q', 2**63 - 1)
+                                  + bytes(4000))
         else:
             mcap_file.write_bytes(mcap_file.read_bytes()[:len(mcap_file.read_bytes()) // 2])
     with pytest.raises(BagError, match=expected):

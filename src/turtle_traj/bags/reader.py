@@ -44,6 +44,17 @@ def _custom_data(path: Path) -> dict[str, str]:
     return {str(k): str(v) for k, v in (info.get('custom_data') or {}).items()}
 
 
+# What a damaged file makes the reader raise; a record whose length field is garbage asks for
+# more memory than there is (MemoryError) or than an index holds (OverflowError).
+_UNREADABLE = (ReaderError, OSError, ValueError, KeyError, IndexError, MemoryError, OverflowError)
+
+
+def _why(error: BaseException) -> str:
+    if isinstance(error, (MemoryError, OverflowError)):
+        return 'a record claims more bytes than the file could hold'
+    return str(error)
+
+
 class Bag:
     """An open bag: its topics and their messages in time order."""
 
@@ -54,8 +65,8 @@ class Bag:
         try:
             self._reader = Reader(self.path)
             self._reader.open()
-        except (ReaderError, OSError, ValueError, KeyError) as error:
-            raise BagError(f'{self.path} is not a readable bag: {error}') from None
+        except _UNREADABLE as error:
+            raise BagError(f'{self.path} is not a readable bag: {_why(error)}') from None
         self.topics = {c.topic: c.msgtype for c in self._reader.connections}
         self.custom_data = _custom_data(self.path)
         self.counts = {c.topic: c.msgcount for c in self._reader.connections}
@@ -93,8 +104,8 @@ class Bag:
             for connection, time_ns, raw in self._reader.messages(connections=connections):
                 value = store.deserialize_cdr(raw, connection.msgtype) if store else None
                 yield Message(connection.topic, connection.msgtype, time_ns, bytes(raw), value)
-        except (ReaderError, OSError, ValueError, KeyError, IndexError) as error:
-            raise BagError(f'{self.path} is corrupt: {error}') from None
+        except _UNREADABLE as error:
+            raise BagError(f'{self.path} is corrupt: {_why(error)}') from None
 
     def close(self) -> None:
         self._reader.close()
