@@ -15,7 +15,6 @@ import rclpy
 from geometry_msgs.msg import Twist
 from rclpy.node import Node
 
-from checks import distance_to_polyline, drawn_strokes, ink_at, pen_up_moves, resampled
 from isolation import isolate
 from turtle_traj.api.ros_interface import make_request
 from turtle_traj.apps.demo import prepare, run_example
@@ -25,6 +24,13 @@ from turtle_traj.core.planning import planner as planning
 from turtle_traj.core.planning.limits import POLYGON_SIDES
 from turtle_traj.core.registry import TRAJECTORIES
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+from turtle_traj.testing.geometry import (
+    distance_to_polyline,
+    drawn_strokes,
+    ink_at,
+    pen_up_moves,
+    resampled,
+)
 
 LINEAR, ANGULAR = 1.0, 2.0  # the node's default top speeds
 

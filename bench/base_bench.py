@@ -1,6 +1,6 @@
 """turtle_traj on a base with acceleration limits, side by side with Dynamic Window Pure Pursuit.
 
-    .venv/bin/python bench/base_bench.py [--skip-ros]
+    .venv/bin/python bench/base_bench.py [--skip-ros] [--real-time SCALE ...]
 
 Part 1, the pure loop (no ROS, simulated time): the DWPP paper's base (0.5 m/s, 1 rad/s,
 0.5 m/s², 1 rad/s², 16 ms steps) on step curves of three 3 m legs whose middle leg turns by
@@ -14,6 +14,9 @@ time-optimal profile along the exact curve), computed here at the full limits.
 Part 2, through ROS on our simulator with inertia (lock-step): every trajectory kind of the
 registry at the node's default speeds, with the node's turtlesim Pose and Twist, then again on
 Odometry and TwistStamped through `BaseAdapter`.
+
+Part 3 (`--real-time 1 --real-time 5`), through ROS in (scaled) real time: the 45, 90 and 135
+degree steps and the sine, exact and rounded at DWPP's maximum error (`base_realtime.py`).
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from base_loop import DWPP_LIMITS, Limits, base_settings, drive, drive_turtle_traj, world_for
+from base_realtime import Courses, through_ros_in_real_time
 from dwpp import Dwpp
 from isolation import isolate
 from turtle_traj.core.control.profile import FULL_LIMITS, SpeedProfile
@@ -78,8 +82,12 @@ def run_dwpp(points: np.ndarray, start: Pose2D, limits: Limits) -> dict:
     return run.figures(points, limits, tuple(points[-1]))
 
 
-def pure_loop(limits: Limits) -> bool:
-    """Part 1; True when every target holds."""
+REAL_TIME_COURSES = ('step45', 'step90', 'step135', 'sine')
+
+
+def pure_loop(limits: Limits, courses: Courses) -> bool:
+    """Part 1; True when every target holds. DWPP's figures on the real-time courses go into
+    `courses`."""
     print('Part 1: the pure loop, the DWPP paper\'s base '
           f'(v {limits.v} m/s, omega {limits.omega} rad/s, a {limits.a} m/s², '
           f'alpha {limits.alpha} rad/s², 16 ms steps)\n')
@@ -99,6 +107,8 @@ def pure_loop(limits: Limits) -> bool:
         exact = drive_turtle_traj(points, start, limits).figures(points, limits,
                                                                   tuple(points[-1]))
         tolerance = dwpp['max_mm'] / 1000.0
+        if name in REAL_TIME_COURSES:
+            courses[name] = (points, tolerance, dwpp['time_s'])
         rounded = drive_turtle_traj(points, start, limits, corner_tolerance=tolerance).figures(
             points, limits, tuple(points[-1]))
         checks = {
@@ -165,12 +175,17 @@ def through_ros(*, odometry: bool) -> bool:
 def main(args: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog='python -m bench.base_bench', description=__doc__)
     parser.add_argument('--skip-ros', action='store_true', help='the pure loop only')
+    parser.add_argument('--real-time', type=float, action='append', default=[],
+                        metavar='SCALE', help='part 3 at this time scale (repeatable)')
     options = parser.parse_args(args)
     isolate('base')
-    passed = pure_loop(DWPP_LIMITS)
+    courses: Courses = {}
+    passed = pure_loop(DWPP_LIMITS, courses)
     if not options.skip_ros:
         passed &= through_ros(odometry=False)
         passed &= through_ros(odometry=True)
+    for scale in options.real_time:
+        passed &= through_ros_in_real_time(courses, DWPP_LIMITS, scale)
     print('every target met' if passed else 'some targets missed (see above)')
     return 0 if passed else 1
 

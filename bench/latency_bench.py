@@ -18,11 +18,11 @@ import rclpy
 from nav_msgs.msg import Path as PathMsg
 from rclpy.qos import DurabilityPolicy, QoSProfile
 
-from checks import distance_to_polyline
 from isolation import isolate
 from turtle_traj.apps.demo import run_example
 from turtle_traj.apps.in_process import InProcessSystem
 from turtle_traj.core.registry import TRAJECTORIES
+from turtle_traj.testing.geometry import distance_to_polyline
 
 # (label, fixed delay s, jitter s)
 DELAYS = [('0 ms', 0.0, 0.0), ('16 ms', 0.016, 0.0), ('32 ms', 0.032, 0.0),

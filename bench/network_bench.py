@@ -2,8 +2,9 @@
 
     .venv/bin/python bench/network_bench.py [--runs 3] [--plot bench/network_loss.png]
 
-Needs root. Two network namespaces on a veth pair (tests/two_hosts.py): our simulator and a
-pose log on host a, the trajectory node and the command line on host b, default discovery.
+Needs root. Two network namespaces on a veth pair (`turtle_traj.testing.two_hosts`): our
+simulator and a pose log on host a, the trajectory node and the command line on host b, default
+discovery.
 nftables drops a random share of the packets leaving each host, both ways. The kernel's
 `numgen random` cannot be seeded: the runs at each loss are independent draws.
 
@@ -23,7 +24,6 @@ import math
 import os
 import re
 import subprocess
-import sys
 import tempfile
 import time
 from dataclasses import dataclass
@@ -32,10 +32,8 @@ from pathlib import Path
 import numpy as np
 
 from isolation import isolate
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tests.pose_log import PoseLog  # noqa: E402
-from tests.two_hosts import TwoHosts, reported_deviation_m, why_unavailable  # noqa: E402
+from turtle_traj.testing.pose_log import PoseLog
+from turtle_traj.testing.two_hosts import TwoHosts, reported_deviation_m, why_unavailable
 
 LOSSES = (0, 1, 5, 10, 20)
 PATHS = {'square': ('draw', 'square', '--size', '1'),

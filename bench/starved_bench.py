@@ -1,6 +1,6 @@
-"""The MultiThreadedExecutor flake as a loop: the 12-sided polygon of tests/test_multithreaded.py
-on an executor that starves the node (tests/starved_executor.py: timer and pose stalls fitted to
-what that test measured), one seeded run per seed, pure Python.
+"""The MultiThreadedExecutor flake as a loop: the 12-sided polygon of
+tests/test_multithreaded.py on an executor that starves the node (`turtle_traj.testing.starved`:
+timer and pose stalls fitted to what that test measured), one seeded run per seed, pure Python.
 
     .venv/bin/python bench/starved_bench.py [SEEDS] [--repo PATH ...]
 
@@ -20,14 +20,20 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+HARNESS = ROOT / 'src' / 'turtle_traj' / 'testing' / 'starved.py'
+# this checkout's harness, loaded by its file, on the control code of the checkout measured
 _ONE = """
-import json, sys
-sys.path.insert(0, {root!r})
-from tests.starved_executor import drive
-from tests.test_supervisor import shape
+import importlib.util, json, sys
+from types import SimpleNamespace
+spec = importlib.util.spec_from_file_location('starved', {harness!r})
+starved = sys.modules['starved'] = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(starved)
+request = SimpleNamespace(sides=12, size=0.15, clockwise=False, turns=0.0, growth=0.0,
+                          max_radius=0.0, frequency=0.0, length=0.0, linear_speed=0.0,
+                          angular_speed=0.0, forever=False)
 out = []
 for seed in range({seeds}):
-    run = drive('polygon', shape(sides=12, size=0.15), seed)
+    run = starved.drive('polygon', request, seed)
     out.append((run.success, run.message, run.elapsed_s / run.bound_s, run.max_deviation_m))
 print(json.dumps(out))
 """
@@ -35,8 +41,10 @@ print(json.dumps(out))
 
 def runs(repo: Path, seeds: int) -> list[tuple[bool, str, float, float]]:
     env = {**os.environ, 'PYTHONPATH': str(repo / 'src')}
-    done = subprocess.run([sys.executable, '-c', _ONE.format(root=str(ROOT), seeds=seeds)],
-                          env=env, capture_output=True, text=True, check=True)
+    done = subprocess.run([sys.executable, '-c', _ONE.format(harness=str(HARNESS), seeds=seeds)],
+                          env=env, capture_output=True, text=True)
+    if done.returncode:
+        raise SystemExit(f'{repo}: the loop failed:\n{done.stderr[-3000:]}')
     return json.loads(done.stdout)
 
 

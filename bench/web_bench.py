@@ -91,8 +91,7 @@ def _drive(port_seconds: float) -> None:
 
 def _browser_latency(url: str, seconds: float) -> list[float]:
     """Pose-to-page latencies (s) of the frames a headless chromium page drew."""
-    sys.path.insert(0, str(ROOT))
-    from tests.web_helpers import browser_missing, chromium
+    from turtle_traj.testing.browser import browser_missing, chromium
     if browser_missing():
         return []
     with chromium() as driver:

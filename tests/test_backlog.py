@@ -9,8 +9,6 @@ from collections import deque
 
 import numpy as np
 
-from tests.geometry_checks import distance_to_polyline, regular_polygon
-from tests.test_supervisor import shape
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.robot_model import RobotModel
@@ -19,6 +17,8 @@ from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.planning import planner as planning
 from turtle_traj.core.turtlesim_contract import STEP_S, TOPIC_QOS_DEPTH
 from turtle_traj.sim.physics import World
+from turtle_traj.testing.geometry import distance_to_polyline, regular_polygon
+from turtle_traj.testing.pure_loop import shape
 
 SETTINGS = DEFAULT_SETTINGS
 STALLS_END = 420  # the last stall's end, and a few periods

@@ -23,13 +23,13 @@ pytest.importorskip('rosbags')
 
 
 @pytest.fixture
-def recorded(ros_context, tmp_path):
+def recorded(rclpy_context, tmp_path):
     """A draw_square run in lock-step, recorded by the node itself (record_dir), with its
     action feedback: (the bag, the poses the test's own client saw)."""
     from turtle_traj_interfaces.action import Draw
 
     from turtle_traj.apps.in_process import InProcessSystem
-    system = InProcessSystem(context=ros_context, output_dir=tmp_path / 'output',
+    system = InProcessSystem(context=rclpy_context, output_dir=tmp_path / 'output',
                              record_dir=str(tmp_path / 'bags'))
     try:
         action = system.action_client(Draw, '/turtle_traj/draw')
@@ -102,7 +102,7 @@ def test_the_mcap_file_is_what_rosbag2s_reader_needs(recorded):
 
 
 def test_recorded_commands_replayed_in_lockstep_give_the_same_poses_to_the_bit(recorded,
-                                                                               ros_context,
+                                                                               rclpy_context,
                                                                                tmp_path):
     from geometry_msgs.msg import Twist
     from turtlesim.msg import Pose
@@ -114,7 +114,7 @@ def test_recorded_commands_replayed_in_lockstep_give_the_same_poses_to_the_bit(r
         commands = [(m.time_ns, m.raw) for m in bag.messages(['/turtle1/cmd_vel'])]
         recorded_poses = {m.time_ns: (m.value.x, m.value.y, m.value.theta)
                           for m in bag.messages(['/turtle1/pose'], deserialize=True)}
-    sim = LockstepSim(context=ros_context, output_dir=tmp_path / 'replay')
+    sim = LockstepSim(context=rclpy_context, output_dir=tmp_path / 'replay')
     try:
         publisher = sim.client.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
         replayed = {}
@@ -240,13 +240,13 @@ def test_the_command_line_refuses_unknown_topics_and_bad_bags(recorded, tmp_path
     assert not (tmp_path / 'new').exists()
 
 
-def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
+def test_record_and_play_on_the_real_programs(tmp_path, rclpy_context):
     """`turtle-traj record` ended by SIGINT mid-run keeps every pose it received; `turtle-traj
     play` of its cmd_vel into a fresh simulator drives the turtle along the recorded path."""
-    from tests.ros_helpers import program
     from turtle_traj.api.ros_interface import make_goal
     from turtle_traj.client.traj_client import TrajClient
     from turtle_traj.core.registry import BY_NAME
+    from turtle_traj.testing.processes import program
     bag = tmp_path / 'run'
     with program('turtle_traj', '--with-sim', cwd=tmp_path):
         with TrajClient(connect_timeout_s=30.0) as client:
@@ -284,8 +284,8 @@ def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
 
         from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
         from turtle_traj.rosutils.runtime import spin_until
-        node = Node('replay_observer', context=ros_context)
-        executor = SingleThreadedExecutor(context=ros_context)
+        node = Node('replay_observer', context=rclpy_context)
+        executor = SingleThreadedExecutor(context=rclpy_context)
         executor.add_node(node)
         replayed = []
         node.create_subscription(Pose, 'turtle1/pose', replayed.append, TURTLE_TOPIC_QOS)
@@ -318,7 +318,7 @@ def test_record_and_play_on_the_real_programs(tmp_path, ros_context):
           f'median {1e3 * np.median(off):.1f} mm')
 
 
-def test_a_run_on_a_base_records_its_odometry_and_stamped_commands(ros_context, tmp_path):
+def test_a_run_on_a_base_records_its_odometry_and_stamped_commands(rclpy_context, tmp_path):
     """On a base the node drives by nav_msgs/Odometry and commands geometry_msgs/TwistStamped:
     those are what it records, and what `plot` draws."""
     pytest.importorskip('mujoco')
@@ -326,7 +326,7 @@ def test_a_run_on_a_base_records_its_odometry_and_stamped_commands(ros_context, 
 
     from turtle_traj.apps.base_system import BaseSystem
     from turtle_traj.bags.plots import read_run
-    system = BaseSystem(context=ros_context, output_dir=tmp_path / 'output',
+    system = BaseSystem(context=rclpy_context, output_dir=tmp_path / 'output',
                         record_dir=str(tmp_path / 'bags'))
     try:
         assert system.call(Move, 'move', Move.Request(distance=0.3)).success

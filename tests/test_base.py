@@ -15,10 +15,10 @@ from rcl_interfaces.msg import ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
 from turtle_traj_interfaces.srv import DrawShape, DrawText, FollowPath, GoTo, Move
 
-from tests.geometry_checks import distance_to_polyline, regular_polygon, xy
 from turtle_traj.apps.in_process import InProcessSystem
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, STEP_S
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+from turtle_traj.testing.geometry import distance_to_polyline, regular_polygon, xy
 
 START = (SPAWN_XY_M, SPAWN_XY_M, 0.0)
 # The DWPP paper's base: 0.5 m/s and 1 rad/s, 0.5 m/s² and 1 rad/s².
@@ -28,8 +28,8 @@ LIMITS = dict(linear_speed=SPEED, angular_speed=TURN_RATE, max_linear_accel=ACCE
 INERTIA = dict(max_linear_accel=ACCEL, max_angular_accel=TURN_ACCEL)
 
 
-def _system(ros_context, tmp_path, sim=INERTIA, **node) -> InProcessSystem:
-    system = InProcessSystem(context=ros_context, output_dir=tmp_path, sim_parameters=sim,
+def _system(rclpy_context, tmp_path, sim=INERTIA, **node) -> InProcessSystem:
+    system = InProcessSystem(context=rclpy_context, output_dir=tmp_path, sim_parameters=sim,
                              **{**LIMITS, **node})
     system.commands = []  # what the node sent, as the simulator received it
     system.client.create_subscription(Twist, 'turtle1/cmd_vel', system.commands.append,
@@ -38,8 +38,8 @@ def _system(ros_context, tmp_path, sim=INERTIA, **node) -> InProcessSystem:
 
 
 @pytest.fixture
-def base(ros_context, tmp_path):
-    system = _system(ros_context, tmp_path)
+def base(rclpy_context, tmp_path):
+    system = _system(rclpy_context, tmp_path)
     try:
         yield system
     finally:
@@ -113,8 +113,8 @@ def test_rotate_go_to_and_a_circle_brake_in_time(base):
 
 
 @pytest.mark.parametrize('delay', [0.048])
-def test_the_latency_model_keeps_working_with_inertia(ros_context, tmp_path, delay):
-    system = _system(ros_context, tmp_path, sim={**INERTIA, 'command_delay': delay})
+def test_the_latency_model_keeps_working_with_inertia(rclpy_context, tmp_path, delay):
+    system = _system(rclpy_context, tmp_path, sim={**INERTIA, 'command_delay': delay})
     try:
         response = system.call(DrawShape, 'draw_triangle', DrawShape.Request(size=2.0))
         assert response.success, response.message
@@ -125,8 +125,8 @@ def test_the_latency_model_keeps_working_with_inertia(ros_context, tmp_path, del
         system.close()
 
 
-def test_odometry_and_twist_stamped_through_a_relay(ros_context, tmp_path):
-    system = InProcessSystem(context=ros_context, output_dir=tmp_path, sim_parameters=INERTIA,
+def test_odometry_and_twist_stamped_through_a_relay(rclpy_context, tmp_path):
+    system = InProcessSystem(context=rclpy_context, output_dir=tmp_path, sim_parameters=INERTIA,
                              base_adapter=True, pose_source='odometry', odom_topic='odom',
                              cmd_vel_type='TwistStamped', cmd_vel_topic='cmd_vel', **LIMITS)
     try:
@@ -141,8 +141,8 @@ def test_odometry_and_twist_stamped_through_a_relay(ros_context, tmp_path):
         system.close()
 
 
-def test_a_base_slower_than_its_limits_ends_with_a_message(ros_context, tmp_path):
-    system = _system(ros_context, tmp_path, sim=dict(max_linear_accel=0.1,
+def test_a_base_slower_than_its_limits_ends_with_a_message(rclpy_context, tmp_path):
+    system = _system(rclpy_context, tmp_path, sim=dict(max_linear_accel=0.1,
                                                     max_angular_accel=0.2))
     try:
         response = system.call(DrawShape, 'draw_square', DrawShape.Request(size=2.0),
@@ -158,8 +158,8 @@ def test_a_base_slower_than_its_limits_ends_with_a_message(ros_context, tmp_path
         system.close()
 
 
-def test_open_space_allows_what_the_walls_refuse(ros_context, tmp_path):
-    system = _system(ros_context, tmp_path, sim={})
+def test_open_space_allows_what_the_walls_refuse(rclpy_context, tmp_path):
+    system = _system(rclpy_context, tmp_path, sim={})
     try:
         near_wall = GoTo.Request(x=10.9, y=5.5)
         refused = system.call(GoTo, 'go_to', near_wall)
@@ -195,11 +195,11 @@ def test_bad_corner_tolerances_are_refused(base, value, reason):
     assert not base.node.busy
 
 
-def test_a_bad_pose_source_is_refused_at_start(ros_context):
+def test_a_bad_pose_source_is_refused_at_start(rclpy_context):
     from rclpy.exceptions import InvalidParameterValueException
     from rclpy.parameter import Parameter
 
     from turtle_traj.node.trajectory_node import TrajectoryNode
     with pytest.raises(InvalidParameterValueException, match="one of 'turtlesim', 'odometry'"):
-        TrajectoryNode(context=ros_context,
+        TrajectoryNode(context=rclpy_context,
                        parameter_overrides=[Parameter('pose_source', value='gps')])

@@ -8,11 +8,11 @@ from action_msgs.msg import GoalStatus
 from rclpy.action import ActionClient
 from rclpy.task import Future
 
-from tests.ros_helpers import program
 from turtle_traj.api.ros_interface import make_goal
 from turtle_traj.client.liveness import FEEDBACK_SILENCE_S, PROBE_TIMEOUT_S
 from turtle_traj.client.traj_client import TrajClient, TrajClientError
 from turtle_traj.core.registry import BY_NAME
+from turtle_traj.testing.processes import program
 
 
 def test_a_node_killed_mid_goal_is_noticed_within_seconds(tmp_path):

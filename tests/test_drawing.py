@@ -11,7 +11,6 @@ import svgelements
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tests.geometry_checks import distance_to_polyline, drawn_strokes
 from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.geometry import drawing, svg, text
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
@@ -20,6 +19,7 @@ from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.planning import planner as planning
 from turtle_traj.core.planning.planner import PlanError
 from turtle_traj.core.registry import BY_NAME
+from turtle_traj.testing.geometry import distance_to_polyline, drawn_strokes
 
 START = Pose2D(1.0, 5.0, 0.0)
 

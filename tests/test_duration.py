@@ -7,10 +7,10 @@ from dataclasses import replace
 
 import pytest
 
-from tests.test_supervisor import Loop, shape
 from turtle_traj.core.control.duration import ramp_s
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.turtlesim_contract import STEP_S
+from turtle_traj.testing.pure_loop import Loop, shape
 
 
 def _integrated(distance: float, top: float, up: float, down: float) -> float:

@@ -1,17 +1,19 @@
-"""Test sessions never share a ROS domain: a second session gets a different one."""
+"""Test processes never share a ROS domain: a second process gets a different one."""
 
 import os
 import subprocess
 import sys
 
-from tests import conftest
+from turtle_traj.testing.domain import claim_domain_id
 
 
-def test_a_concurrent_session_claims_another_domain():
+def test_a_concurrent_process_claims_another_domain(ros_domain_id):
     other = subprocess.run(
-        [sys.executable, '-c', 'import tests.conftest as c; print(c.DOMAIN_ID)'],
-        capture_output=True, text=True, timeout=30, cwd=os.path.dirname(conftest.__file__) + '/..')
+        [sys.executable, '-c', 'from turtle_traj.testing.domain import claim_domain_id as c; '
+         'print(c(), c())'], capture_output=True, text=True, timeout=30)
     assert other.returncode == 0, other.stderr
-    assert int(other.stdout) != conftest.DOMAIN_ID
-    assert os.environ['ROS_DOMAIN_ID'] == str(conftest.DOMAIN_ID)
+    first, again = (int(word) for word in other.stdout.split())
+    assert first == again != ros_domain_id  # one claim per process, held for its life
+    assert claim_domain_id() == ros_domain_id
+    assert os.environ['ROS_DOMAIN_ID'] == str(ros_domain_id)
     assert os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] == 'LOCALHOST'

@@ -23,35 +23,45 @@ def _pose_stream(context, tmp_path, **sim_parameters) -> list[tuple[float, ...]]
         system.close()
 
 
-def test_the_same_request_gives_a_bit_identical_pose_stream(ros_context, tmp_path):
-    first = _pose_stream(ros_context, tmp_path)
-    second = _pose_stream(ros_context, tmp_path)
+def test_the_same_request_gives_a_bit_identical_pose_stream(rclpy_context, tmp_path):
+    first = _pose_stream(rclpy_context, tmp_path)
+    second = _pose_stream(rclpy_context, tmp_path)
     assert len(first) > 300
     assert first == second
 
 
-def test_seeded_command_jitter_repeats_exactly(ros_context, tmp_path):
+def test_seeded_command_jitter_repeats_exactly(rclpy_context, tmp_path):
     jitter = {'command_jitter': 0.032, 'command_jitter_seed': 7}
-    first = _pose_stream(ros_context, tmp_path, **jitter)
-    assert first == _pose_stream(ros_context, tmp_path, **jitter)
-    assert first != _pose_stream(ros_context, tmp_path)  # the jitter did change the run
+    first = _pose_stream(rclpy_context, tmp_path, **jitter)
+    assert first == _pose_stream(rclpy_context, tmp_path, **jitter)
+    assert first != _pose_stream(rclpy_context, tmp_path)  # the jitter did change the run
 
 
-def test_two_trajectory_nodes_drive_two_turtles_at_once(traj):
-    spawned = traj.call(Spawn, '/spawn', Spawn.Request(x=2.0, y=2.0, theta=0.0, name='turtle2'))
+def test_two_trajectory_nodes_drive_two_turtles_at_once(turtle_system):
+    spawned = turtle_system.call(
+        Spawn, '/spawn', Spawn.Request(x=2.0, y=2.0, theta=0.0, name='turtle2')
+    )
     assert spawned.name == 'turtle2'
-    second = TrajectoryNode('turtle_traj2', context=traj.client.context, parameter_overrides=[
-        SIM_TIME, Parameter('turtle_name', value='turtle2')])
-    traj.add_node(second)
+    second = TrajectoryNode(
+        'turtle_traj2',
+        context=turtle_system.client.context,
+        parameter_overrides=[SIM_TIME, Parameter('turtle_name', value='turtle2')],
+    )
+    turtle_system.add_node(second)
     poses2: list[Pose] = []
-    traj.client.create_subscription(Pose, 'turtle2/pose', poses2.append, TURTLE_TOPIC_QOS)
-    assert traj.spin_until(lambda: second.ready)
-    square = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
-    go_to = traj.start(GoTo, '/turtle_traj2/go_to', GoTo.Request(x=4.0, y=3.0))
-    assert traj.spin_until(lambda: square.done() and go_to.done())
+    turtle_system.client.create_subscription(Pose, 'turtle2/pose', poses2.append, TURTLE_TOPIC_QOS)
+    assert turtle_system.spin_until(lambda: second.ready)
+    square = turtle_system.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+    go_to = turtle_system.start(GoTo, '/turtle_traj2/go_to', GoTo.Request(x=4.0, y=3.0))
+    assert turtle_system.spin_until(lambda: square.done() and go_to.done())
     assert square.result().success and go_to.result().success
     assert square.result().final_error < 0.001
     assert math.dist((poses2[-1].x, poses2[-1].y), (4.0, 3.0)) < 0.01
     # Each ran on its own turtle: the first ended where it started, the second where it was sent.
-    assert math.dist((traj.poses[-1].x, traj.poses[-1].y),
-                     (square.result().final_x, square.result().final_y)) < 1e-6
+    assert (
+        math.dist(
+            (turtle_system.poses[-1].x, turtle_system.poses[-1].y),
+            (square.result().final_x, square.result().final_y),
+        )
+        < 1e-6
+    )

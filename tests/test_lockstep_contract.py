@@ -32,12 +32,12 @@ def _drain(executor) -> None:
 
 
 @pytest.fixture
-def events(ros_context):
-    executor = EventsExecutor(context=ros_context)
+def events(rclpy_context):
+    executor = EventsExecutor(context=rclpy_context)
     nodes = []
 
     def add(name: str, **kwargs) -> Node:
-        node = Node(name, context=ros_context, **kwargs)
+        node = Node(name, context=rclpy_context, **kwargs)
         nodes.append(node)
         executor.add_node(node)
         return node
@@ -103,13 +103,13 @@ def test_a_sim_time_timer_fires_in_the_drain_after_its_clock_is_set(events):
 
 
 @pytest.mark.parametrize('executor_kind', ['events', 'single-threaded'])
-def test_a_coroutine_service_answers_when_it_returns(ros_context, executor_kind):
+def test_a_coroutine_service_answers_when_it_returns(rclpy_context, executor_kind):
     from rclpy.executors import SingleThreadedExecutor
 
-    executor = (EventsExecutor(context=ros_context) if executor_kind == 'events'
-                else SingleThreadedExecutor(context=ros_context))
-    server = Node('server', context=ros_context)
-    caller = Node('caller', context=ros_context)
+    executor = (EventsExecutor(context=rclpy_context) if executor_kind == 'events'
+                else SingleThreadedExecutor(context=rclpy_context))
+    server = Node('server', context=rclpy_context)
+    caller = Node('caller', context=rclpy_context)
     release = Future()
 
     async def handler(request, response):
@@ -135,14 +135,14 @@ def test_a_coroutine_service_answers_when_it_returns(ros_context, executor_kind)
         caller.destroy_node()
 
 
-def test_a_spin_with_a_task_awaiting_sleeps_instead_of_spinning(ros_context):
+def test_a_spin_with_a_task_awaiting_sleeps_instead_of_spinning(rclpy_context):
     """runtime.run_nodes spins with spin_until_future_complete(Future(), timeout): while a
     coroutine service handler awaits (a trajectory running), the process must stay idle."""
     import os
     import time
 
-    executor = EventsExecutor(context=ros_context)
-    server = Node('server', context=ros_context)
+    executor = EventsExecutor(context=rclpy_context)
+    server = Node('server', context=rclpy_context)
     release = Future()
 
     async def handler(request, response):
@@ -168,12 +168,12 @@ def test_a_spin_with_a_task_awaiting_sleeps_instead_of_spinning(ros_context):
 
 
 @pytest.mark.filterwarnings('ignore:coroutine .* was never awaited:RuntimeWarning')
-def test_the_events_executor_of_this_rclpy_cannot_answer_a_coroutine_service(ros_context):
+def test_the_events_executor_of_this_rclpy_cannot_answer_a_coroutine_service(rclpy_context):
     """Why node.async_service exists (ros2/rclpy#1473): a plain service with a coroutine
     handler gets no answer on this rclpy's EventsExecutor. When this fails, the pinned rclpy
     answers it itself: create_async_service can go."""
-    executor = EventsExecutor(context=ros_context)
-    server = Node('plain_server', context=ros_context)
+    executor = EventsExecutor(context=rclpy_context)
+    server = Node('plain_server', context=rclpy_context)
 
     async def handler(request, response):
         response.success = True

@@ -26,7 +26,7 @@ PLANNING_S = 0.05
 
 
 @pytest.fixture
-def composed(ros_context, monkeypatch, tmp_path):
+def composed(rclpy_context, monkeypatch, tmp_path):
     """The trajectory node and a client node in one MultiThreadedExecutor of four threads,
     spun on a thread of its own, and our simulator as a program of its own, as users run it.
 
@@ -39,9 +39,9 @@ def composed(ros_context, monkeypatch, tmp_path):
     from rclpy.executors import MultiThreadedExecutor
     from rclpy.node import Node
 
-    from tests.ros_helpers import program
     from turtle_traj.node import run_manager
     from turtle_traj.node.trajectory_node import TrajectoryNode
+    from turtle_traj.testing.processes import program
 
     plan = run_manager.planning.plan
 
@@ -51,10 +51,10 @@ def composed(ros_context, monkeypatch, tmp_path):
     monkeypatch.setattr(run_manager.planning, 'plan', slow_plan)
     namespace = '/composed'
     with program('turtle_traj.sim', '--ros-args', '-r', f'__ns:={namespace}', cwd=tmp_path):
-        node = TrajectoryNode(context=ros_context, namespace=namespace)
-        client = Node('concurrent_client', context=ros_context, namespace=namespace)
+        node = TrajectoryNode(context=rclpy_context, namespace=namespace)
+        client = Node('concurrent_client', context=rclpy_context, namespace=namespace)
         poses = PoseWatch(client)
-        executor = MultiThreadedExecutor(num_threads=4, context=ros_context)
+        executor = MultiThreadedExecutor(num_threads=4, context=rclpy_context)
         executor.add_node(node)
         executor.add_node(client)
         stop = threading.Event()

@@ -12,10 +12,10 @@ from rclpy.node import Node
 from std_srvs.srv import Trigger
 from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
 
-from tests.ros_helpers import program, terminate
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
 from turtle_traj.node.trajectory_node import TrajectoryNode
 from turtle_traj.rosutils.runtime import spin_until
+from turtle_traj.testing.processes import program, terminate
 
 # Room from the start pose to the right and top edges, after the default 0.3 m wall margin.
 ROOM = WORLD_SIZE_M - 0.3 - SPAWN_XY_M
@@ -25,10 +25,10 @@ def _double(value: float) -> ParameterValue:
     return ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=value)
 
 
-def _set(traj, **values):
+def _set(turtle_system, **values):
     request = SetParameters.Request(parameters=[
         ParameterMsg(name=name, value=value) for name, value in values.items()])
-    return traj.call(SetParameters, '/turtle_traj/set_parameters', request).results
+    return turtle_system.call(SetParameters, '/turtle_traj/set_parameters', request).results
 
 
 # One refusal per service type here, through ROS; every refusal is in test_planning.py.
@@ -40,127 +40,137 @@ def _set(traj, **values):
     ('follow_path', FollowPath, dict(points=[Point(x=SPAWN_XY_M, y=SPAWN_XY_M)]),
      'already there'),
 ])
-def test_bad_requests_are_refused_and_the_node_still_works(traj, service, service_type,
+def test_bad_requests_are_refused_and_the_node_still_works(turtle_system, service, service_type,
                                                             fields, reason):
-    response = traj.call(service_type, service, service_type.Request(**fields))
+    response = turtle_system.call(service_type, service, service_type.Request(**fields))
     assert not response.success
     assert reason in response.message
-    assert not traj.node.busy
-    traj.spin_sim_seconds(0.1)
-    assert max(p.linear_velocity for p in traj.poses) == 0.0  # refused before moving
-    after = traj.call(Move, 'rotate', Move.Request(angle=0.5))
+    assert not turtle_system.node.busy
+    turtle_system.spin_sim_seconds(0.1)
+    assert max(p.linear_velocity for p in turtle_system.poses) == 0.0  # refused before moving
+    after = turtle_system.call(Move, 'rotate', Move.Request(angle=0.5))
     assert after.success, after.message
 
 
-def test_busy_refusal_names_the_runner_and_stop_ends_it(traj):
-    circling = traj.start(DrawShape, 'draw_circle', DrawShape.Request(size=1.0, forever=True))
-    assert traj.spin_until(lambda: traj.node.busy)
-    traj.spin_sim_seconds(2.0)
-    busy = traj.call(GoTo, 'go_to', GoTo.Request(x=2.0, y=2.0))
+def test_busy_refusal_names_the_runner_and_stop_ends_it(turtle_system):
+    circling = turtle_system.start(
+        DrawShape, 'draw_circle', DrawShape.Request(size=1.0, forever=True)
+    )
+    assert turtle_system.spin_until(lambda: turtle_system.node.busy)
+    turtle_system.spin_sim_seconds(2.0)
+    busy = turtle_system.call(GoTo, 'go_to', GoTo.Request(x=2.0, y=2.0))
     assert not busy.success
     assert 'busy: circle is running' in busy.message and '/turtle_traj/stop' in busy.message
-    stopped = traj.call(Trigger, '/turtle_traj/stop')
+    stopped = turtle_system.call(Trigger, '/turtle_traj/stop')
     assert stopped.success and stopped.message == 'stopped circle'
-    assert traj.spin_until(circling.done)
+    assert turtle_system.spin_until(circling.done)
     result = circling.result()
     assert result.success  # an endless circle ends only by stop, which is its normal end
     assert 'stopped by request' in result.message
-    assert traj.spin_until(lambda: traj.poses[-1].linear_velocity == 0.0)
+    assert turtle_system.spin_until(lambda: turtle_system.poses[-1].linear_velocity == 0.0)
 
 
-def test_stop_aborts_a_finite_trajectory(traj):
-    drawing = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
-    assert traj.spin_until(lambda: traj.node.busy)
-    traj.spin_sim_seconds(1.0)
-    traj.call(Trigger, '/turtle_traj/stop')
-    assert traj.spin_until(drawing.done)
+def test_stop_aborts_a_finite_trajectory(turtle_system):
+    drawing = turtle_system.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+    assert turtle_system.spin_until(lambda: turtle_system.node.busy)
+    turtle_system.spin_sim_seconds(1.0)
+    turtle_system.call(Trigger, '/turtle_traj/stop')
+    assert turtle_system.spin_until(drawing.done)
     assert not drawing.result().success
     assert drawing.result().message == 'square stopped by request'
-    assert traj.call(Move, 'move', Move.Request(distance=0.5)).success
+    assert turtle_system.call(Move, 'move', Move.Request(distance=0.5)).success
 
 
-def test_live_parameters_change_speed_and_bad_values_are_refused(traj):
-    slow = traj.call(Move, 'move', Move.Request(distance=1.0))
-    results = _set(traj, linear_speed=_double(2.0))
+def test_live_parameters_change_speed_and_bad_values_are_refused(turtle_system):
+    slow = turtle_system.call(Move, 'move', Move.Request(distance=1.0))
+    results = _set(turtle_system, linear_speed=_double(2.0))
     assert results[0].successful
-    fast = traj.call(Move, 'move', Move.Request(distance=-1.0))
+    fast = turtle_system.call(Move, 'move', Move.Request(distance=-1.0))
     assert fast.elapsed < 0.7 * slow.elapsed
-    assert max(p.linear_velocity for p in traj.poses) == pytest.approx(2.0, abs=1e-6)
+    assert max(p.linear_velocity for p in turtle_system.poses) == pytest.approx(2.0, abs=1e-6)
 
-    for name, value in [('linear_speed', _double(-1.0)), ('linear_speed', _double(math.nan)),
-                        ('heading_gain', ParameterValue(type=ParameterType.PARAMETER_STRING,
-                                                        string_value='fast')),
-                        ('control_rate', _double(100.0)),
-                        ('wall_margin', _double(5.4))]:
-        result = _set(traj, **{name: value})[0]
+    for name, value in [
+        ('linear_speed', _double(-1.0)),
+        ('linear_speed', _double(math.nan)),
+        ('heading_gain', ParameterValue(type=ParameterType.PARAMETER_STRING, string_value='fast')),
+        ('control_rate', _double(100.0)),
+        ('wall_margin', _double(5.4)),
+    ]:
+        result = _set(turtle_system, **{name: value})[0]
         assert not result.successful, name
         assert result.reason
-    assert traj.node.get_parameter('linear_speed').value == 2.0
-    assert traj.node.get_parameter('wall_margin').value == 0.3
+    assert turtle_system.node.get_parameter('linear_speed').value == 2.0
+    assert turtle_system.node.get_parameter('wall_margin').value == 0.3
 
 
-def test_wall_margin_change_applies_to_the_next_plan(traj):
-    assert _set(traj, wall_margin=_double(2.0))[0].successful
-    refused = traj.call(Move, 'move', Move.Request(distance=4.0))
+def test_wall_margin_change_applies_to_the_next_plan(turtle_system):
+    assert _set(turtle_system, wall_margin=_double(2.0))[0].successful
+    refused = turtle_system.call(Move, 'move', Move.Request(distance=4.0))
     assert f'the largest that fits from here is {ROOM - 1.7:.2f}' in refused.message
 
 
-def test_reset_returns_the_turtle_to_the_centre(traj):
-    assert traj.call(Move, 'move', Move.Request(distance=2.0)).success
-    response = traj.call(Trigger, '/turtle_traj/reset')
+def test_reset_returns_the_turtle_to_the_centre(turtle_system):
+    assert turtle_system.call(Move, 'move', Move.Request(distance=2.0)).success
+    response = turtle_system.call(Trigger, '/turtle_traj/reset')
     assert response.success, response.message
-    assert traj.spin_until(lambda: traj.poses[-1].x == SPAWN_XY_M)
+    assert turtle_system.spin_until(lambda: turtle_system.poses[-1].x == SPAWN_XY_M)
 
 
-def test_vanishing_simulator_aborts_the_trajectory_and_node_keeps_serving(traj):
-    drawing = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
-    assert traj.spin_until(lambda: traj.node.busy)
-    traj.spin_sim_seconds(0.5)
-    traj.executor.remove_node(traj.sim)  # the simulator stops: no more poses, no /clock
-    assert traj.spin_until(drawing.done, timeout_s=5.0)
+def test_vanishing_simulator_aborts_the_trajectory_and_node_keeps_serving(turtle_system):
+    drawing = turtle_system.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+    assert turtle_system.spin_until(lambda: turtle_system.node.busy)
+    turtle_system.spin_sim_seconds(0.5)
+    turtle_system.executor.remove_node(
+        turtle_system.sim
+    )  # the simulator stops: no more poses, no /clock
+    assert turtle_system.spin_until(drawing.done, timeout_s=5.0)
     result = drawing.result()
     assert not result.success
     assert 'no pose on /turtle1/pose' in result.message
-    refused = traj.call(Move, 'move', Move.Request(distance=1.0), timeout_s=5.0)
+    refused = turtle_system.call(Move, 'move', Move.Request(distance=1.0), timeout_s=5.0)
     assert not refused.success and 'is the simulator running' in refused.message
-    traj.executor.add_node(traj.sim)  # it comes back
-    assert traj.spin_until(lambda: traj.node.ready)
-    assert traj.call(Move, 'move', Move.Request(distance=0.5)).success
+    turtle_system.executor.add_node(turtle_system.sim)  # it comes back
+    assert turtle_system.spin_until(lambda: turtle_system.node.ready)
+    assert turtle_system.call(Move, 'move', Move.Request(distance=0.5)).success
 
 
-def test_a_long_callback_in_the_lock_step_process_is_not_a_vanished_simulator(traj):
+def test_a_long_callback_in_the_lock_step_process_is_not_a_vanished_simulator(turtle_system):
     """Simulated time stands still while any callback of the process runs. One that takes
     longer than pose_timeout of wall time (the demo once read a 12 000-pose plan message in
     0.6 s) used to abort the run as if the simulator had gone."""
     import time
 
-    timeout_s = traj.node.settings.pose_timeout_s
-    drawing = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
-    assert traj.spin_until(lambda: traj.node.busy)
-    traj.spin_sim_seconds(0.5)
-    stall = traj.client.create_timer(0.1, lambda: (stall.cancel(), time.sleep(2 * timeout_s)))
-    assert traj.spin_until(drawing.done, timeout_s=60.0)
+    timeout_s = turtle_system.node.settings.pose_timeout_s
+    drawing = turtle_system.start(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+    assert turtle_system.spin_until(lambda: turtle_system.node.busy)
+    turtle_system.spin_sim_seconds(0.5)
+    stall = turtle_system.client.create_timer(
+        0.1, lambda: (stall.cancel(), time.sleep(2 * timeout_s))
+    )
+    assert turtle_system.spin_until(drawing.done, timeout_s=60.0)
     assert drawing.result().success, drawing.result().message
 
 
-def test_a_node_that_falls_behind_reads_every_pose_it_missed(traj):
+def test_a_node_that_falls_behind_reads_every_pose_it_missed(turtle_system):
     """A node process that does not run for a while (a starved machine) then reads the poses
     it missed, in order. With turtlesim's own history of 7 it read only the last 7 of 25 and
     aborted: the turtle seemed to jump 0.6 m."""
-    drawing = traj.start(DrawShape, 'draw_square', DrawShape.Request(size=4.0, linear_speed=2.0))
-    assert traj.spin_until(lambda: traj.node.busy)
-    traj.spin_sim_seconds(0.6)  # on the first side, at full speed
-    traj.executor.remove_node(traj.node)
-    traj.spin_sim_seconds(0.4)  # 25 poses, 0.8 m, the last command still acting
-    traj.executor.add_node(traj.node)
-    assert traj.spin_until(drawing.done)
+    drawing = turtle_system.start(
+        DrawShape, 'draw_square', DrawShape.Request(size=4.0, linear_speed=2.0)
+    )
+    assert turtle_system.spin_until(lambda: turtle_system.node.busy)
+    turtle_system.spin_sim_seconds(0.6)  # on the first side, at full speed
+    turtle_system.executor.remove_node(turtle_system.node)
+    turtle_system.spin_sim_seconds(0.4)  # 25 poses, 0.8 m, the last command still acting
+    turtle_system.executor.add_node(turtle_system.node)
+    assert turtle_system.spin_until(drawing.done)
     assert drawing.result().success, drawing.result().message
 
 
-def test_node_without_simulator_refuses_at_once(ros_context):
-    node = TrajectoryNode(context=ros_context)
-    client_node = Node('lonely_client', context=ros_context)
-    executor = SingleThreadedExecutor(context=ros_context)
+def test_node_without_simulator_refuses_at_once(rclpy_context):
+    node = TrajectoryNode(context=rclpy_context)
+    client_node = Node('lonely_client', context=rclpy_context)
+    executor = SingleThreadedExecutor(context=rclpy_context)
     executor.add_node(node)
     executor.add_node(client_node)
     try:

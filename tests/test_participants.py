@@ -5,9 +5,9 @@ import subprocess
 import sys
 import time
 
-from tests.ros_helpers import program, terminate
-from tests.web_helpers import free_port
 from turtle_traj.rosutils.runtime import live_participants
+from turtle_traj.testing.browser import free_port
+from turtle_traj.testing.processes import program, terminate
 
 
 def _most_participants_while_it_runs(process: subprocess.Popen, timeout_s: float, *,

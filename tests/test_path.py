@@ -50,8 +50,8 @@ def test_a_curve_knows_its_length_and_curvature():
 @pytest.mark.parametrize('seed', range(5))
 def test_nearest_on_polyline_agrees_with_the_brute_force_distance(seed):
     """Blocks pruned by their boxes never hide the nearest segment (independent check)."""
-    from tests.geometry_checks import distance_to_polyline
     from turtle_traj.core.geometry.path import NearestOnPolyline
+    from turtle_traj.testing.geometry import distance_to_polyline
 
     rng = np.random.default_rng(seed)
     # a long wandering polyline (many blocks), a short one (one block), a single point

@@ -14,12 +14,12 @@ from geometry_msgs.msg import Twist, TwistStamped
 from rclpy.parameter import Parameter
 from turtle_traj_interfaces.srv import DrawShape, Move
 
-from tests.geometry_checks import distance_to_polyline, regular_polygon
 from turtle_traj.apps.base_system import BaseSystem
 from turtle_traj.base.drive import DriveLimits
 from turtle_traj.base.node import BaseNode
 from turtle_traj.base.parameters import BaseConfigError
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+from turtle_traj.testing.geometry import distance_to_polyline, regular_polygon
 
 LIMITS = DriveLimits()  # TurtleBot3 Burger: 0.22 m/s, 2.84 rad/s; 2.5 m/s², 3.2 rad/s²
 PERIOD_S = 0.016
@@ -46,8 +46,8 @@ def _outside_limits(commands: list[TwistStamped]) -> list[str]:
 
 
 @pytest.fixture
-def base(ros_context, tmp_path):
-    system = BaseSystem(context=ros_context, output_dir=tmp_path)
+def base(rclpy_context, tmp_path):
+    system = BaseSystem(context=rclpy_context, output_dir=tmp_path)
     try:
         yield system
     finally:
@@ -99,11 +99,11 @@ def test_the_command_timeout_stops_the_wheels(base):
     assert 0.2 * 0.5 - ramp_m - 0.005 < stopped[1] < 0.2 * (0.5 + 0.016) + ramp_m + 0.005
 
 
-def test_a_command_delay_holds_each_command_that_long(ros_context, tmp_path):
+def test_a_command_delay_holds_each_command_that_long(rclpy_context, tmp_path):
     """`command_delay`: a latency for tests. A command takes effect that much later in
     simulated time (the base's speed then starts to follow it), and a run still ends where
     it should, its commands in flight counted from the odometry."""
-    system = BaseSystem(context=ros_context, output_dir=tmp_path,
+    system = BaseSystem(context=rclpy_context, output_dir=tmp_path,
                         base_parameters={'command_delay': 0.048})
     try:
         publisher = system.client.create_publisher(TwistStamped, 'cmd_vel', TURTLE_TOPIC_QOS)
@@ -124,8 +124,8 @@ def test_a_command_delay_holds_each_command_that_long(ros_context, tmp_path):
         system.close()
 
 
-def test_a_twist_only_base_is_driven_with_twist(ros_context, tmp_path):
-    system = BaseSystem(context=ros_context, output_dir=tmp_path,
+def test_a_twist_only_base_is_driven_with_twist(rclpy_context, tmp_path):
+    system = BaseSystem(context=rclpy_context, output_dir=tmp_path,
                         base_parameters={'cmd_vel_type': 'Twist'})
     try:
         assert system.node.get_parameter('cmd_vel_type').value == 'Twist'
@@ -137,10 +137,10 @@ def test_a_twist_only_base_is_driven_with_twist(ros_context, tmp_path):
         system.close()
 
 
-def test_lock_step_on_the_base_is_bit_identical(ros_context, tmp_path):
+def test_lock_step_on_the_base_is_bit_identical(rclpy_context, tmp_path):
     runs = []
     for _ in range(2):
-        system = BaseSystem(context=ros_context, output_dir=tmp_path)
+        system = BaseSystem(context=rclpy_context, output_dir=tmp_path)
         try:
             assert system.call(Move, 'move', Move.Request(distance=0.2)).success
             runs.append(list(system.truth))
@@ -158,9 +158,9 @@ def test_lock_step_on_the_base_is_bit_identical(ros_context, tmp_path):
     ({'cmd_vel_type': 'Foo'}, "cmd_vel_type must be one of TwistStamped, Twist, got 'Foo'"),
     ({'update_rate': 70.0}, 'a whole number of physics steps'),
 ])
-def test_bad_parameters_are_refused_with_what_is_wrong(ros_context, overrides, said):
+def test_bad_parameters_are_refused_with_what_is_wrong(rclpy_context, overrides, said):
     with pytest.raises(BaseConfigError) as refused:
-        BaseNode(context=ros_context, lockstep=True, parameter_overrides=[
+        BaseNode(context=rclpy_context, lockstep=True, parameter_overrides=[
             Parameter(name, value=value) for name, value in overrides.items()])
     assert said in str(refused.value)
     if len(overrides) == 2:  # every refusal is named at once
@@ -199,9 +199,9 @@ def test_the_base_without_mujoco_says_how_to_get_it(tmp_path):
 
 
 def test_the_live_view_shows_the_ground_truth_trail(base):
-    from tests.geometry_checks import ink_at
     from turtle_traj.apps.base_view import TRAIL, BaseScene
     from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
+    from turtle_traj.testing.geometry import ink_at
 
     scene = BaseScene(base.sim)
     frames = []

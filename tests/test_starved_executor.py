@@ -10,9 +10,9 @@ import math
 
 import pytest
 
-from tests.starved_executor import POSES, TIMER, drive
-from tests.test_supervisor import shape
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
+from turtle_traj.testing.pure_loop import shape
+from turtle_traj.testing.starved import POSES, TIMER, drive
 
 POLYGON = shape(sides=12, size=0.15)  # as tests/test_multithreaded.py draws it
 

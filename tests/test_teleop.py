@@ -9,12 +9,12 @@ import termios
 
 import pytest
 
-from tests.ros_helpers import Terminal, program
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+from turtle_traj.testing.processes import Terminal, program
 
 
 @pytest.fixture
-def turtle(ros_context, tmp_path):
+def turtle(rclpy_context, tmp_path):
     """Our simulator, and a node of this test recording turtle1's poses."""
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
@@ -22,8 +22,8 @@ def turtle(ros_context, tmp_path):
 
     from turtle_traj.rosutils.runtime import spin_until
     with program('turtle_traj.sim', cwd=tmp_path):
-        node = Node('teleop_observer', context=ros_context)
-        executor = SingleThreadedExecutor(context=ros_context)
+        node = Node('teleop_observer', context=rclpy_context)
+        executor = SingleThreadedExecutor(context=rclpy_context)
         executor.add_node(node)
         node.poses = []
         node.create_subscription(Pose, 'turtle1/pose', node.poses.append, TURTLE_TOPIC_QOS)

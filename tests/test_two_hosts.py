@@ -1,6 +1,7 @@
 """The README's two-machine recipe, for real: our simulator and a pose log on host a, the
 trajectory node and the command line on host b, two network namespaces on a veth pair with
-default discovery (tests/two_hosts.py); then packet loss, link cuts and a simulator restarted.
+default discovery (`turtle_traj.testing.two_hosts`); then packet loss, link cuts and a
+simulator restarted.
 
 Deviations are measured on host a, from every pose the turtle had, against the plan the node
 published, and must agree with the node's own figure. Needs root: without it these tests are
@@ -19,9 +20,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.conftest import DOMAIN_ID
-from tests.pose_log import PoseLog
-from tests.two_hosts import TwoHosts, reported_deviation_m, reported_elapsed_s, why_unavailable
+from turtle_traj.testing.pose_log import PoseLog
+from turtle_traj.testing.two_hosts import (
+    TwoHosts,
+    reported_deviation_m,
+    reported_elapsed_s,
+    why_unavailable,
+)
 
 _PROBLEM = why_unavailable()
 pytestmark = pytest.mark.skipif(_PROBLEM is not None and not os.environ.get('CI'),
@@ -87,8 +92,8 @@ class Hosts:
 
 
 @pytest.fixture(scope='module')
-def hosts(tmp_path_factory):
-    with TwoHosts(DOMAIN_ID) as made:
+def hosts(tmp_path_factory, ros_domain_id):
+    with TwoHosts(ros_domain_id) as made:
         started = Hosts(made, tmp_path_factory.mktemp('two_hosts') / 'poses.log')
         # Up: the node on host b has found the simulator on host a by discovery across the
         # link, on its own time. Until then a reset is refused, saying which service is

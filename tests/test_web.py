@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from tests.ros_helpers import program
-from tests.web_helpers import chromium, free_port, page_canvas, wait_for
 from turtle_traj.client.traj_client import TrajClient
 from turtle_traj.core.turtlesim_contract import PIXELS_PER_METER, WORLD_SIZE_M
+from turtle_traj.testing.browser import chromium, free_port, page_canvas, wait_for
+from turtle_traj.testing.processes import program
 
 SPRITE_RADIUS_PX = 33  # a 45 px turtle, turned any way
 
@@ -47,7 +47,7 @@ def page(live):
 
 
 @pytest.fixture
-def observer(ros_context):
+def observer(rclpy_context):
     """A node of this test that records turtle1's poses."""
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
@@ -55,8 +55,8 @@ def observer(ros_context):
 
     from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
-    node = Node('web_observer', context=ros_context)
-    executor = SingleThreadedExecutor(context=ros_context)
+    node = Node('web_observer', context=rclpy_context)
+    executor = SingleThreadedExecutor(context=rclpy_context)
     executor.add_node(node)
     node.poses = []
     node.create_subscription(Pose, 'turtle1/pose', node.poses.append, TURTLE_TOPIC_QOS)
@@ -338,7 +338,7 @@ def test_without_a_trajectory_node_the_page_says_why_and_the_keys_still_work(tmp
 
 
 @pytest.fixture
-def observer_alone(tmp_path, ros_context):
+def observer_alone(tmp_path, rclpy_context):
     """Our simulator alone with its live view, in a namespace of its own (apart from the
     system of the other tests); its observer."""
     port = free_port()
@@ -350,8 +350,8 @@ def observer_alone(tmp_path, ros_context):
     from turtle_traj.rosutils.runtime import spin_until
     with program('turtle_traj.sim', '--web', '--web-port', str(port), '--ros-args', '-r',
                  '__ns:=/alone', cwd=tmp_path):
-        node = Node('alone_observer', context=ros_context)
-        executor = SingleThreadedExecutor(context=ros_context)
+        node = Node('alone_observer', context=rclpy_context)
+        executor = SingleThreadedExecutor(context=rclpy_context)
         executor.add_node(node)
         node.poses = []
         node.create_subscription(Pose, '/alone/turtle1/pose', node.poses.append,

@@ -1,6 +1,6 @@
 """Two hosts on one machine: two network namespaces joined by a veth pair, for the README's
-two-machine recipe and its faults (packet loss with nftables, link cuts). Shared by
-tests/test_two_hosts.py and bench/network_bench.py. Needs root (CI runs as root).
+two-machine recipe and its faults (packet loss with nftables, link cuts), for testing nodes
+across hosts (our tests/test_two_hosts.py, bench/network_bench.py). Needs root.
 
 Everything it makes carries this process's id in its name, and it removes only what it made:
 the namespaces (their veth ends and nft tables go with them) on `close`, at exit, or when the
@@ -113,10 +113,10 @@ class TwoHosts:
     cli = Path(sys.executable).with_name('turtle-traj')
 
     def log_poses(self, host: str, out: Path) -> subprocess.Popen:
-        """Log the turtle's poses and the node's plans on `host` into `out` (tests/pose_log.py):
+        """Log the turtle's poses and the node's plans on `host` into `out` (`pose_log`):
         on the simulator's host, what the turtle really did, whatever the link lost."""
-        return self._spawn(host, sys.executable, str(Path(__file__).with_name('pose_log.py')),
-                           str(out), stderr=subprocess.DEVNULL)
+        return self._spawn(host, sys.executable, '-m', 'turtle_traj.testing.pose_log', str(out),
+                           stderr=subprocess.DEVNULL)
 
     def start(self, host: str, *args: str) -> subprocess.Popen:
         """Start `turtle-traj ARGS` on `host` and leave it running (a trajectory to cut); its

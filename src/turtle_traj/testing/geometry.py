@@ -1,4 +1,5 @@
-"""Independent geometry for checking recorded poses (deliberately not our planner's code)."""
+"""Independent geometry for checking recorded poses and drawings (deliberately not the planner's
+code): distances to a polyline, the strokes a path draws, the ink on a canvas."""
 
 import math
 

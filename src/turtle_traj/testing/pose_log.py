@@ -1,6 +1,6 @@
 """The turtle's poses as its own host sees them, for measuring a run independently of the node.
 
-    python tests/pose_log.py OUT    (until SIGTERM or SIGINT)
+    python -m turtle_traj.testing.pose_log OUT    (until SIGTERM or SIGINT)
 
 Run on the simulator's host (no lossy link between the turtle and this log), it writes one
 line per pose, `pose <monotonic s> <x> <y> <theta>`, and one per plan the trajectory node
@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from turtle_traj.testing.geometry import distance_to_polyline
 
 PLAN_TOPIC = '/turtle_traj/plan'
 
@@ -54,8 +56,6 @@ class PoseLog:
     def deviation_m(self, start_s: float, end_s: float) -> float:
         """A run's maximum deviation: its poses' distance from the plan published after it
         began (nan: no plan or no pose reached the log)."""
-        from tests.geometry_checks import distance_to_polyline
-
         plan, poses = self.plan_after(start_s), self.between(start_s, end_s)
         if plan is None or not len(poses):
             return math.nan

@@ -1,4 +1,4 @@
-"""Helpers for tests that run our programs as separate processes."""
+"""Our programs as separate processes, for tests: started, read as they run, always reaped."""
 
 from __future__ import annotations
 
