@@ -6,7 +6,7 @@ INSTALLED := $(VENV)/.turtle_traj-installed
 INTERFACES := $(VENV)/.turtle_traj-interfaces
 INTERFACE_FILES := $(shell find interfaces -type f -not -name '*.pyc')
 
-.PHONY: setup test demo bench lint clean
+.PHONY: setup test check demo bench lint clean
 
 setup: $(INTERFACES)
 
@@ -32,6 +32,11 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 # its own ROS_DOMAIN_ID in tests/conftest.py). PYTEST_ARGS adds options (`--durations=20`).
 test: setup
 	$(PY) -m pytest -q -rs -n 2 --dist loadfile $(PYTEST_ARGS)
+
+# Between edits: every test but the system tests (programs, namespaces, a browser, colcon),
+# one test at a time to each worker.
+check: setup
+	$(PY) -m pytest -q -n 2 --dist load -m 'not system' $(PYTEST_ARGS)
 
 demo: setup
 	$(PY) -m turtle_traj.apps.demo

@@ -225,6 +225,7 @@ def _cli(*args: str, **kwargs) -> subprocess.CompletedProcess:
                           text=True, timeout=120, **kwargs)
 
 
+@pytest.mark.system
 def test_the_command_line_refuses_unknown_topics_and_bad_bags(recorded, tmp_path):
     path, _ = recorded
     done = _cli('play', str(path), '--topics', '/turtle9/cmd_vel')
@@ -240,6 +241,7 @@ def test_the_command_line_refuses_unknown_topics_and_bad_bags(recorded, tmp_path
     assert not (tmp_path / 'new').exists()
 
 
+@pytest.mark.system
 def test_record_and_play_on_the_real_programs(tmp_path, rclpy_context):
     """`turtle-traj record` ended by SIGINT mid-run keeps every pose it received; `turtle-traj
     play` of its cmd_vel into a fresh simulator drives the turtle along the recorded path."""

@@ -13,6 +13,8 @@ import pytest
 from turtle_traj.cli import main as cli
 from turtle_traj.client.traj_client import TrajClient
 
+pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
+
 
 @pytest.mark.parametrize(('argv', 'trajectory', 'fields'), [
     (['draw', 'polygon', '--sides', '5', '--size', '1.5', '--clockwise'], 'polygon',

@@ -14,6 +14,8 @@ from turtle_traj.client.traj_client import TrajClient, TrajClientError
 from turtle_traj.core.registry import BY_NAME
 from turtle_traj.testing.processes import program
 
+pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
+
 
 def test_a_node_killed_mid_goal_is_noticed_within_seconds(tmp_path):
     # A namespace of its own: no other test's simulator or node answers for it.

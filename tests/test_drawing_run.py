@@ -176,6 +176,7 @@ def test_the_draw_action_writes_text_and_reports_the_pen_up_distance(turtle_syst
     assert outcome.pen_up_length > 0.4  # from one T to the other, past the space
 
 
+@pytest.mark.system
 def test_a_node_ended_mid_drawing_leaves_the_pen_down(rclpy_context, tmp_path):
     """The node program ends while the pen is up: the turtle, driven on, draws again."""
     import subprocess

@@ -136,6 +136,7 @@ def test_stop_in_each_kind_of_phase_leaves_the_turtle_still(
     assert not turtle_system.node.busy
 
 
+@pytest.mark.system
 def test_sigterm_mid_run_sends_a_final_stop_command(rclpy_context, tmp_path):
     """The node program is ended while it drives: the last cmd_vel it sends is all zero."""
     from geometry_msgs.msg import Twist

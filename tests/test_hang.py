@@ -19,6 +19,8 @@ HANGS = '''
 import ctypes
 import time
 
+pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
+
 
 def test_sleeps_in_python():
     time.sleep(600)

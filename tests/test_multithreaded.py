@@ -18,6 +18,8 @@ import pytest
 from turtle_traj.core.registry import BY_NAME
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 
+pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
+
 REQUESTS = 8  # within a service's request queue (rmw's default depth, 10)
 POLYGON = {'sides': 12, 'size': 0.15}
 # Planning is slowed to this (a drawing's plan takes longer), sleeping: the other handlers run

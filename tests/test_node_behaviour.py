@@ -186,6 +186,7 @@ def test_node_without_simulator_refuses_at_once(rclpy_context):
         client_node.destroy_node()
 
 
+@pytest.mark.system
 def test_sigterm_ends_simulator_and_node_together_cleanly(tmp_path):
     """Both programs in one process (--with-sim), then SIGTERM: exit 0, no traceback."""
     with program('turtle_traj', '--with-sim', '--time-scale', '5', cwd=tmp_path) as process:

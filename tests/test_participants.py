@@ -5,9 +5,13 @@ import subprocess
 import sys
 import time
 
+import pytest
+
 from turtle_traj.rosutils.runtime import live_participants
 from turtle_traj.testing.browser import free_port
 from turtle_traj.testing.processes import program, terminate
+
+pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
 
 
 def _most_participants_while_it_runs(process: subprocess.Popen, timeout_s: float, *,

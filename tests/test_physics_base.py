@@ -186,6 +186,7 @@ def test_a_non_finite_command_is_ignored(base):
     assert math.dist(base.truth[0][1:3], base.truth[-1][1:3]) < 1e-4
 
 
+@pytest.mark.system
 def test_the_base_without_mujoco_says_how_to_get_it(tmp_path):
     hidden = tmp_path / 'mujoco'
     hidden.mkdir()

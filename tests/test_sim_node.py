@@ -397,6 +397,7 @@ def _run_sim(*args, env_update=None, timeout=20):
     )
 
 
+@pytest.mark.system
 def test_gui_without_display_fails_with_a_clear_message():
     result = _run_sim('--gui')
     assert result.returncode == 2
@@ -404,6 +405,7 @@ def test_gui_without_display_fails_with_a_clear_message():
     assert 'Traceback' not in result.stderr
 
 
+@pytest.mark.system
 def test_sigterm_ends_the_program_cleanly_and_writes_the_snapshot(tmp_path):
     snapshot = tmp_path / 'last.png'
     with program('turtle_traj.sim', '--snapshot', str(snapshot)) as process:
@@ -413,6 +415,7 @@ def test_sigterm_ends_the_program_cleanly_and_writes_the_snapshot(tmp_path):
     assert Image.open(snapshot).size == (500, 500)
 
 
+@pytest.mark.system
 def test_the_simulator_program_serves_on_its_events_executor(rclpy_context, tmp_path):
     """`python -m turtle_traj.sim` spins rclpy's experimental EventsExecutor: all it relies on,
     through the real program."""

@@ -12,6 +12,8 @@ import pytest
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 from turtle_traj.testing.processes import Terminal, program
 
+pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
+
 
 @pytest.fixture
 def turtle(rclpy_context, tmp_path):

@@ -6,10 +6,14 @@
 import math
 import time
 
+import pytest
+
 from turtle_traj.cli import main as cli
 from turtle_traj.client.traj_client import TrajClient
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
 from turtle_traj.testing.processes import Terminal
+
+pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
 
 
 def test_menu_reasks_bad_answers_runs_and_leaves_on_ctrl_d(running_system, monkeypatch,

@@ -29,8 +29,9 @@ from turtle_traj.testing.two_hosts import (
 )
 
 _PROBLEM = why_unavailable()
-pytestmark = pytest.mark.skipif(_PROBLEM is not None and not os.environ.get('CI'),
-                                reason=f'two hosts: {_PROBLEM}')
+pytestmark = [pytest.mark.system,
+              pytest.mark.skipif(_PROBLEM is not None and not os.environ.get('CI'),
+                                 reason=f'two hosts: {_PROBLEM}')]
 POSE_TIMEOUT_S = 0.5  # the node's default
 COMMAND_TIMEOUT_S = 1.0  # turtlesim stops a turtle that has had no command for this long
 CALL_TIMEOUT_S = 60.0  # a call not answered by then has hung

@@ -22,6 +22,8 @@ from turtle_traj.core.turtlesim_contract import PIXELS_PER_METER, WORLD_SIZE_M
 from turtle_traj.testing.browser import chromium, free_port, page_canvas, wait_for
 from turtle_traj.testing.processes import program
 
+pytestmark = pytest.mark.system  # a browser and programs: `make check` leaves it out
+
 SPRITE_RADIUS_PX = 33  # a 45 px turtle, turned any way
 
 
