@@ -13,13 +13,12 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.system  # runs pytest in processes: `make check` leaves it out
 ROOT = Path(__file__).resolve().parents[1]
 TIME_LIMIT_S, GRACE_S = 2, 3
 HANGS = '''
 import ctypes
 import time
-
-pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
 
 
 def test_sleeps_in_python():
