@@ -1,4 +1,4 @@
-"""The control loop on an executor that starves it (pure; see tests/starved_executor.py).
+"""The control loop on an executor that starves it (pure; see turtle_traj.testing.starved).
 
 This is the MultiThreadedExecutor flake of tests/test_multithreaded.py, reproduced without ROS:
 at c1af86f the same runs aborted with 'no progress along the path for 3 s, 0.000 m from it' in
