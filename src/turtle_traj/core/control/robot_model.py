@@ -219,8 +219,9 @@ class RobotModel:
         the median of the last three: one wrong match (an echo alike by chance) moves nothing,
         and a latency that changed shows in the second command."""
         if self._latencies:
-            self._jitter.add(latency - self._latencies[-1])
-            self._jitter_tail.add(latency - self._latencies[-1])
+            later = latency - self._latencies[-1]
+            self._jitter.add(later)
+            self._jitter_tail.add(later)
         self._latencies.append(latency)
         if len(self._latencies) == self._latencies.maxlen:
             self._latency.add(sorted(self._latencies)[1])
