@@ -43,9 +43,8 @@ def deviation_m(kind: str, samples: np.ndarray, size: float) -> float:
 
 def lock_step(delay_s: float) -> list[tuple[str, float, float, float, bool]]:
     """(run, elapsed, odometry max, truth max, success) for each run, in simulated time."""
-    from turtle_traj_interfaces.srv import DrawShape
-
     import rclpy
+    from turtle_traj_interfaces.srv import DrawShape
 
     from turtle_traj.apps.base_system import BaseSystem
     context = rclpy.Context()
