@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.controllers.catalogue import ControllerFactory
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.robot_model import RobotModel
 from turtle_traj.core.control.supervisor import RunSupervisor
@@ -44,11 +45,14 @@ class ControlLoop:
         self.pose = None
         self.standing = True
 
-    def start(self, plan: Plan, *, arena: Arena, now_s: float) -> RunSupervisor:
-        """Begin driving `plan` from the last pose observed."""
+    def start(self, plan: Plan, *, arena: Arena, now_s: float,
+              controller: tuple[str, ControllerFactory] | None = None) -> RunSupervisor:
+        """Begin driving `plan` from the last pose observed (with `controller`, a name and a
+        class, instead of the exact follower)."""
         if self.pose is None:
             raise RuntimeError('no pose observed yet')
-        self.run = RunSupervisor(plan, start=self.pose, arena=arena, started_s=now_s)
+        self.run = RunSupervisor(plan, start=self.pose, arena=arena, started_s=now_s,
+                                 controller=controller)
         return self.run
 
     def take_run(self) -> RunSupervisor | None:

@@ -17,9 +17,11 @@ import numpy as np
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.controllers.catalogue import ControllerFactory
 from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.robot_model import Prediction
+from turtle_traj.core.control.strokes import ControllerFault, StrokeDriver
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
 from turtle_traj.core.geometry.shapes import Arena
@@ -60,12 +62,24 @@ class RunSupervisor:
     returns STOP only. Single-threaded by design: the node calls it from one executor thread.
     """
 
-    def __init__(self, plan: Plan, *, start: Pose2D, arena: Arena, started_s: float) -> None:
+    def __init__(self, plan: Plan, *, start: Pose2D, arena: Arena, started_s: float,
+                 controller: tuple[str, ControllerFactory] | None = None) -> None:
+        """:param controller: a controller's name and class (`controllers.catalogue`); None: the
+            exact follower."""
         self.plan = plan
-        self.follower = PathFollower(plan.path, end_tolerance=plan.end_tolerance,
-                                     manage_pen=plan.pen is not None, profiles=plan.profiles)
         self.started_s = started_s
         self.ending: tuple[bool, str] | None = None
+        self.follower: PathFollower | StrokeDriver = PathFollower(
+            plan.path, end_tolerance=plan.end_tolerance, manage_pen=plan.pen is not None,
+            profiles=plan.profiles)
+        if controller is not None:
+            name, factory = controller
+            try:
+                self.follower = StrokeDriver(plan.path, factory(), name,
+                                             manage_pen=plan.pen is not None)
+            except Exception as error:  # the controller's constructor
+                self.end(False, f"{self.name} aborted: controller '{name}' could not be made: "
+                                f'{type(error).__name__}: {error}')
         self._start_clearance = wall_clearance(arena, start)
         self._settled_periods = 0
         self._pose = start
@@ -163,7 +177,11 @@ class RunSupervisor:
         if why is not None:
             self.end(False, why)
             return STOP
-        return self.follower.update(pose, self._config[1], prediction)
+        try:
+            return self.follower.update(pose, self._config[1], prediction)
+        except ControllerFault as fault:
+            self.end(False, f'{self.name} aborted: {fault}')
+            return STOP
 
     def watch(self, pose: Pose2D, config: ControlConfig, arena: Arena, now_s: float) -> None:
         """A period with no command sent (commands wait at the robot): end the run if it must
@@ -179,7 +197,10 @@ class RunSupervisor:
             self._path_done_s = now_s
         self._settled_periods += 1
         if standing or self._settled_periods > SETTLE_PERIODS:
-            self.end(True, f'{self.name} done')
+            follower = self.follower
+            clamped = (f' ({follower.name}: {follower.clamped} of {follower.commands} commands '
+                       'clamped to the limits)' if isinstance(follower, StrokeDriver) else '')
+            self.end(True, f'{self.name} done{clamped}')
         return STOP
 
     def _hazard(self, pose: Pose2D, config: ControlConfig, arena: Arena,

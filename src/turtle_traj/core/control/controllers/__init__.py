@@ -1,0 +1,1 @@
+"""The controllers shipped beside the exact follower, each a `controller.Controller`."""

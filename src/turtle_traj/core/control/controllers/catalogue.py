@@ -1,0 +1,66 @@
+"""Controllers by name: the node's `controller` parameter.
+
+`exact` is the node's own follower (`follower.PathFollower`); `dwpp` and `pure_pursuit` are
+shipped beside it; entry points in the group `turtle_traj.controllers` add more by name; and
+`package.module:Class` names any importable class.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from importlib.metadata import entry_points
+
+from turtle_traj.core.control.controller import Controller, interface_problem
+from turtle_traj.core.control.controllers.dwpp import Dwpp
+from turtle_traj.core.control.controllers.pure_pursuit import PurePursuit
+
+EXACT = 'exact'
+SHIPPED: dict[str, type] = {'dwpp': Dwpp, 'pure_pursuit': PurePursuit}
+ENTRY_POINT_GROUP = 'turtle_traj.controllers'
+
+ControllerFactory = Callable[[], Controller]
+
+
+class UnknownController(ValueError):
+    """A controller name that names no controller, or a class that is not one."""
+
+
+def names() -> list[str]:
+    """Every controller offered by name: shipped, then installed entry points."""
+    installed = sorted(point.name for point in entry_points(group=ENTRY_POINT_GROUP))
+    return [EXACT, *SHIPPED, *(name for name in installed if name not in SHIPPED)]
+
+
+def resolve(name: str) -> ControllerFactory | None:
+    """The class a name stands for (None: the exact follower).
+
+    :raises UnknownController: with the reason.
+    """
+    if name == EXACT:
+        return None
+    if name in SHIPPED:
+        return SHIPPED[name]
+    points = [point for point in entry_points(group=ENTRY_POINT_GROUP) if point.name == name]
+    if points:
+        candidate = _loaded(name, points[0].load)
+    elif ':' in name:
+        module, _, attribute = name.partition(':')
+        candidate = _loaded(name, lambda: getattr(importlib.import_module(module), attribute))
+    else:
+        raise UnknownController(
+            f"controller {name!r} is unknown: choose one of {', '.join(names())}, or name a "
+            'class as package.module:Class')
+    problem = interface_problem(candidate)
+    if problem is not None:
+        raise UnknownController(f'controller {name!r}: {problem}')
+    _loaded(name, candidate)  # one made now: a class that cannot be made is refused now
+    return candidate
+
+
+def _loaded(name: str, load: Callable[[], object]) -> object:
+    try:
+        return load()
+    except Exception as error:  # an import error, a missing attribute, a failing constructor
+        raise UnknownController(f'controller {name!r} cannot be loaded: '
+                                f'{type(error).__name__}: {error}') from None

@@ -1,0 +1,125 @@
+"""Pure pursuit with four of the regulations of Nav2's Regulated Pure Pursuit (RPP).
+
+Pure pursuit steers on the arc through a look-ahead point on the path: curvature
+k = 2 y / d^2, where y is the point's offset to the left of the robot and d its distance.
+The regulations, as RPP names them (Macenski et al., "Regulated Pure Pursuit for Robot Path
+Tracking", 2023), written from that description:
+
+- adaptive look-ahead (`use_velocity_scaled_lookahead_dist`): the look-ahead distance is the
+  speed times `LOOKAHEAD_TIME_S`, clamped to `LOOKAHEAD_RANGE_M`;
+- regulated linear velocity on curvature (`use_regulated_linear_velocity_scaling`): below the
+  radius `REGULATED_MIN_RADIUS_M` the speed scales with the radius, down to `MIN_SPEED`;
+- approach velocity scaling (`approach_velocity_scaling_dist`): within `APPROACH_DIST_M` of the
+  goal the speed scales with the distance left, down to `MIN_APPROACH_SPEED`, and never above
+  the speed from which the base can still stop (its acceleration limit);
+- rotate to heading (`use_rotate_to_heading`): facing more than `ROTATE_MIN_ANGLE` away from
+  the look-ahead point, it turns in place first.
+
+The node clamps each command to the base's limits (`strokes.StrokeDriver`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.controller import Limits, State, Stroke
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import Pose2D
+
+LOOKAHEAD_TIME_S = 1.5  # RPP's defaults
+LOOKAHEAD_RANGE_M = (0.3, 0.9)
+REGULATED_MIN_RADIUS_M = 0.9
+MIN_SPEED = 0.25  # m/s (at most the top speed)
+APPROACH_DIST_M = 0.6
+MIN_APPROACH_SPEED = 0.05
+ROTATE_MIN_ANGLE = math.radians(45.0)
+GOAL_TOLERANCE_M = 0.01
+_SPACING_M = 0.01  # the path is followed point by point this far apart
+_SEARCH_POINTS = 300  # the nearest point is searched this far ahead of the last one
+
+
+class PurePursuit:
+    """Regulated pure pursuit along one stroke (see the module's docstring)."""
+
+    rotate_to_heading = True
+    approach_scaling = True
+
+    def start(self, stroke: Stroke, limits: Limits) -> None:
+        self.points = _densified(np.asarray(stroke.points, dtype=float))
+        self.arc = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(self.points, axis=0).T))))
+        self.limits = limits
+        self.nearest = 0
+
+    def command(self, state: State) -> Command | None:
+        pose, velocity = state.pose, state.velocity
+        remaining = self.arc[-1] - self.arc[self._nearest(pose)]
+        if self._arrived(pose, remaining):
+            return None if _standing(velocity) else self.stopping(velocity)
+        curvature, bearing = self._steering(pose, abs(velocity.linear))
+        speed = self._regulated_speed(curvature, remaining)
+        return self.choose(speed, curvature, bearing, velocity)
+
+    def choose(self, speed: float, curvature: float, bearing: float,
+               velocity: Command) -> Command:
+        """The command for a regulated speed on the arc of `curvature`."""
+        if self.rotate_to_heading and abs(bearing) > ROTATE_MIN_ANGLE:
+            return Command(0.0, math.copysign(self.limits.angular_speed, bearing))
+        return Command(speed, curvature * speed)
+
+    def stopping(self, velocity: Command) -> Command:
+        """The command that stops the robot at the goal (the node brakes it within the
+        limits)."""
+        return Command()
+
+    def _nearest(self, pose: Pose2D) -> int:
+        window = self.points[self.nearest:self.nearest + _SEARCH_POINTS]
+        self.nearest += int(np.argmin(np.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)))
+        return self.nearest
+
+    def _arrived(self, pose: Pose2D, remaining: float) -> bool:
+        end, before = self.points[-1], self.points[-2]
+        beyond = ((pose.x - end[0]) * (end[0] - before[0])
+                  + (pose.y - end[1]) * (end[1] - before[1])) > 0.0
+        return (math.dist((pose.x, pose.y), end) <= GOAL_TOLERANCE_M
+                or (remaining < 0.05 and beyond))
+
+    def _steering(self, pose: Pose2D, speed: float) -> tuple[float, float]:
+        """The arc's curvature to the look-ahead point, and the point's bearing."""
+        low, high = LOOKAHEAD_RANGE_M
+        distance = min(max(speed * LOOKAHEAD_TIME_S, low), high)
+        ahead = self.points[self.nearest:]
+        beyond = np.nonzero(np.hypot(ahead[:, 0] - pose.x, ahead[:, 1] - pose.y) >= distance)[0]
+        target = ahead[beyond[0]] if len(beyond) else self.points[-1]
+        dx, dy = target[0] - pose.x, target[1] - pose.y
+        left = -math.sin(pose.theta) * dx + math.cos(pose.theta) * dy
+        squared = max(dx * dx + dy * dy, 1e-12)
+        return 2.0 * left / squared, wrap_angle(math.atan2(dy, dx) - pose.theta)
+
+    def _regulated_speed(self, curvature: float, remaining: float) -> float:
+        limits = self.limits
+        speed = limits.linear_speed
+        floor = min(MIN_SPEED, limits.linear_speed)
+        radius = 1.0 / max(abs(curvature), 1e-9)
+        if radius < REGULATED_MIN_RADIUS_M:
+            speed = max(speed * radius / REGULATED_MIN_RADIUS_M, floor)
+        if self.approach_scaling and remaining < APPROACH_DIST_M:
+            speed = min(speed, max(speed * remaining / APPROACH_DIST_M, MIN_APPROACH_SPEED))
+        if limits.linear_accel:
+            speed = min(speed, math.sqrt(2.0 * limits.linear_accel * max(remaining, 0.0)))
+        return speed
+
+
+def _densified(points: np.ndarray) -> np.ndarray:
+    parts = []
+    for a, b in zip(points[:-1], points[1:], strict=True):
+        count = max(1, math.ceil(math.dist(a, b) / _SPACING_M))
+        parts.append(a + np.outer(np.arange(count) / count, b - a))
+    parts.append(points[-1:])
+    return np.concatenate(parts)
+
+
+def _standing(velocity: Command) -> bool:
+    return abs(velocity.linear) < 1e-9 and abs(velocity.angular) < 1e-9

@@ -1,0 +1,229 @@
+"""A path driven stroke by stroke by any `Controller`, with the robot kept safe from it.
+
+Pure Python. `StrokeDriver` has the surface of `PathFollower` (update, done, mark, progress,
+the pen), so the run supervisor drives either. It cuts the path into strokes: consecutive
+polylines with the same pen joined across the corners between them. The controller drives
+each stroke; turns in place before, between and after strokes are the node's own
+(`PathFollower`). A stroke driven backwards is shown to the controller as a forward one (the
+pose turned round, its speeds mirrored). Every command is clamped to the limits and counted;
+an exception, a non-finite command, a wrong type or an answer later than the control period
+raises `ControllerFault`, which ends the run.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.controller import Controller, Limits, State, Stroke
+from turtle_traj.core.control.dynamics import within_reach
+from turtle_traj.core.control.follower import PathFollower
+from turtle_traj.core.control.robot_model import Prediction
+from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
+
+_JOIN_M = 1e-6  # polylines whose ends meet this closely join into one stroke
+
+
+class ControllerFault(Exception):
+    """The controller did something the node will not drive: the message says what."""
+
+
+def _joins(before: Polyline, after: Polyline) -> bool:
+    return (before.pen == after.pen and before.reverse == after.reverse
+            and not before.repeat and not after.repeat
+            and math.dist(before.points[-1], after.points[0]) <= _JOIN_M)
+
+
+def strokes_of(path: Path) -> list[Polyline | Turn]:
+    """The path's steps: strokes (polylines joined across the corners between them) and the
+    turns in place that are not such corners."""
+    steps: list[Polyline | Turn] = []
+    legs = path.legs
+    for index, leg in enumerate(legs):
+        previous = steps[-1] if steps else None
+        if isinstance(leg, Turn):
+            after = legs[index + 1] if index + 1 < len(legs) else None
+            if not (isinstance(previous, Polyline) and isinstance(after, Polyline)
+                    and _joins(previous, after)):
+                steps.append(leg)
+        elif isinstance(previous, Polyline) and _joins(previous, leg):
+            steps[-1] = Polyline(np.vstack([previous.points, leg.points[1:]]),
+                                 reverse=leg.reverse, pen=leg.pen)
+        else:
+            steps.append(leg)
+    return steps
+
+
+def _waited_s() -> float:
+    """This thread's time waiting for a CPU so far (Linux's schedstat; 0 elsewhere): a
+    controller is not late because the machine is busy."""
+    try:
+        with open('/proc/thread-self/schedstat') as stats:
+            return int(stats.read().split()[1]) * 1e-9
+    except (OSError, IndexError, ValueError):
+        return 0.0
+
+
+class _Along:
+    """How far along a polyline a pose is (0 to 1), searched near the last match."""
+
+    def __init__(self, points: np.ndarray) -> None:
+        self.starts, self.ends = points[:-1], points[1:]
+        self.lengths = np.hypot(*(self.ends - self.starts).T)
+        self.cumulative = np.concatenate(([0.0], np.cumsum(self.lengths)))
+        self.segment = 0
+        self.last = 0.0  # the fraction last found
+
+    def fraction(self, pose: Pose2D) -> float:
+        first = max(self.segment - 3, 0)
+        last = min(self.segment + 30, len(self.lengths))
+        a, b = self.starts[first:last], self.ends[first:last]
+        d = b - a
+        squared = np.maximum((d * d).sum(axis=1), 1e-18)
+        t = np.clip(((pose.x - a[:, 0]) * d[:, 0] + (pose.y - a[:, 1]) * d[:, 1]) / squared,
+                    0.0, 1.0)
+        gaps = np.hypot(a[:, 0] + t * d[:, 0] - pose.x, a[:, 1] + t * d[:, 1] - pose.y)
+        best = int(np.argmin(gaps))
+        self.segment = first + best
+        arc = self.cumulative[self.segment] + t[best] * self.lengths[self.segment]
+        self.last = float(arc / max(self.cumulative[-1], 1e-12))
+        return self.last
+
+
+class StrokeDriver:
+    """Drives `path` with `controller`, a stroke at a time (see the module's docstring).
+
+    :param name: the controller's name, for the messages.
+    """
+
+    def __init__(self, path: Path, controller: Controller, name: str, *,
+                 manage_pen: bool = False) -> None:
+        self.path, self.controller, self.name = path, controller, name
+        self.manage_pen = manage_pen
+        self.pen_down: bool | None = None
+        self.pen_wanted: bool | None = None
+        self.steps = strokes_of(path)
+        self.step_index = 0
+        self.commands = 0  # commands the controller gave
+        self.clamped = 0  # of them, changed to stay within the limits
+        self._turn: PathFollower | None = None
+        self._along: _Along | None = None
+        self._lap = 0
+        self._periods = 0  # commands asked for in this stroke
+
+    @property
+    def done(self) -> bool:
+        return self.step_index >= len(self.steps)
+
+    @property
+    def mark(self) -> tuple[int, float]:
+        """Where the driver is: its step, and how much of it is driven (0 to 1)."""
+        if self._turn is not None:
+            return self.step_index, self._turn.mark[1]
+        return self.step_index, self._along.last if self._along else 0.0
+
+    def progress(self, config: ControlConfig) -> float:
+        """How much of the path is driven, 0 to 1, each step weighted by its time at top
+        speed."""
+        costs = [step.length / config.linear_speed if isinstance(step, Polyline)
+                 else abs(step.sweep_rad) / config.angular_speed for step in self.steps]
+        done = sum(costs[:self.step_index])
+        if not self.done:
+            done += self.mark[1] * costs[self.step_index]
+        return min(done / max(sum(costs), 1e-12), 1.0)
+
+    def update(self, pose: Pose2D, config: ControlConfig,
+               prediction: Prediction | None = None) -> Command:
+        """This period's command (STOP once done, or while the pen is not as it needs).
+
+        :raises ControllerFault: the controller raised, answered late or out of type.
+        """
+        if prediction is None:
+            prediction = Prediction.immediate(pose)
+        while not self.done:
+            step = self.steps[self.step_index]
+            if isinstance(step, Turn):
+                command = self._turn_in_place(step, pose, config, prediction)
+            else:
+                if self.manage_pen and step.pen != self.pen_down:
+                    self.pen_wanted = step.pen
+                    return STOP
+                self.pen_wanted = None
+                command = self._stroke(step, pose, config, prediction)
+            if command is not None:
+                return command
+            self.step_index += 1
+            self._turn, self._along, self._lap = None, None, 0
+        return STOP
+
+    def _turn_in_place(self, turn: Turn, pose: Pose2D, config: ControlConfig,
+                       prediction: Prediction) -> Command | None:
+        if self._turn is None:
+            self._turn = PathFollower(Path((turn,)))
+        command = self._turn.update(pose, config, prediction)
+        return None if self._turn.done else command
+
+    def _stroke(self, stroke: Polyline, pose: Pose2D, config: ControlConfig,
+                prediction: Prediction) -> Command | None:
+        flip = math.pi if stroke.reverse else 0.0
+        if self._along is None:
+            self._along, self._periods = _Along(stroke.points), 0
+            self._call('start', Stroke(stroke.points, self._lap), Limits(
+                config.linear_speed, config.angular_speed, config.max_linear_accel,
+                config.max_angular_accel, config.period_s))
+        self._along.fraction(pose)
+        velocity = prediction.velocity
+        state = State(Pose2D(prediction.pose.x, prediction.pose.y, prediction.pose.theta + flip),
+                      Command(-velocity.linear if flip else velocity.linear, velocity.angular),
+                      Pose2D(pose.x, pose.y, pose.theta + flip), self._periods * config.period_s)
+        self._periods += 1
+        answer = self._call('command', state, period_s=config.period_s)
+        if answer is None:
+            if not stroke.repeat:
+                return None
+            self._lap += 1  # an endless stroke: the next lap starts next period
+            self._along = None
+            return STOP
+        command = self._checked(answer)
+        if flip:
+            command = Command(-command.linear, command.angular)
+        return self._clamped(command, prediction.velocity, config)
+
+    def _call(self, method: str, *args, period_s: float | None = None):
+        started, waited = time.perf_counter(), _waited_s()
+        try:
+            answer = getattr(self.controller, method)(*args)
+        except Exception as error:  # the controller's fault, whatever it is
+            raise ControllerFault(f"controller '{self.name}' raised {type(error).__name__} in "
+                                  f'{method}(): {error}') from error
+        took = time.perf_counter() - started - (_waited_s() - waited)
+        if period_s is not None and took > period_s:
+            raise ControllerFault(f"controller '{self.name}' took {took:.3f} s to answer, "
+                                  f'longer than the control period ({period_s:.3f} s)')
+        return answer
+
+    def _checked(self, answer: object) -> Command:
+        try:
+            command = Command(float(answer.linear), float(answer.angular))
+        except (AttributeError, TypeError, ValueError):
+            raise ControllerFault(f"controller '{self.name}' returned {answer!r}, not a Command "
+                                  '(linear, angular) or None') from None
+        if not (math.isfinite(command.linear) and math.isfinite(command.angular)):
+            raise ControllerFault(f"controller '{self.name}' returned a non-finite command "
+                                  f'({command.linear} m/s, {command.angular} rad/s)')
+        return command
+
+    def _clamped(self, command: Command, previous: Command, config: ControlConfig) -> Command:
+        self.commands += 1
+        limited = within_reach(Command(
+            max(-config.linear_speed, min(config.linear_speed, command.linear)),
+            max(-config.angular_speed, min(config.angular_speed, command.angular))),
+            previous, config)
+        if (abs(limited.linear - command.linear) > 1e-9
+                or abs(limited.angular - command.angular) > 1e-9):
+            self.clamped += 1
+        return limited
