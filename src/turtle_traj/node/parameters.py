@@ -11,6 +11,7 @@ from rcl_interfaces.msg import (
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
+from turtle_traj.core.control.controllers.catalogue import UnknownController, resolve
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import (
     ARENA_PARAMETERS,
@@ -55,6 +56,11 @@ def validate(node: Node, parameters: list[Parameter],
         if spec is not None and spec.choices and value not in spec.choices:
             return SetParametersResult(successful=False, reason=(
                 f'{name} must be one of {", ".join(map(repr, spec.choices))}, got {value!r}'))
+    if 'controller' in incoming:
+        try:
+            resolve(incoming['controller'])
+        except UnknownController as error:
+            return SetParametersResult(successful=False, reason=str(error))
     if 'pen_color' in incoming:
         problem = pen_color_problem(incoming['pen_color'])
         if problem is not None:

@@ -20,6 +20,7 @@ from rclpy.task import Future
 from std_msgs.msg import Header
 
 from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.controllers.catalogue import choose
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.supervisor import RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
@@ -57,6 +58,8 @@ class RunManager:
         self.pose_topic = self._base.pose_topic
         # turtlesim's pose echoes the command in effect; odometry measures the velocity
         self._loop = ControlLoop(STEP_S, echoes=not self._base.odometry)
+        name = node.get_parameter('controller').value  # checked as it was declared
+        self._controller = choose(name)
         self._plan = node.create_publisher(
             PathMsg, '~/plan', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
         self._pen = PenClient(node, turtle, callback_group=callback_group)
@@ -237,7 +240,8 @@ class RunManager:
             raise self.refuse(f'{kind.name} refused: it lifts the pen between strokes, and the '
                               f'simulator service {self._pen.service_name} is not available')
         self._silence.was_busy()  # planning held the executor: the poses wait in its queue
-        run = self._loop.start(plan, arena=settings.arena, now_s=self.now_s())
+        run = self._loop.start(plan, arena=settings.arena, now_s=self.now_s(),
+                               controller=self._controller)
         self._run_done = done = Future()
         if self._recording is not None:
             self._recording.start(kind.name, settings.control)

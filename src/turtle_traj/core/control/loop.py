@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.controllers.catalogue import ControllerFactory
+from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.robot_model import RobotModel
 from turtle_traj.core.control.supervisor import RunSupervisor
@@ -46,7 +46,7 @@ class ControlLoop:
         self.standing = True
 
     def start(self, plan: Plan, *, arena: Arena, now_s: float,
-              controller: tuple[str, ControllerFactory] | None = None) -> RunSupervisor:
+              controller: Chosen | None = None) -> RunSupervisor:
         """Begin driving `plan` from the last pose observed (with `controller`, a name and a
         class, instead of the exact follower)."""
         if self.pose is None:

@@ -12,6 +12,7 @@ raises `ControllerFault`, which ends the run.
 
 from __future__ import annotations
 
+import gc
 import math
 import time
 
@@ -26,6 +27,9 @@ from turtle_traj.core.control.robot_model import Prediction
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 
 _JOIN_M = 1e-6  # polylines whose ends meet this closely join into one stroke
+# A corner sharper than this (a path that doubles back on itself) ends a stroke: no
+# look-ahead controller follows a reversal; the node turns there in place.
+MAX_CORNER_RAD = math.radians(160.0)
 
 
 class ControllerFault(Exception):
@@ -39,8 +43,8 @@ def _joins(before: Polyline, after: Polyline) -> bool:
 
 
 def strokes_of(path: Path) -> list[Polyline | Turn]:
-    """The path's steps: strokes (polylines joined across the corners between them) and the
-    turns in place that are not such corners."""
+    """The path's steps: strokes (polylines joined across the corners between them, up to
+    `MAX_CORNER_RAD`) and the turns in place that are not such corners."""
     steps: list[Polyline | Turn] = []
     legs = path.legs
     for index, leg in enumerate(legs):
@@ -48,7 +52,7 @@ def strokes_of(path: Path) -> list[Polyline | Turn]:
         if isinstance(leg, Turn):
             after = legs[index + 1] if index + 1 < len(legs) else None
             if not (isinstance(previous, Polyline) and isinstance(after, Polyline)
-                    and _joins(previous, after)):
+                    and _joins(previous, after) and abs(leg.sweep_rad) <= MAX_CORNER_RAD):
                 steps.append(leg)
         elif isinstance(previous, Polyline) and _joins(previous, leg):
             steps[-1] = Polyline(np.vstack([previous.points, leg.points[1:]]),
@@ -58,29 +62,49 @@ def strokes_of(path: Path) -> list[Polyline | Turn]:
     return steps
 
 
-def _waited_s() -> float:
-    """This thread's time waiting for a CPU so far (Linux's schedstat; 0 elsewhere): a
-    controller is not late because the machine is busy."""
+_collecting: list[float] = [0.0, 0.0]  # the collector's total time so far, and its last start
+
+
+def _on_collection(phase: str, _info: dict) -> None:
+    if phase == 'start':
+        _collecting[1] = time.perf_counter()
+    else:
+        _collecting[0] += time.perf_counter() - _collecting[1]
+
+
+gc.callbacks.append(_on_collection)
+
+
+def _not_the_controllers_s() -> float:
+    """Time so far that no controller is to blame for: this thread waiting for a CPU (Linux's
+    schedstat; nothing elsewhere) and Python collecting garbage. A controller is not late
+    because the machine is busy."""
     try:
         with open('/proc/thread-self/schedstat') as stats:
-            return int(stats.read().split()[1]) * 1e-9
+            waited = int(stats.read().split()[1]) * 1e-9
     except (OSError, IndexError, ValueError):
-        return 0.0
+        waited = 0.0
+    return waited + _collecting[0]
 
 
 class _Along:
-    """How far along a polyline a pose is (0 to 1), searched near the last match."""
+    """How far along a polyline a pose is (0 to 1): the closest point from a little behind
+    the last match up to a metre ahead of it."""
+
+    BEHIND_M, AHEAD_M = 0.05, 0.25
 
     def __init__(self, points: np.ndarray) -> None:
         self.starts, self.ends = points[:-1], points[1:]
         self.lengths = np.hypot(*(self.ends - self.starts).T)
         self.cumulative = np.concatenate(([0.0], np.cumsum(self.lengths)))
-        self.segment = 0
+        self.arc = 0.0
         self.last = 0.0  # the fraction last found
 
     def fraction(self, pose: Pose2D) -> float:
-        first = max(self.segment - 3, 0)
-        last = min(self.segment + 30, len(self.lengths))
+        cumulative = self.cumulative
+        first = max(int(np.searchsorted(cumulative, self.arc - self.BEHIND_M)) - 1, 0)
+        last = min(int(np.searchsorted(cumulative, self.arc + self.AHEAD_M)) + 1,
+                   len(self.lengths))
         a, b = self.starts[first:last], self.ends[first:last]
         d = b - a
         squared = np.maximum((d * d).sum(axis=1), 1e-18)
@@ -88,9 +112,8 @@ class _Along:
                     0.0, 1.0)
         gaps = np.hypot(a[:, 0] + t * d[:, 0] - pose.x, a[:, 1] + t * d[:, 1] - pose.y)
         best = int(np.argmin(gaps))
-        self.segment = first + best
-        arc = self.cumulative[self.segment] + t[best] * self.lengths[self.segment]
-        self.last = float(arc / max(self.cumulative[-1], 1e-12))
+        self.arc = cumulative[first + best] + t[best] * self.lengths[first + best]
+        self.last = float(self.arc / max(cumulative[-1], 1e-12))
         return self.last
 
 
@@ -101,8 +124,9 @@ class StrokeDriver:
     """
 
     def __init__(self, path: Path, controller: Controller, name: str, *,
-                 manage_pen: bool = False) -> None:
+                 manage_pen: bool = False, timed: bool = True) -> None:
         self.path, self.controller, self.name = path, controller, name
+        self.timed = timed  # an answer later than the period ends the run
         self.manage_pen = manage_pen
         self.pen_down: bool | None = None
         self.pen_wanted: bool | None = None
@@ -181,7 +205,8 @@ class StrokeDriver:
                       Command(-velocity.linear if flip else velocity.linear, velocity.angular),
                       Pose2D(pose.x, pose.y, pose.theta + flip), self._periods * config.period_s)
         self._periods += 1
-        answer = self._call('command', state, period_s=config.period_s)
+        answer = self._call('command', state,
+                            period_s=config.period_s if self.timed else None)
         if answer is None:
             if not stroke.repeat:
                 return None
@@ -194,13 +219,13 @@ class StrokeDriver:
         return self._clamped(command, prediction.velocity, config)
 
     def _call(self, method: str, *args, period_s: float | None = None):
-        started, waited = time.perf_counter(), _waited_s()
+        started, excused = time.perf_counter(), _not_the_controllers_s()
         try:
             answer = getattr(self.controller, method)(*args)
         except Exception as error:  # the controller's fault, whatever it is
             raise ControllerFault(f"controller '{self.name}' raised {type(error).__name__} in "
                                   f'{method}(): {error}') from error
-        took = time.perf_counter() - started - (_waited_s() - waited)
+        took = time.perf_counter() - started - (_not_the_controllers_s() - excused)
         if period_s is not None and took > period_s:
             raise ControllerFault(f"controller '{self.name}' took {took:.3f} s to answer, "
                                   f'longer than the control period ({period_s:.3f} s)')

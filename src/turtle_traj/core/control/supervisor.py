@@ -17,7 +17,7 @@ import numpy as np
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.controllers.catalogue import ControllerFactory
+from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.robot_model import Prediction
@@ -63,9 +63,9 @@ class RunSupervisor:
     """
 
     def __init__(self, plan: Plan, *, start: Pose2D, arena: Arena, started_s: float,
-                 controller: tuple[str, ControllerFactory] | None = None) -> None:
-        """:param controller: a controller's name and class (`controllers.catalogue`); None: the
-            exact follower."""
+                 controller: Chosen | None = None) -> None:
+        """:param controller: the controller chosen (`controllers.catalogue`); None: the exact
+            follower."""
         self.plan = plan
         self.started_s = started_s
         self.ending: tuple[bool, str] | None = None
@@ -73,13 +73,13 @@ class RunSupervisor:
             plan.path, end_tolerance=plan.end_tolerance, manage_pen=plan.pen is not None,
             profiles=plan.profiles)
         if controller is not None:
-            name, factory = controller
             try:
-                self.follower = StrokeDriver(plan.path, factory(), name,
-                                             manage_pen=plan.pen is not None)
+                self.follower = StrokeDriver(plan.path, controller.factory(), controller.name,
+                                             manage_pen=plan.pen is not None,
+                                             timed=controller.timed)
             except Exception as error:  # the controller's constructor
-                self.end(False, f"{self.name} aborted: controller '{name}' could not be made: "
-                                f'{type(error).__name__}: {error}')
+                self.end(False, f"{self.name} aborted: controller '{controller.name}' could not "
+                                f'be made: {type(error).__name__}: {error}')
         self._start_clearance = wall_clearance(arena, start)
         self._settled_periods = 0
         self._pose = start

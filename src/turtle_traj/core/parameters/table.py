@@ -45,6 +45,10 @@ PARAMETERS = (
          "or 'TwistStamped' (diff_drive_controller on Jazzy)", read_only=True,
          choices=('Twist', 'TwistStamped')),
     Spec('cmd_vel_frame_id', 'base_link', 'frame_id of TwistStamped commands', read_only=True),
+    Spec('controller', 'exact', "The path-following controller: 'exact' (turtle_traj's own "
+         "follower), 'dwpp' (Dynamic Window Pure Pursuit), 'pure_pursuit' (with Regulated Pure "
+         "Pursuit's regulations), an entry point of the group turtle_traj.controllers by name, "
+         'or package.module:Class', read_only=True),
     Spec('linear_speed', 1.0, 'Top forward speed, used when a request leaves it 0', 'm/s',
          0.01, 10.0),
     Spec('angular_speed', 2.0, 'Top turn rate, used when a request leaves it 0', 'rad/s',

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable
+from dataclasses import dataclass
 from importlib.metadata import entry_points
 
 from turtle_traj.core.control.controller import Controller, interface_problem
@@ -22,6 +23,18 @@ ENTRY_POINT_GROUP = 'turtle_traj.controllers'
 ControllerFactory = Callable[[], Controller]
 
 
+@dataclass(frozen=True)
+class Chosen:
+    """A controller chosen by name: a new one is made for every run."""
+
+    name: str
+    factory: ControllerFactory
+    # An answer later than the control period ends the run (in real time). False in pure
+    # loops, whose simulated time does not wait for the controller: their figures then
+    # never depend on how busy the machine is.
+    timed: bool = True
+
+
 class UnknownController(ValueError):
     """A controller name that names no controller, or a class that is not one."""
 
@@ -30,6 +43,15 @@ def names() -> list[str]:
     """Every controller offered by name: shipped, then installed entry points."""
     installed = sorted(point.name for point in entry_points(group=ENTRY_POINT_GROUP))
     return [EXACT, *SHIPPED, *(name for name in installed if name not in SHIPPED)]
+
+
+def choose(name: str, *, timed: bool = True) -> Chosen | None:
+    """The controller a name stands for (None: the exact follower).
+
+    :raises UnknownController: with the reason.
+    """
+    factory = resolve(name)
+    return None if factory is None else Chosen(name, factory, timed)
 
 
 def resolve(name: str) -> ControllerFactory | None:

@@ -38,7 +38,9 @@ MIN_APPROACH_SPEED = 0.05
 ROTATE_MIN_ANGLE = math.radians(45.0)
 GOAL_TOLERANCE_M = 0.01
 _SPACING_M = 0.01  # the path is followed point by point this far apart
-_SEARCH_POINTS = 300  # the nearest point is searched this far ahead of the last one
+_SEARCH_POINTS = 100  # the nearest point is searched up to 1 m ahead of the last one
+_NEAR_END_M = 0.05  # the goal counts only this close to the end along the path (a closed
+# path ends where it starts)
 
 
 class PurePursuit:
@@ -75,6 +77,9 @@ class PurePursuit:
         return Command()
 
     def _nearest(self, pose: Pose2D) -> int:
+        """The path's point nearest the robot, from the last one up to `_SEARCH_POINTS` ahead
+        (the search is short, so that a later part of the path passing close by is not
+        jumped to)."""
         window = self.points[self.nearest:self.nearest + _SEARCH_POINTS]
         self.nearest += int(np.argmin(np.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)))
         return self.nearest
@@ -83,8 +88,8 @@ class PurePursuit:
         end, before = self.points[-1], self.points[-2]
         beyond = ((pose.x - end[0]) * (end[0] - before[0])
                   + (pose.y - end[1]) * (end[1] - before[1])) > 0.0
-        return (math.dist((pose.x, pose.y), end) <= GOAL_TOLERANCE_M
-                or (remaining < 0.05 and beyond))
+        return remaining < _NEAR_END_M and (
+            math.dist((pose.x, pose.y), end) <= GOAL_TOLERANCE_M or beyond)
 
     def _steering(self, pose: Pose2D, speed: float) -> tuple[float, float]:
         """The arc's curvature to the look-ahead point, and the point's bearing."""
@@ -110,6 +115,13 @@ class PurePursuit:
         if limits.linear_accel:
             speed = min(speed, math.sqrt(2.0 * limits.linear_accel * max(remaining, 0.0)))
         return speed
+
+
+def first_minimum(distances: np.ndarray) -> int:
+    """The index of the first local minimum of `distances` (the last one if they fall all
+    the way)."""
+    rising = np.nonzero(np.diff(distances) > 0.0)[0]
+    return int(rising[0]) if len(rising) else len(distances) - 1
 
 
 def _densified(points: np.ndarray) -> np.ndarray:

@@ -1,0 +1,1 @@
+"""`turtle-traj score`: controllers ranked on the same courses (see `score.main`)."""
