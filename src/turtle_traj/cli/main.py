@@ -157,6 +157,17 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument('--rate', type=float, default=1.0, help='speed factor (default 1)')
     play.add_argument('--topics', nargs='+', default=[], metavar='TOPIC',
                       help='play these topics instead of the command topics')
+    score = commands.add_parser(
+        'score', help='rank path-following controllers on the standard courses (the demo, the '
+        "DWPP paper's step curves and sine, the MuJoCo base), in-process and lock-step")
+    score.add_argument('--controller', action='append', default=[], metavar='NAME',
+                       help='a controller to score (repeatable): exact, dwpp, pure_pursuit, an '
+                            'installed entry point, or package.module:Class (default: the '
+                            'three shipped)')
+    score.add_argument('--course', action='append', default=[], metavar='NAME',
+                       help='only this course (repeatable; default: all)')
+    score.add_argument('--output', type=Path, metavar='DIR',
+                       help='write score.csv, a plot per course and summary.png here')
     plot = commands.add_parser('plot', help="PNG plots of a recorded run: path over plan, "
                                'deviation, v and omega against their limits, progress')
     plot.add_argument('bag', type=Path, nargs='?', metavar='BAG',
@@ -207,6 +218,9 @@ def _main(args: Sequence[str] | None) -> int:
     if options.command == 'up':
         from turtle_traj.apps.node import Options, run  # loads the simulator: only here
         return run(Options(sim=options_from(options), base=options.base))
+    if options.command == 'score':
+        from turtle_traj.apps.score.main import run as run_score
+        return run_score(options.controller, options.output, options.course)
     if options.command == 'teleop':
         from turtle_traj.cli import teleop
         return teleop.main([])

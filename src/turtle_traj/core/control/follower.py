@@ -206,7 +206,8 @@ class _PolylineTracker:
             speed *= math.cos(heading_error)
         # turtlesim turns first and then moves along the new heading, so on an arc the motion
         # leads the heading by the turn of one period: aim half a chord behind the tangent.
-        lead = abs(speed) * curvature * config.period_s / 2.0
+        lead = (abs(speed) * curvature * config.period_s / 2.0 if prediction.turns_first
+                else 0.0)
         target = path_heading - lead - math.atan(config.cross_track_gain * offset)
         steering = _steering(wrap_angle(target - facing), config)
         angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)

@@ -76,6 +76,9 @@ class Prediction:
     # m, rad the robot may move beyond `pose`: the last command sent, acting `late_steps` longer
     overrun: tuple[float, float] = (0.0, 0.0)
     still: bool = True  # it stands, and every command on its way is a stop
+    # turtlesim's step turns first and then moves along the new heading; a base reporting
+    # odometry drives arcs
+    turns_first: bool = True
 
     @classmethod
     def immediate(cls, pose: Pose2D, velocity: Command = STOP) -> Prediction:
@@ -265,7 +268,8 @@ class RobotModel:
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
         still = self._standing and all(sent.command == STOP for sent in pending)
-        return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, overrun, still)
+        return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, overrun, still,
+                          turns_first=self.echoes)
 
     def _pending(self) -> list[_Sent]:
         """The commands in flight, oldest first."""

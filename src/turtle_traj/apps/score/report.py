@@ -1,0 +1,145 @@
+"""The score's tables, its ranking, and its files (CSV, one plot per course, a summary)."""
+
+from __future__ import annotations
+
+import csv
+import math
+import statistics
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from turtle_traj.apps.score.runner import Result
+
+COLUMNS = ('course', 'robot', 'controller', 'success', 'time_s', 'bound_s', 'time_ratio',
+           'rmse_mm', 'max_mm', 'end_mm', 'clamped_pct', 'message')
+
+
+@dataclass(frozen=True)
+class Standing:
+    """One controller's summary over every course."""
+
+    controller: str
+    succeeded: int
+    courses: int
+    mean_rank: float  # over courses, of its rank on time and on maximum error (1 = best)
+    median_ratio: float  # time against the bound, over the courses it finished
+    median_max_mm: float
+
+
+def _ranks(results: Sequence[Result], key) -> dict[str, int]:
+    """Rank (1 = best) of each controller on one course: finished runs by `key`, then the rest."""
+    order = sorted(results, key=lambda r: (not r.success, key(r) if r.success else 0.0))
+    return {result.controller: place for place, result in enumerate(order, 1)}
+
+
+def ranking(results: Sequence[Result]) -> list[Standing]:
+    """Controllers ordered by courses finished, then by mean rank on time and maximum error."""
+    by_course: dict[str, list[Result]] = {}
+    for result in results:
+        by_course.setdefault(result.course, []).append(result)
+    ranks: dict[str, list[int]] = {}
+    for course in by_course.values():
+        for key in (lambda r: r.ratio, lambda r: r.max_mm):
+            for controller, place in _ranks(course, key).items():
+                ranks.setdefault(controller, []).append(place)
+    standings = []
+    for controller, places in ranks.items():
+        own = [r for r in results if r.controller == controller]
+        done = [r for r in own if r.success]
+        standings.append(Standing(
+            controller, len(done), len(own), statistics.fmean(places),
+            statistics.median(r.ratio for r in done) if done else math.nan,
+            statistics.median(r.max_mm for r in done) if done else math.nan))
+    return sorted(standings, key=lambda s: (-s.succeeded, s.mean_rank))
+
+
+def format_table(results: Sequence[Result]) -> str:
+    """A row per course and controller."""
+    lines = [f"{'course':18} {'controller':14} {'ok':>3} {'time s':>7} {'x bound':>7} "
+             f"{'rmse mm':>8} {'max mm':>8} {'end mm':>7} {'clamped':>7}"]
+    course = None
+    for r in results:
+        if r.course != course and course is not None:
+            lines.append('')
+        course = r.course
+        lines.append(f"{r.course:18} {r.controller:14} {'yes' if r.success else 'NO':>3} "
+                     f'{r.time_s:7.2f} {r.ratio:7.2f} {r.rmse_mm:8.2f} {r.max_mm:8.2f} '
+                     f'{r.end_mm:7.1f} {r.clamped_pct:6.1f}%')
+    failed = [r for r in results if not r.success]
+    if failed:
+        lines += ['', 'Runs that did not finish:']
+        lines += [f'  {r.course} / {r.controller}: {r.message}' for r in failed]
+    return '\n'.join(lines)
+
+
+def format_ranking(standings: Sequence[Standing]) -> str:
+    lines = [f"{'rank':>4} {'controller':14} {'finished':>9} {'mean rank':>9} "
+             f"{'median x bound':>14} {'median max mm':>13}"]
+    for place, s in enumerate(standings, 1):
+        lines.append(f'{place:4d} {s.controller:14} {s.succeeded:4d} of {s.courses:<2d} '
+                     f'{s.mean_rank:9.2f} {s.median_ratio:14.2f} {s.median_max_mm:13.2f}')
+    return '\n'.join(lines)
+
+
+def write_csv(results: Sequence[Result], path: Path) -> None:
+    with path.open('w', newline='') as stream:
+        writer = csv.writer(stream)
+        writer.writerow(COLUMNS)
+        for r in results:
+            writer.writerow([r.course, r.robot, r.controller, r.success, f'{r.time_s:.3f}',
+                             f'{r.bound_s:.3f}', f'{r.ratio:.4f}', f'{r.rmse_mm:.3f}',
+                             f'{r.max_mm:.3f}', f'{r.end_mm:.3f}', f'{r.clamped_pct:.2f}',
+                             r.message])
+
+
+def _file_name(course: str) -> str:
+    return ''.join(c if c.isalnum() else '_' for c in course).strip('_') + '.png'
+
+
+def write_plots(results: Sequence[Result], folder: Path) -> list[Path]:
+    """One PNG per course (every controller's path over the plan), and summary.png."""
+    import matplotlib
+    matplotlib.use('Agg')
+    from matplotlib import pyplot as plt
+    written = []
+    courses = list(dict.fromkeys(r.course for r in results))
+    controllers = list(dict.fromkeys(r.controller for r in results))
+    for course in courses:
+        figure, axes = plt.subplots(figsize=(6, 6))
+        runs = [r for r in results if r.course == course]
+        axes.plot(*runs[0].plan.T, color='0.75', linewidth=4, label='plan')
+        for r in runs:
+            axes.plot(*r.path.T, linewidth=1.2, label=f"{r.controller} ({r.max_mm:.0f} mm max"
+                      f"{'' if r.success else ', did not finish'})")
+        axes.set_aspect('equal')
+        axes.set_title(course)
+        axes.set_xlabel('x [m]')
+        axes.set_ylabel('y [m]')
+        axes.legend(fontsize=8)
+        target = folder / _file_name(course)
+        figure.savefig(target, dpi=90, bbox_inches='tight')
+        plt.close(figure)
+        written.append(target)
+    figure, (times, errors) = plt.subplots(2, 1, figsize=(max(8, len(courses) * 0.6), 7),
+                                           sharex=True)
+    width = 0.8 / len(controllers)
+    for index, controller in enumerate(controllers):
+        own = {r.course: r for r in results if r.controller == controller}
+        xs = [i + (index - (len(controllers) - 1) / 2) * width for i in range(len(courses))]
+        times.bar(xs, [own[c].ratio if own[c].success else 0.0 for c in courses], width,
+                  label=controller)
+        errors.bar(xs, [max(own[c].max_mm, 1e-2) if own[c].success else 0.0 for c in courses],
+                   width, label=controller)
+    times.set_ylabel('time / bound')
+    times.axhline(1.0, color='0.5', linewidth=0.8)
+    errors.set_ylabel('max error [mm]')
+    errors.set_yscale('log')
+    errors.set_xticks(range(len(courses)), courses, rotation=60, ha='right')
+    times.legend()
+    times.set_title('Controllers on the standard courses (no bar: did not finish)')
+    target = folder / 'summary.png'
+    figure.savefig(target, dpi=90, bbox_inches='tight')
+    plt.close(figure)
+    written.append(target)
+    return written
