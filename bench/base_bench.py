@@ -4,8 +4,8 @@
 
 Part 1, the pure loop (no ROS, simulated time): the DWPP paper's base (0.5 m/s, 1 rad/s,
 0.5 m/s², 1 rad/s², 16 ms steps) on step curves of three 3 m legs whose middle leg turns by
-30 to 150 degrees, and one period of a sine of amplitude 1 m over 6 m. Contestants: the DWPP
-reference (`dwpp.py`), turtle_traj exact (corner_tolerance 0) and turtle_traj rounded at a
+30 to 150 degrees, and one period of a sine of amplitude 1 m over 6 m. Contestants: DWPP (the
+shipped controller, `controller:=dwpp`), turtle_traj exact (corner_tolerance 0) and rounded at a
 tolerance equal to DWPP's maximum error on that path. Errors are distances from the path as
 drawn, measured here at every pose; "outside" counts commands the base cannot take within one
 step of the one before; "bound" is the time-optimal stop-and-turn time (for the sine, the
@@ -28,13 +28,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from base_loop import DWPP_LIMITS, Limits, base_settings, drive, drive_turtle_traj, world_for
+from base_loop import DWPP_LIMITS, Limits, base_settings, drive_turtle_traj
 from base_realtime import Courses, through_ros_in_real_time
-from dwpp import Dwpp
 from isolation import isolate
 from turtle_traj.core.control.profile import FULL_LIMITS, SpeedProfile
 from turtle_traj.core.geometry.path import Polyline, Pose2D
-from turtle_traj.sim.physics import Inertia
 
 STEP_ANGLES_DEG = (30, 45, 60, 90, 120, 135, 150)
 LEG_M = 3.0
@@ -76,10 +74,8 @@ def curve_bound(points: np.ndarray, limits: Limits) -> float:
 
 
 def run_dwpp(points: np.ndarray, start: Pose2D, limits: Limits) -> dict:
-    follower = Dwpp(points, limits)
-    run = drive(lambda pose, v, omega, now: follower(pose),
-                world_for(start, Inertia(limits.a, limits.alpha)))
-    return run.figures(points, limits, tuple(points[-1]))
+    return drive_turtle_traj(points, start, limits, controller='dwpp').figures(
+        points, limits, tuple(points[-1]))
 
 
 REAL_TIME_COURSES = ('step45', 'step90', 'step135', 'sine')
@@ -122,7 +118,7 @@ def pure_loop(limits: Limits, courses: Courses) -> bool:
                         ("time <= DWPP's", rounded['time_s'] <= dwpp['time_s']),
                         ('0% outside', rounded['outside_pct'] == 0.0)],
         }
-        for label, key, figures in (('DWPP (reference)', 'dwpp', dwpp),
+        for label, key, figures in (('DWPP (shipped)', 'dwpp', dwpp),
                                     ('turtle_traj exact', 'exact', exact),
                                     (f'turtle_traj {tolerance * 1000:.0f} mm', 'rounded',
                                      rounded)):

@@ -9,20 +9,20 @@ DWPP reference. Every figure is measured here, from the poses, against the path 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from types import SimpleNamespace
 
 import numpy as np
 
+from turtle_traj.apps.score.loop import drive
 from turtle_traj.core.control.commands import Command
-from turtle_traj.core.control.loop import ControlLoop
+from turtle_traj.core.control.controllers.catalogue import choose
 from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
 from turtle_traj.core.parameters.settings import Settings, settings_from_values
 from turtle_traj.core.parameters.table import DEFAULTS
 from turtle_traj.core.planning import planner
 from turtle_traj.core.turtlesim_contract import STEP_S
-from turtle_traj.sim.physics import Inertia, World
+from turtle_traj.sim.physics import Inertia
 
 
 @dataclass(frozen=True)
@@ -91,52 +91,16 @@ def follow_request(points: np.ndarray, **fields) -> SimpleNamespace:
                               **fields})
 
 
-def world_for(start: Pose2D, inertia: Inertia) -> World:
-    world = World(inertia=inertia)
-    world.spawn(start.x, start.y, start.theta, 'robot')
-    return world
-
-
-def drive(controller: Callable[[Pose2D, float, float, float], Command | None],
-          world: World, max_s: float = 120.0) -> Run:
-    """Step the world under `controller(pose, v, omega, now)` until it returns None."""
-    run, robot = Run(), world.turtle('robot')
-    for step in range(int(max_s / STEP_S)):
-        pose = Pose2D(robot.x, robot.y, robot.theta)
-        run.poses.append(pose)
-        command = controller(pose, robot.vx, robot.omega, step * STEP_S)
-        if command is None:
-            run.ended, run.steps = True, step
-            return run
-        run.commands.append(command)
-        world.command('robot', command.linear, 0.0, command.angular)
-        world.step()
-    run.steps = int(max_s / STEP_S)
-    run.message = f'still running after {max_s:g} s'
-    return run
-
-
 def drive_turtle_traj(points: np.ndarray, start: Pose2D, limits: Limits, *,
                       inertia: Inertia | None = None, corner_tolerance: float = 0.0,
-                      max_s: float = 120.0, **values) -> Run:
-    """turtle_traj's follow_path through `points`, on the loop the node runs."""
+                      max_s: float = 120.0, controller: str = 'exact', **values) -> Run:
+    """follow_path through `points`, on the loop the node runs, with one of its controllers
+    (`exact`, `dwpp`, ...: the node's `controller` parameter)."""
     settings = base_settings(limits, **values)
     plan = planner.plan('follow_path', follow_request(points, corner_tolerance=corner_tolerance),
                         start, settings)
-    loop = ControlLoop(STEP_S)
-    loop.observe(start, 0.0, 0.0)
-    supervisor = loop.start(plan, arena=settings.arena, now_s=0.0)
-    world = world_for(start, inertia or Inertia(limits.a, limits.alpha))
-
-    def controller(pose: Pose2D, v: float, omega: float, now: float) -> Command | None:
-        # the echo as turtlesim's Pose carries it: |v| and omega, in float32
-        loop.observe(pose, float(np.float32(abs(v))), float(np.float32(omega)))
-        command = loop.command(settings.control, settings.arena, now)
-        if supervisor.ending is not None:
-            return None
-        loop.sent(command, now)
-        return command
-    run = drive(controller, world, max_s)
-    if supervisor.ending is not None:
-        run.success, run.message = supervisor.ending
-    return run
+    record = drive(plan, start, settings, inertia=inertia or Inertia(limits.a, limits.alpha),
+                   controller=choose(controller, timed=False), max_s=max_s)
+    success, message = record.run.ending
+    return Run(poses=record.poses, commands=record.commands, ended=True, success=success,
+               message=message, steps=record.steps)

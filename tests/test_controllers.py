@@ -1,0 +1,262 @@
+"""The controller interface, the shipped controllers and the node's safety net, in the pure loop
+(the node's control loop on the simulator's physics, no ROS)."""
+
+import math
+import time
+
+import numpy as np
+import pytest
+
+from turtle_traj.api.ros_interface import make_request
+from turtle_traj.apps.score.courses import PAPER_INERTIA, follow_request, step_curve
+from turtle_traj.apps.score.loop import drive
+from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.controller import Limits, State, Stroke, interface_problem
+from turtle_traj.core.control.controllers.catalogue import (
+    Chosen,
+    UnknownController,
+    choose,
+    names,
+    resolve,
+)
+from turtle_traj.core.control.controllers.dwpp import Dwpp
+from turtle_traj.core.control.controllers.pure_pursuit import ROTATE_MIN_ANGLE, PurePursuit
+from turtle_traj.core.control.strokes import strokes_of
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
+from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS, settings_from_values
+from turtle_traj.core.parameters.table import DEFAULTS
+from turtle_traj.core.planning import planner
+from turtle_traj.core.registry import BY_NAME
+from turtle_traj.core.turtlesim_contract import STEP_S
+from turtle_traj.testing.geometry import distance_to_polyline, regular_polygon
+from turtle_traj.testing.pure_loop import shape
+
+PAPER = settings_from_values({**DEFAULTS, 'linear_speed': 0.5, 'angular_speed': 1.0,
+                              'max_linear_accel': 0.5, 'max_angular_accel': 1.0,
+                              'arena': 'none'})
+
+
+def _outside_the_limits(commands: list[Command], config) -> list[Command]:
+    """Commands a base with these limits cannot take from the one before (checked here)."""
+    outside, previous = [], Command()
+    for command in commands:
+        if (abs(command.linear) > config.linear_speed + 1e-9
+                or abs(command.angular) > config.angular_speed + 1e-9
+                or (config.max_linear_accel and abs(command.linear - previous.linear)
+                    > config.max_linear_accel * config.period_s * (1 + 1e-6))
+                or (config.max_angular_accel and abs(command.angular - previous.angular)
+                    > config.max_angular_accel * config.period_s * (1 + 1e-6))):
+            outside.append(command)
+        previous = command
+    return outside
+
+
+def _step_course(degrees: float):
+    points = step_curve(degrees)
+    start = Pose2D(float(points[0, 0]), float(points[0, 1]), 0.0)
+    return points, start, planner.plan('follow_path', follow_request(points), start, PAPER)
+
+
+# --- strokes -----------------------------------------------------------------------------------
+
+def test_a_square_is_one_stroke_its_corners_the_controllers():
+    plan = planner.plan('polygon', shape(sides=4, size=2.0), Pose2D(4.0, 4.0, 0.0),
+                        DEFAULT_SETTINGS)
+    assert sum(isinstance(leg, Turn) for leg in plan.path.legs) == 3  # exact: turned in place
+    steps = strokes_of(plan.path)
+    assert len(steps) == 1 and isinstance(steps[0], Polyline)
+    corners = regular_polygon(4.0, 4.0, 0.0, 4, 2.0, False)
+    assert np.allclose(steps[0].points, corners)
+
+
+def test_text_is_cut_where_the_pen_lifts_and_joined_at_its_corners():
+    plan = planner.plan('text', make_request(BY_NAME['text'], {'text': 'NH', 'height': 1.0}),
+                        Pose2D(2.0, 5.0, 0.0), DEFAULT_SETTINGS)
+    strokes = [step for step in strokes_of(plan.path) if isinstance(step, Polyline)]
+    pens = [stroke.pen for stroke in strokes]
+    assert all(a != b for a, b in zip(pens, pens[1:], strict=False))  # up and down in turn
+    inked = {tuple(point) for s in strokes if s.pen for point in s.points.round(9)}
+    drawn = [leg for leg in plan.path.legs if isinstance(leg, Polyline) and leg.pen]
+    assert all(tuple(point) in inked for leg in drawn for point in leg.points.round(9))
+    assert len(strokes) < len([leg for leg in plan.path.legs if isinstance(leg, Polyline)])
+
+
+def test_a_path_that_doubles_back_is_two_strokes():
+    points = np.array([(2.0, 2.0), (6.0, 2.0), (3.0, 2.0)])  # out and back along one line
+    plan = planner.plan('follow_path', follow_request(points), Pose2D(2.0, 2.0, 0.0),
+                        DEFAULT_SETTINGS)
+    kinds = [type(step).__name__ for step in strokes_of(plan.path)]
+    assert kinds == ['Polyline', 'Turn', 'Polyline']
+
+
+# --- the shipped controllers -------------------------------------------------------------------
+
+@pytest.mark.parametrize('degrees', [45, 90, 135])
+def test_dwpp_keeps_every_command_in_the_window_and_beats_stop_and_turn(degrees):
+    points, start, plan = _step_course(degrees)
+    exact = drive(plan, start, PAPER, inertia=PAPER_INERTIA)
+    dwpp = drive(plan, start, PAPER, inertia=PAPER_INERTIA, controller=choose('dwpp'))
+    assert dwpp.run.ending[0], dwpp.run.ending
+    assert _outside_the_limits(dwpp.commands, PAPER.control) == []
+    assert dwpp.run.follower.clamped <= 1  # DWPP chooses within the window itself
+    assert dwpp.elapsed_s < exact.elapsed_s  # no stop at the corners
+    error = distance_to_polyline(dwpp.xy(), points)
+    # it cuts the corners (that is what rounding them costs), by less than its look-ahead
+    assert 0.02 < error.max() < 0.9 * math.sin(math.radians(degrees) / 2)
+    assert math.dist((dwpp.poses[-1].x, dwpp.poses[-1].y), points[-1]) < 0.015
+
+
+def test_pure_pursuit_turns_in_place_first_when_facing_away():
+    points = np.array([(3.0, 3.0), (7.0, 3.0)])
+    start = Pose2D(3.0, 3.0, math.pi)  # facing away from the path
+    plan = planner.plan('follow_path', follow_request(points), start, DEFAULT_SETTINGS)
+    # the node turns in place before a stroke: drive the stroke alone, as its controller sees it
+    controller = PurePursuit()
+    config = DEFAULT_SETTINGS.control
+    controller.start(Stroke(points), Limits(config.linear_speed, config.angular_speed, 0.0, 0.0,
+                                            config.period_s))
+    command = controller.command(State(start, Command(), start, 0.0))
+    assert command.linear == 0.0 and abs(command.angular) == config.angular_speed
+    ahead = Pose2D(3.0, 3.0, ROTATE_MIN_ANGLE / 2)
+    assert controller.command(State(ahead, Command(), ahead, 0.0)).linear > 0.0
+    run = drive(plan, start, DEFAULT_SETTINGS, controller=choose('pure_pursuit'))
+    assert run.run.ending[0] and math.dist((run.poses[-1].x, run.poses[-1].y), (7.0, 3.0)) < 0.015
+
+
+def test_a_stroke_driven_backwards_is_shown_to_the_controller_as_a_forward_one():
+    start = Pose2D(6.0, 5.0, 0.0)
+    plan = planner.plan('move', make_request(BY_NAME['move'], {'distance': -2.0}), start,
+                        DEFAULT_SETTINGS)
+    run = drive(plan, start, DEFAULT_SETTINGS, controller=choose('dwpp'))
+    assert run.run.ending[0], run.run.ending
+    assert all(command.linear <= 0.0 for command in run.commands)
+    assert abs(run.poses[-1].x - 4.0) < 0.015 and abs(run.poses[-1].y - 5.0) < 0.005
+    assert all(abs(wrap_angle(pose.theta)) < 0.01 for pose in run.poses)  # never turned round
+
+
+def test_an_endless_circle_goes_round_lap_after_lap():
+    start = Pose2D(5.5, 3.0, 0.0)
+    plan = planner.plan('circle', shape(size=1.0, forever=True), start, DEFAULT_SETTINGS)
+    run = drive(plan, start, DEFAULT_SETTINGS, controller=choose('pure_pursuit'), max_s=25.0)
+    assert run.run.ending == (False, 'circle still running after 25 s')  # never ended by itself
+    # at 1 m/s round a 2 pi m circle: about four laps, each passing the start again
+    near_start = np.hypot(run.xy()[:, 0] - 5.5, run.xy()[:, 1] - 3.0) < 0.05
+    passes = np.count_nonzero(np.diff(near_start.astype(int)) == 1)
+    assert passes >= 3
+    centre = np.array([5.5, 4.0])
+    assert np.abs(np.hypot(*(run.xy()[100:] - centre).T) - 1.0).max() < 0.05
+
+
+# --- the node keeps the robot safe from the controller ----------------------------------------
+
+class _Raises(Dwpp):
+    def command(self, state):
+        return 1 / 0
+
+
+class _Nan(Dwpp):
+    def command(self, state):
+        return Command(math.nan, 0.0)
+
+
+class _Slow(Dwpp):
+    def command(self, state):
+        time.sleep(0.05)
+        return super().command(state)
+
+
+class _WrongType(Dwpp):
+    def command(self, state):
+        return 'forward'
+
+
+class _CannotBeMade:
+    def __init__(self):
+        raise RuntimeError('no licence')
+
+    def start(self, stroke, limits):
+        pass
+
+    def command(self, state):
+        return None
+
+
+class _Reckless(Dwpp):
+    def command(self, state):
+        return None if super().command(state) is None else Command(100.0, -100.0)
+
+
+@pytest.mark.parametrize(('controller', 'said'), [
+    (_Raises, "controller 'bad' raised ZeroDivisionError in command(): division by zero"),
+    (_Nan, "controller 'bad' returned a non-finite command (nan m/s, 0.0 rad/s)"),
+    (_Slow, "controller 'bad' took 0.0"),
+    (_WrongType, "controller 'bad' returned 'forward', not a Command"),
+    (_CannotBeMade, "controller 'bad' could not be made: RuntimeError: no licence"),
+])
+def test_a_misbehaving_controller_ends_the_run_saying_what_it_did(controller, said):
+    points, start, plan = _step_course(90)
+    run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, controller=Chosen('bad', controller))
+    success, message = run.run.ending
+    assert not success
+    assert message.startswith('follow_path aborted: ') and said in message
+    assert len(run.commands) < 20  # at once, not after the progress watchdog
+
+
+def test_commands_beyond_the_limits_are_clamped_and_counted():
+    points, start, plan = _step_course(45)
+    run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, max_s=5.0,
+                controller=Chosen('reckless', _Reckless))
+    follower = run.run.follower
+    assert follower.commands > 100 and follower.clamped == follower.commands
+    assert _outside_the_limits(run.commands, PAPER.control) == []
+
+
+def test_an_untimed_choice_lets_a_slow_controller_finish():
+    points, start, plan = _step_course(45)
+    run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, max_s=0.5,
+                controller=Chosen('slow', _Slow, timed=False))
+    assert run.run.ending == (False, 'follow_path still running after 0.5 s')
+    assert len(run.commands) == int(0.5 / STEP_S)  # one every step, none refused
+
+
+# --- choosing by name --------------------------------------------------------------------------
+
+def test_the_shipped_controllers_are_offered_by_name():
+    assert names()[:3] == ['exact', 'dwpp', 'pure_pursuit']
+    assert resolve('exact') is None and choose('exact') is None
+    assert resolve('dwpp') is Dwpp and resolve('pure_pursuit') is PurePursuit
+    assert resolve('turtle_traj.core.control.controllers.dwpp:Dwpp') is Dwpp
+
+
+class _NoCommand:
+    def start(self, stroke, limits):
+        pass
+
+
+@pytest.mark.parametrize(('name', 'said'), [
+    ('magic', "controller 'magic' is unknown: choose one of exact, dwpp, pure_pursuit"),
+    ('no_such_module:Controller', "cannot be loaded: ModuleNotFoundError: No module named "
+                                  "'no_such_module'"),
+    ('turtle_traj.core.control.controllers.dwpp:Missing', "cannot be loaded: AttributeError"),
+    ('tests.test_controllers:_NoCommand', 'tests.test_controllers._NoCommand has no command '
+                                          'method: a controller needs start(stroke, limits) and '
+                                          'command(state)'),
+    ('tests.test_controllers:_CannotBeMade', 'cannot be loaded: RuntimeError: no licence'),
+    ('math:pi', 'is not a class'),
+])
+def test_a_name_that_is_not_a_controller_is_refused_with_the_reason(name, said):
+    with pytest.raises(UnknownController, match='') as refused:
+        resolve(name)
+    assert said in str(refused.value)
+
+
+def test_the_interface_check_accepts_any_class_with_the_two_methods():
+    class Minimal:
+        def start(self, stroke, limits):
+            pass
+
+        def command(self, state):
+            return None
+    assert interface_problem(Minimal) is None
+    assert 'not a class' in interface_problem(Minimal())
