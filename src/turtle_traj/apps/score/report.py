@@ -54,16 +54,21 @@ def ranking(results: Sequence[Result]) -> list[Standing]:
     return sorted(standings, key=lambda s: (-s.succeeded, s.mean_rank))
 
 
+def _width(names) -> int:
+    return max([14, *(len(name) for name in names)])
+
+
 def format_table(results: Sequence[Result]) -> str:
     """A row per course and controller."""
-    lines = [f"{'course':18} {'controller':14} {'ok':>3} {'time s':>7} {'x bound':>7} "
+    width = _width(r.controller for r in results)
+    lines = [f"{'course':18} {'controller':{width}} {'ok':>3} {'time s':>7} {'x bound':>7} "
              f"{'rmse mm':>8} {'max mm':>8} {'end mm':>7} {'clamped':>7}"]
     course = None
     for r in results:
         if r.course != course and course is not None:
             lines.append('')
         course = r.course
-        lines.append(f"{r.course:18} {r.controller:14} {'yes' if r.success else 'NO':>3} "
+        lines.append(f"{r.course:18} {r.controller:{width}} {'yes' if r.success else 'NO':>3} "
                      f'{r.time_s:7.2f} {r.ratio:7.2f} {r.rmse_mm:8.2f} {r.max_mm:8.2f} '
                      f'{r.end_mm:7.1f} {r.clamped_pct:6.1f}%')
     failed = [r for r in results if not r.success]
@@ -74,10 +79,11 @@ def format_table(results: Sequence[Result]) -> str:
 
 
 def format_ranking(standings: Sequence[Standing]) -> str:
-    lines = [f"{'rank':>4} {'controller':14} {'finished':>9} {'mean rank':>9} "
+    width = _width(s.controller for s in standings)
+    lines = [f"{'rank':>4} {'controller':{width}} {'finished':>9} {'mean rank':>9} "
              f"{'median x bound':>14} {'median max mm':>13}"]
     for place, s in enumerate(standings, 1):
-        lines.append(f'{place:4d} {s.controller:14} {s.succeeded:4d} of {s.courses:<2d} '
+        lines.append(f'{place:4d} {s.controller:{width}} {s.succeeded:4d} of {s.courses:<2d} '
                      f'{s.mean_rank:9.2f} {s.median_ratio:14.2f} {s.median_max_mm:13.2f}')
     return '\n'.join(lines)
 

@@ -2,12 +2,14 @@
 
 `exact` is the node's own follower (`follower.PathFollower`); `dwpp` and `pure_pursuit` are
 shipped beside it; entry points in the group `turtle_traj.controllers` add more by name; and
-`package.module:Class` names any importable class.
+`package.module:Class` names any importable class (or one in a module in the current folder).
 """
 
 from __future__ import annotations
 
 import importlib
+import os
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from importlib.metadata import entry_points
@@ -68,7 +70,7 @@ def resolve(name: str) -> ControllerFactory | None:
         candidate = _loaded(name, points[0].load)
     elif ':' in name:
         module, _, attribute = name.partition(':')
-        candidate = _loaded(name, lambda: getattr(importlib.import_module(module), attribute))
+        candidate = _loaded(name, lambda: getattr(_imported(module), attribute))
     else:
         raise UnknownController(
             f"controller {name!r} is unknown: choose one of {', '.join(names())}, or name a "
@@ -78,6 +80,18 @@ def resolve(name: str) -> ControllerFactory | None:
         raise UnknownController(f'controller {name!r}: {problem}')
     _loaded(name, candidate)  # one made now: a class that cannot be made is refused now
     return candidate
+
+
+def _imported(module: str) -> object:
+    """The module, found on the import path or else in the current folder (a user's
+    controller beside them, as `python -m` would find it)."""
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as error:
+        if error.name != module.split('.')[0] or os.getcwd() in sys.path:
+            raise
+    sys.path.append(os.getcwd())
+    return importlib.import_module(module)
 
 
 def _loaded(name: str, load: Callable[[], object]) -> object:
