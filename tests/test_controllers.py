@@ -260,3 +260,20 @@ def test_the_interface_check_accepts_any_class_with_the_two_methods():
             return None
     assert interface_problem(Minimal) is None
     assert 'not a class' in interface_problem(Minimal())
+
+
+class Installed(Dwpp):
+    """A controller another package installs, offered by name through its entry point."""
+
+
+def test_a_controller_installed_as_an_entry_point_is_offered_by_its_name(tmp_path, monkeypatch):
+    info = tmp_path / 'someones_controllers-1.0.dist-info'
+    info.mkdir()
+    (info / 'METADATA').write_text('Metadata-Version: 2.1\nName: someones-controllers\n'
+                                   'Version: 1.0\n')
+    (info / 'entry_points.txt').write_text('[turtle_traj.controllers]\n'
+                                           'theirs = tests.test_controllers:Installed\n')
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert 'theirs' in names()
+    assert resolve('theirs') is Installed
+    assert choose('theirs') == Chosen('theirs', Installed)
