@@ -6,7 +6,7 @@ INSTALLED := $(VENV)/.turtle_traj-installed
 INTERFACES := $(VENV)/.turtle_traj-interfaces
 INTERFACE_FILES := $(shell find interfaces -type f -not -name '*.pyc')
 
-.PHONY: setup test check demo bench lint clean
+.PHONY: setup test check demo bench lint docs clean
 
 setup: $(INTERFACES)
 
@@ -50,5 +50,10 @@ lint: setup
 	$(VENV)/bin/ruff check src tests bench ros/turtle_traj/setup.py ros/turtle_traj/launch
 	$(VENV)/bin/lint-imports --no-logo  # the architecture: the contracts in pyproject.toml
 
+# The documentation site (Sphinx, MyST Markdown): warnings are errors, so a broken
+# cross-reference or a reference table that no longer builds fails. No network is used.
+docs: setup
+	$(VENV)/bin/sphinx-build -q -E -W --keep-going -b html docs docs/_build/html
+
 clean:
-	rm -rf $(VENV) output
+	rm -rf $(VENV) output docs/_build

@@ -88,7 +88,7 @@ def test_draw_and_refusal_against_a_running_system(running_system, capsys):
 
 def _readme_python_example() -> str:
     readme = (Path(__file__).resolve().parents[1] / 'README.md').read_text()
-    return readme.split('#### From Python\n\n```python\n', 1)[1].split('```', 1)[0]
+    return readme.split('### From Python\n\n```python\n', 1)[1].split('```', 1)[0]
 
 
 def test_the_readmes_python_example_runs_as_written(running_system):

@@ -21,7 +21,7 @@ class Field:
     """One request field as people enter it, on the command line and in the menu.
 
     A field backed by a node `parameter` sends 0 unless given, which the node reads as "use
-    my parameter"; its range and unit are the parameter's (`parameter_table`).
+    my parameter"; its range and unit are the parameter's (`parameters.table`).
     """
 
     name: str  # the request's field

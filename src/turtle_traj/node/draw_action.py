@@ -3,7 +3,7 @@
 Every goal is accepted (rclpy's default goal callback): one that cannot run ends ABORTED with
 the reason in its result, which any action client can read. A goal id the server already knows
 is rejected by rclpy, which makes a client's repeat of an unanswered request harmless
-(client.py).
+(`client/goals.py`).
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class ControlConfig:
-    """Controller tuning, built from the node's parameters (`parameter_table` has units and
+    """Controller tuning, built from the node's parameters (`parameters.table` has units and
     defaults)."""
 
     linear_speed: float  # top speed

@@ -1,4 +1,4 @@
-"""The trajectory node's settings: parameter values (`parameter_table`) turned into the frozen
+"""The trajectory node's settings: parameter values (`parameters.table`) turned into the frozen
 Settings the controller and the planner read, and the checks of values that depend on others
 (the arena, pen colours). Pure: clients and tests use it without ROS.
 """

@@ -2,7 +2,7 @@
 
 Pure Python (no ROS). A request is read by attribute only, so a service request, an action goal
 or a plain namespace plan alike, in the node and in a client estimating a call's duration.
-Each trajectory kind has a sketch function (`sketches/`; `trajectories.py` names the kinds): it
+Each trajectory kind has a sketch function (`sketches/`; `core/registry.py` names the kinds): it
 validates the request and returns the path as a function of its one scalable size; `plan`
 checks that path against the arena, and `largest_size` finds the largest size that fits from a
 pose.

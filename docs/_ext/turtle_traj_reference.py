@@ -1,0 +1,95 @@
+"""Sphinx directives that write reference tables from the code, so they cannot go stale.
+
+- ``parameters``: every node parameter from the parameter table (type, default, unit, range,
+  read-only, description).
+- ``trajectories``: every trajectory service from the registry, with its request fields.
+- ``interface``: one .srv or .action file of `interfaces/`, as it is.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from docutils import nodes
+from docutils.parsers.rst import Directive, directives
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _cell(text: str) -> nodes.entry:
+    """A table cell from text in which ``code`` is set as code."""
+    paragraph = nodes.paragraph()
+    for index, part in enumerate(text.split('``')):
+        if part:
+            paragraph += nodes.literal(part, part) if index % 2 else nodes.Text(part)
+    return nodes.entry('', paragraph)
+
+
+def _table(_directive: Directive, header: list[str], rows: list[list[str]]) -> list[nodes.Node]:
+    table = nodes.table()
+    group = nodes.tgroup(cols=len(header))
+    table += group
+    for _ in header:
+        group += nodes.colspec(colwidth=1)
+    head, body = nodes.thead(), nodes.tbody()
+    for target, lines in ((head, [header]), (body, rows)):
+        for line in lines:
+            row = nodes.row()
+            for text in line:
+                row += _cell(text)
+            target += row
+    group += head
+    group += body
+    return [table]
+
+
+def _literal(text: str) -> str:
+    return f'``{text}``' if text not in ('', None) else ''
+
+
+class Parameters(Directive):
+    def run(self):
+        from turtle_traj.core.parameters.table import PARAMETERS
+        rows = []
+        for spec in PARAMETERS:
+            kind = type(spec.default).__name__
+            bounds = '' if spec.low is None else f'{spec.low:g} to {spec.high:g}'
+            if spec.choices:
+                bounds = ', '.join(_literal(choice) for choice in spec.choices)
+            rows.append([_literal(spec.name), kind, _literal(repr(spec.default)), spec.unit,
+                         bounds, 'yes' if spec.read_only else '',
+                         spec.description])
+        return _table(self, ['name', 'type', 'default', 'unit', 'range', 'read-only',
+                             'description'], rows)
+
+
+class Trajectories(Directive):
+    def run(self):
+        from turtle_traj.core.registry import TRAJECTORIES
+        rows = []
+        for kind in TRAJECTORIES:
+            fields = '; '.join(f'{_literal(f.name)}: {f.help}' + (f' [{f.unit}]' if f.unit else '')
+                               for f in kind.fields)
+            rows.append([_literal(f'~/{kind.service}'), _literal(kind.service_type),
+                         _literal('turtle-traj ' + ' '.join(kind.command)), kind.summary,
+                         fields])
+        return _table(self, ['service', 'type', 'command line', 'what it does',
+                             'request fields'], rows)
+
+
+class Interface(Directive):
+    required_arguments = 1  # a path under interfaces/turtle_traj_interfaces/
+
+    def run(self):
+        path = ROOT / 'interfaces' / 'turtle_traj_interfaces' / self.arguments[0]
+        text = path.read_text()
+        block = nodes.literal_block(text, text)
+        block['language'] = 'text'
+        return [nodes.rubric(text=f'turtle_traj_interfaces/{self.arguments[0]}'), block]
+
+
+def setup(app):
+    directives.register_directive('parameters', Parameters)
+    directives.register_directive('trajectories', Trajectories)
+    directives.register_directive('interface', Interface)
+    return {'parallel_read_safe': True}
