@@ -33,6 +33,14 @@ def _ranks(results: Sequence[Result], key) -> dict[str, int]:
     return {result.controller: place for place, result in enumerate(order, 1)}
 
 
+def _standing(controller: str, results: Sequence[Result], places: list[int]) -> Standing:
+    own = [r for r in results if r.controller == controller]
+    done = [r for r in own if r.success]
+    return Standing(controller, len(done), len(own), statistics.fmean(places),
+                    statistics.median(r.ratio for r in done) if done else math.nan,
+                    statistics.median(r.max_mm for r in done) if done else math.nan)
+
+
 def ranking(results: Sequence[Result]) -> list[Standing]:
     """Controllers ordered by courses finished, then by mean rank on time and maximum error."""
     by_course: dict[str, list[Result]] = {}
@@ -43,14 +51,7 @@ def ranking(results: Sequence[Result]) -> list[Standing]:
         for key in (lambda r: r.ratio, lambda r: r.max_mm):
             for controller, place in _ranks(course, key).items():
                 ranks.setdefault(controller, []).append(place)
-    standings = []
-    for controller, places in ranks.items():
-        own = [r for r in results if r.controller == controller]
-        done = [r for r in own if r.success]
-        standings.append(Standing(
-            controller, len(done), len(own), statistics.fmean(places),
-            statistics.median(r.ratio for r in done) if done else math.nan,
-            statistics.median(r.max_mm for r in done) if done else math.nan))
+    standings = [_standing(controller, results, places) for controller, places in ranks.items()]
     return sorted(standings, key=lambda s: (-s.succeeded, s.mean_rank))
 
 
@@ -103,30 +104,23 @@ def _file_name(course: str) -> str:
     return ''.join(c if c.isalnum() else '_' for c in course).strip('_') + '.png'
 
 
-def write_plots(results: Sequence[Result], folder: Path) -> list[Path]:
-    """One PNG per course (every controller's path over the plan), and summary.png."""
-    import matplotlib
-    matplotlib.use('Agg')
-    from matplotlib import pyplot as plt
-    written = []
-    courses = list(dict.fromkeys(r.course for r in results))
+def _course_plot(plt, course: str, runs: Sequence[Result], target: Path) -> None:
+    figure, axes = plt.subplots(figsize=(6, 6))
+    axes.plot(*runs[0].plan.T, color='0.75', linewidth=4, label='plan')
+    for r in runs:
+        axes.plot(*r.path.T, linewidth=1.2, label=f"{r.controller} ({r.max_mm:.0f} mm max"
+                  f"{'' if r.success else ', did not finish'})")
+    axes.set_aspect('equal')
+    axes.set_title(course)
+    axes.set_xlabel('x [m]')
+    axes.set_ylabel('y [m]')
+    axes.legend(fontsize=8)
+    figure.savefig(target, dpi=90, bbox_inches='tight')
+    plt.close(figure)
+
+
+def _summary_plot(plt, results: Sequence[Result], courses: list[str], target: Path) -> None:
     controllers = list(dict.fromkeys(r.controller for r in results))
-    for course in courses:
-        figure, axes = plt.subplots(figsize=(6, 6))
-        runs = [r for r in results if r.course == course]
-        axes.plot(*runs[0].plan.T, color='0.75', linewidth=4, label='plan')
-        for r in runs:
-            axes.plot(*r.path.T, linewidth=1.2, label=f"{r.controller} ({r.max_mm:.0f} mm max"
-                      f"{'' if r.success else ', did not finish'})")
-        axes.set_aspect('equal')
-        axes.set_title(course)
-        axes.set_xlabel('x [m]')
-        axes.set_ylabel('y [m]')
-        axes.legend(fontsize=8)
-        target = folder / _file_name(course)
-        figure.savefig(target, dpi=90, bbox_inches='tight')
-        plt.close(figure)
-        written.append(target)
     figure, (times, errors) = plt.subplots(2, 1, figsize=(max(8, len(courses) * 0.6), 7),
                                            sharex=True)
     width = 0.8 / len(controllers)
@@ -144,8 +138,20 @@ def write_plots(results: Sequence[Result], folder: Path) -> list[Path]:
     errors.set_xticks(range(len(courses)), courses, rotation=60, ha='right')
     times.legend()
     times.set_title('Controllers on the standard courses (no bar: did not finish)')
-    target = folder / 'summary.png'
     figure.savefig(target, dpi=90, bbox_inches='tight')
     plt.close(figure)
-    written.append(target)
+
+
+def write_plots(results: Sequence[Result], folder: Path) -> list[Path]:
+    """One PNG per course (every controller's path over the plan), and summary.png."""
+    import matplotlib
+    matplotlib.use('Agg')
+    from matplotlib import pyplot as plt
+    courses = list(dict.fromkeys(r.course for r in results))
+    written = []
+    for course in courses:
+        written.append(folder / _file_name(course))
+        _course_plot(plt, course, [r for r in results if r.course == course], written[-1])
+    written.append(folder / 'summary.png')
+    _summary_plot(plt, results, courses, written[-1])
     return written

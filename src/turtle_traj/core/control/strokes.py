@@ -42,6 +42,13 @@ def _joins(before: Polyline, after: Polyline) -> bool:
             and math.dist(before.points[-1], after.points[0]) <= _JOIN_M)
 
 
+def _inside_a_stroke(turn: Turn, before: object, after: object) -> bool:
+    """A turn at a corner that the controller drives round: between two polylines that join,
+    no sharper than `MAX_CORNER_RAD`."""
+    return (isinstance(before, Polyline) and isinstance(after, Polyline)
+            and _joins(before, after) and abs(turn.sweep_rad) <= MAX_CORNER_RAD)
+
+
 def strokes_of(path: Path) -> list[Polyline | Turn]:
     """The path's steps: strokes (polylines joined across the corners between them, up to
     `MAX_CORNER_RAD`) and the turns in place that are not such corners."""
@@ -51,8 +58,7 @@ def strokes_of(path: Path) -> list[Polyline | Turn]:
         previous = steps[-1] if steps else None
         if isinstance(leg, Turn):
             after = legs[index + 1] if index + 1 < len(legs) else None
-            if not (isinstance(previous, Polyline) and isinstance(after, Polyline)
-                    and _joins(previous, after) and abs(leg.sweep_rad) <= MAX_CORNER_RAD):
+            if not _inside_a_stroke(leg, previous, after):
                 steps.append(leg)
         elif isinstance(previous, Polyline) and _joins(previous, leg):
             steps[-1] = Polyline(np.vstack([previous.points, leg.points[1:]]),
