@@ -95,7 +95,8 @@ def _not_the_controllers_s() -> float:
 
 class _Along:
     """How far along a polyline a pose is (0 to 1): the closest point from a little behind
-    the last match up to a metre ahead of it."""
+    the last match to a little ahead of it (further than a robot drives in a period, too short
+    to jump to a later part of the stroke that passes close by)."""
 
     BEHIND_M, AHEAD_M = 0.05, 0.25
 

@@ -31,9 +31,9 @@ class Chosen:
 
     name: str
     factory: ControllerFactory
-    # An answer later than the control period ends the run (in real time). False in pure
-    # loops, whose simulated time does not wait for the controller: their figures then
-    # never depend on how busy the machine is.
+    # An answer later than the control period ends the run (the node's runs, in real or
+    # lock-step time). False in pure loops (`turtle-traj score`), whose simulated time waits
+    # for the controller: their figures then never depend on how busy the machine is.
     timed: bool = True
 
 
