@@ -22,8 +22,8 @@ def pytest_configure(config) -> None:
 # The files that take longest (--durations, quiet here: the two hosts 88 s, the browser 46 s, the
 # bags 31 s, the hang watchdog 24 s, the command line 22 s), first: with `--dist loadfile` each
 # worker takes the next file as it frees up, so the two finish together.
-SLOWEST_FIRST = ('test_two_hosts', 'test_tutorials', 'test_web', 'test_bags', 'test_hang', 'test_cli',
-                 'test_terminal', 'test_multithreaded', 'test_colcon', 'test_teleop',
+SLOWEST_FIRST = ('test_two_hosts', 'test_tutorials', 'test_web', 'test_bags', 'test_hang',
+                 'test_cli', 'test_terminal', 'test_multithreaded', 'test_colcon', 'test_teleop',
                  'test_client', 'test_drawing_run')
 
 

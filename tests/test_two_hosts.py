@@ -1,7 +1,7 @@
-"""The README's two-machine recipe, for real: our simulator and a pose log on host a, the
-trajectory node and the command line on host b, two network namespaces on a veth pair with
-default discovery (`turtle_traj.testing.two_hosts`); then packet loss, link cuts and a
-simulator restarted.
+"""The two-machine recipe (docs/tutorials/two-machines.md), for real: our simulator and a pose
+log on host a, the trajectory node and the command line on host b, two network namespaces on a
+veth pair with default discovery (`turtle_traj.testing.two_hosts`); then packet loss, link cuts
+and a simulator restarted.
 
 Deviations are measured on host a, from every pose the turtle had, against the plan the node
 published, and must agree with the node's own figure. Needs root: without it these tests are

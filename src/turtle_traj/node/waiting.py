@@ -8,7 +8,7 @@ also goes through the thread pool, and a run kept the executor at a whole core. 
 blocks its own pool thread instead, as rclpy's documentation has reentrant callbacks do on that
 executor: the task counts as executing and is not polled, and the other threads run the timers
 that complete it (tests/test_multithreaded.py, with the simulator a program of its own: in the
-same process it starves, which the README says). The EventsExecutor
+same process it starves, which docs/tutorials/action-from-python.md says). The EventsExecutor
 (the programs' default) resumes a task only when woken, and stays with `await`.
 """
 

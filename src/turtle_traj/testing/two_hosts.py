@@ -1,6 +1,7 @@
-"""Two hosts on one machine: two network namespaces joined by a veth pair, for the README's
-two-machine recipe and its faults (packet loss with nftables, link cuts), for testing nodes
-across hosts (our tests/test_two_hosts.py, bench/network_bench.py). Needs root.
+"""Two hosts on one machine: two network namespaces joined by a veth pair, for the two-machine
+recipe (docs/tutorials/two-machines.md) and its faults (packet loss with nftables, link cuts),
+for testing nodes across hosts (our tests/test_two_hosts.py, bench/network_bench.py). Needs
+root.
 
 Everything it makes carries this process's id in its name, and it removes only what it made:
 the namespaces (their veth ends and nft tables go with them) on `close`, at exit, or when the
