@@ -122,3 +122,19 @@ def test_expected_output_is_matched_in_order_with_ellipses():
     assert _matches(['done: square done', 'elapsed ... s, path 8.00 m'], printed) is None
     assert _matches(['elapsed ... m', 'done: square done'], printed) == 'done: square done'
     assert _matches(['path 9.00 m'], printed) == 'path 9.00 m'
+
+
+def test_the_two_machine_page_shows_the_programs_its_test_runs():
+    """tests/test_two_hosts.py starts these programs on its two hosts; the page must show the
+    same ones, on the same machines."""
+    (recipe, *_rest) = re.findall(r'```bash\n(.*?)```', (TUTORIALS / 'two-machines.md')
+                                  .read_text(), re.S)
+    lines = [line.split('#') for line in recipe.splitlines()]
+    shown = {command.strip().split('/')[-1]: where.strip() for command, where in lines}
+    assert shown == {'export ROS_DOMAIN_ID=42': 'on both machines',
+                     'python -m turtle_traj.sim': 'machine A',
+                     'python -m turtle_traj': 'machine B',
+                     'turtle-traj draw square': 'machine B (or any machine of the domain)'}
+    test = (Path(__file__).parent / 'test_two_hosts.py').read_text()
+    assert "made.run('a', 'turtle_traj.sim'" in test and "made.run('b', 'turtle_traj'" in test
+    assert "self.call(*args" in test and "('draw', 'square'" in test
