@@ -259,16 +259,11 @@ class RobotModel:
         """Where the robot will be when the next command takes effect, and how uncertain."""
         pending = self._pending()
         x, y, theta = pose.x, pose.y, pose.theta
-        # turtlesim's step turns first, then moves along the new heading; a base drives an
-        # arc, whose chord follows the heading halfway through the step
-        turned_before = 1.0 if self.echoes else 0.5
         for command, steps in self._schedule(pending, now_s):
-            turn = command.angular * self.step_s
             for _ in range(steps):
-                heading = theta + turned_before * turn
-                x += command.linear * math.cos(heading) * self.step_s
-                y += command.linear * math.sin(heading) * self.step_s
-                theta += turn
+                theta += command.angular * self.step_s
+                x += command.linear * math.cos(theta) * self.step_s
+                y += command.linear * math.sin(theta) * self.step_s
         late = self._late_steps()
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
