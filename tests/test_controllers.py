@@ -190,7 +190,8 @@ class _Reckless(Dwpp):
 @pytest.mark.parametrize(('controller', 'said'), [
     (_Raises, "controller 'bad' raised ZeroDivisionError in command(): division by zero"),
     (_Nan, "controller 'bad' returned a non-finite command (nan m/s, 0.0 rad/s)"),
-    (_Slow, "controller 'bad' took 0.0"),
+    (_Slow, "controller 'bad' answered later than the control period (0.016 s) 3 times in a "
+            'row, the last after 0.05'),
     (_WrongType, "controller 'bad' returned 'forward', not a Command"),
     (_CannotBeMade, "controller 'bad' could not be made: RuntimeError: no licence"),
 ])

@@ -31,9 +31,10 @@ class Chosen:
 
     name: str
     factory: ControllerFactory
-    # An answer later than the control period ends the run (the node's runs, in real or
-    # lock-step time). False in pure loops (`turtle-traj score`), whose simulated time waits
-    # for the controller: their figures then never depend on how busy the machine is.
+    # Answers later than the control period end the run (`strokes.LATE_ANSWERS` in a row; the
+    # node's runs, in real or lock-step time). False in pure loops (`turtle-traj score`),
+    # whose simulated time waits for the controller: their figures then never depend on how
+    # busy the machine is.
     timed: bool = True
 
 
