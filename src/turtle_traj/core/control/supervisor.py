@@ -69,17 +69,7 @@ class RunSupervisor:
         self.plan = plan
         self.started_s = started_s
         self.ending: tuple[bool, str] | None = None
-        self.follower: PathFollower | StrokeDriver = PathFollower(
-            plan.path, end_tolerance=plan.end_tolerance, manage_pen=plan.pen is not None,
-            profiles=plan.profiles)
-        if controller is not None:
-            try:
-                self.follower = StrokeDriver(plan.path, controller.factory(), controller.name,
-                                             manage_pen=plan.pen is not None,
-                                             timed=controller.timed)
-            except Exception as error:  # the controller's constructor
-                self.end(False, f"{self.name} aborted: controller '{controller.name}' could not "
-                                f'be made: {type(error).__name__}: {error}')
+        self.follower = self._driver(controller)
         self._start_clearance = wall_clearance(arena, start)
         self._settled_periods = 0
         self._pose = start
@@ -94,6 +84,20 @@ class RunSupervisor:
         self._config: tuple[ControlConfig, ControlConfig] | None = None  # node's, this run's
         self._best_mark = (0, 0.0)  # the furthest the follower got, and when
         self._best_mark_s = started_s
+
+    def _driver(self, controller: Chosen | None) -> PathFollower | StrokeDriver:
+        """The exact follower, or the chosen controller driving stroke by stroke (a controller
+        that cannot be made ends the run at once, with the exact follower left standing in)."""
+        plan, manage_pen = self.plan, self.plan.pen is not None
+        if controller is not None:
+            try:
+                return StrokeDriver(plan.path, controller.factory(), controller.name,
+                                    manage_pen=manage_pen, timed=controller.timed)
+            except Exception as error:  # the controller's constructor
+                self.end(False, f"{self.name} aborted: controller '{controller.name}' could not "
+                                f'be made: {type(error).__name__}: {error}')
+        return PathFollower(plan.path, end_tolerance=plan.end_tolerance, manage_pen=manage_pen,
+                            profiles=plan.profiles)
 
     @property
     def name(self) -> str:

@@ -7,6 +7,7 @@ shipped beside it; entry points in the group `turtle_traj.controllers` add more 
 
 from __future__ import annotations
 
+import functools
 import importlib
 import os
 import sys
@@ -57,8 +58,10 @@ def choose(name: str, *, timed: bool = True) -> Chosen | None:
     return None if factory is None else Chosen(name, factory, timed)
 
 
+@functools.lru_cache(maxsize=64)
 def resolve(name: str) -> ControllerFactory | None:
-    """The class a name stands for (None: the exact follower).
+    """The class a name stands for (None: the exact follower); found once per process (the
+    node checks its parameter as it is declared, then takes the class).
 
     :raises UnknownController: with the reason.
     """
