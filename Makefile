@@ -8,7 +8,9 @@ INTERFACE_FILES := $(shell find interfaces -type f -not -name '*.pyc')
 
 .PHONY: setup test check demo bench lint docs clean
 
+# Our own modules' bytecode, as they are now (0.1 s when up to date).
 setup: $(INTERFACES)
+	@$(PY) -m compileall -q -j 0 src > /dev/null
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -16,15 +18,19 @@ $(PY):
 # Re-install only when the project metadata changed. uv (from PyPI) installs the ~220 packages
 # in parallel: a fresh venv in about 12 s here against 41 s with pip (no caches); pip is the
 # fallback.
+# Bytecode is written at install (uv writes none by default): where PYTHONDONTWRITEBYTECODE is
+# set, as on this machine, Python never caches it, and each of the suite's processes compiled
+# numpy, rclpy and the messages again, 0.65 s of CPU for a command-line call alone.
 $(INSTALLED): pyproject.toml | $(PY)
 	$(PY) -m pip install --quiet --disable-pip-version-check uv
-	$(VENV)/bin/uv pip install --quiet --python $(PY) -e '.[dev,interfaces,physics]' \
+	$(VENV)/bin/uv pip install --quiet --compile-bytecode --python $(PY) -e '.[dev,interfaces,physics]' \
 	  || $(PY) -m pip install --quiet --disable-pip-version-check -e '.[dev,interfaces,physics]'
 	touch $@
 
 # Rebuild the interface packages only when one of their files changed.
 $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 	interfaces/build.sh $(VENV)
+	$(PY) -m compileall -q -j 0 $(VENV)/lib > /dev/null
 	touch $@
 
 # Two workers, a test file each at a time: the subprocess-heavy files wait on DDS discovery
