@@ -115,7 +115,7 @@ def test_the_readme_recipe_draws_across_two_hosts(hosts):
     done, deviation, reported = hosts.measured('draw', 'square', '--size', '0.5')
     _succeeded(done)
     assert 'square done' in done.stdout
-    assert deviation < 0.001, done.stdout  # the node's figures and its time, if it is not
+    assert deviation < 0.001, done.stdout  # on failure: the node's own figures and time
     assert reported == pytest.approx(deviation, abs=1e-4)  # the node's figure is the truth
 
 
