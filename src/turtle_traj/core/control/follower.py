@@ -29,32 +29,46 @@ from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
 _UNPLANNED = object()  # a polyline's speed profile, before it is planned
+LANDED = 1e-5  # m, rad: on the end, for a landing (`_lands`)
 
 
 def _braking_speed(remaining: float, deceleration: float, period_s: float,
-                   prediction: Prediction, limited: bool = False) -> float:
+                   prediction: Prediction, limited: bool = False, landing: bool = False) -> float:
     """Fastest speed from which the turtle still stops within `remaining`.
 
     Near the end a command covers what remains of the predicted remainder in one period, so it
     lands on the end point (deadbeat) when the latency is steady. When a command may act
     `late_steps` periods longer than one, it covers only its share of the remainder, and a
     misjudged period is corrected by the next command (backing up if needed: the remainder is
-    signed).
+    signed). Such an approach stops inside the end's tolerance, short of the end; once the
+    turtle stands there, one `landing` command covers the rest in one period.
     """
     braking = (stopping_speed(remaining, deceleration, period_s) if limited
                else math.sqrt(2.0 * deceleration * remaining))
-    return min(braking, remaining / ((1 + prediction.late_steps) * period_s))
+    share = 1 if landing else 1 + prediction.late_steps
+    return min(braking, remaining / (share * period_s))
 
 
-def _finished(arrived: bool, prediction: Prediction,
-              config: ControlConfig) -> Command | None:
+def _lands(remaining: float, prediction: Prediction, config: ControlConfig) -> bool:
+    """Whether to land on the end with one more command: the approach allowed for late
+    commands and stopped inside the tolerance, short of the end, and the turtle stands there.
+    Once per leg, so a command that acts late again cannot start a hunt (it carries the turtle
+    at most the tolerance past the end). Only where the prediction is exact to the step,
+    turtlesim's: a base's odometry and inertia leave it a little off."""
+    return (prediction.late_steps > 0 and prediction.still and prediction.turns_first
+            and not config.limited and abs(remaining) > LANDED)
+
+
+def _finished(arrived: bool, prediction: Prediction, config: ControlConfig,
+              landed: bool = False) -> Command | None:
     """None when a leg is over: the predicted pose is there, and the turtle itself too.
 
     Until then the commands on their way carry the turtle, so hold with a stop. When a command
-    may act longer than predicted, the turtle must also stand still, or it would carry it on.
+    may act longer than predicted, the turtle must also stand still, or it would carry it on;
+    but not after a landing, which carries it at most the tolerance on (`_lands`).
     A base with acceleration limits must be able to stop within the next period.
     """
-    if (arrived and (prediction.late_steps == 0 or prediction.still)
+    if (arrived and (prediction.late_steps == 0 or prediction.still or landed)
             and (not config.limited or can_stop(prediction.velocity, config))):
         return None
     return STOP
@@ -81,6 +95,7 @@ class _TurnTracker:
         self.turn = turn
         self.turned = wrap_angle(pose.theta - turn.start_heading)
         self.previous = pose.theta
+        self.landed = False  # the one landing command is sent (`_lands`)
 
     @property
     def fraction(self) -> float:
@@ -94,12 +109,16 @@ class _TurnTracker:
         self.previous = pose.theta
         remaining = self.turn.sweep_rad - self.turned
         error = remaining - wrap_angle(predicted.theta - pose.theta)
+        landing = False
         if abs(error) < config.heading_tolerance:
-            return _finished(abs(remaining) < config.heading_tolerance, prediction, config)
+            if self.landed or not _lands(error, prediction, config):
+                return _finished(abs(remaining) < config.heading_tolerance, prediction, config,
+                                 self.landed)
+            self.landed = landing = True
         rate = min(config.angular_speed,
                    _braking_speed(max(abs(error) - prediction.overrun[1], 0.0),
                                   config.angular_braking, config.period_s, prediction,
-                                  config.limited))
+                                  config.limited, landing))
         return Command(0.0, math.copysign(rate, error))
 
 
@@ -113,6 +132,7 @@ class _PolylineTracker:
         self.segment = 0
         self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
         self._profile = profile  # with acceleration limits: None on a straight line
+        self.landed = False  # the one landing command is sent (`_lands`)
         # Plain floats: a projection looks at a few segments, too few for numpy to pay.
         self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
 
@@ -172,10 +192,13 @@ class _PolylineTracker:
                          * polyline.segment_lengths[actual_segment]) / max(polyline.length, 1e-12)
         self.segment, fraction, offset = self._project(predicted)
         remaining = self._remaining(predicted, self.segment, fraction)
+        landing = False
         if self._arrived(predicted, self.segment, remaining):
-            arrived = self._arrived(pose, actual_segment,
-                                    self._remaining(pose, actual_segment, actual_fraction))
-            return _finished(arrived, prediction, config)
+            if self.landed or not _lands(remaining, prediction, config):
+                arrived = self._arrived(pose, actual_segment,
+                                        self._remaining(pose, actual_segment, actual_fraction))
+                return _finished(arrived, prediction, config, self.landed)
+            self.landed = landing = True
         pose = predicted
 
         facing = pose.theta + (math.pi if polyline.reverse else 0.0)
@@ -198,7 +221,7 @@ class _PolylineTracker:
         if remaining != math.inf:
             speed = min(speed, _braking_speed(max(abs(remaining) - prediction.overrun[0], 0.0),
                                               config.linear_braking, config.period_s,
-                                              prediction, config.limited))
+                                              prediction, config.limited, landing))
             speed = math.copysign(speed, remaining)
         if abs(heading_error) > config.turn_first_angle:
             speed = 0.0

@@ -31,7 +31,8 @@ The model, in one page:
   node's control timer fires after the tick before. Each is a running quantile
   (`RunningQuantile`): a stall seen once moves it by a fraction of a step, which the next
   observations take back (for the 99th, within about 1.5 s of driving), so approaches stay
-  brisk; jitter that lasts, as loss on a link does, is hedged.
+  brisk; jitter that lasts, as loss on a link does, is hedged: such an approach stops inside
+  the end's tolerance, and one more command lands on the end once the turtle stands there.
 * **Faults are observations.** A stalled link holds commands back, and its repair lets them
   through together, to queue at turtlesim's 7-deep subscription: either way commands are
   overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
