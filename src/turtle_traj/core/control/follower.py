@@ -206,6 +206,27 @@ class _PolylineTracker:
         curvature = float(polyline.curvatures[self.segment])
         heading_error = wrap_angle(path_heading - facing)
 
+        speed = self._speed(fraction, remaining, curvature, prediction, config, landing)
+        if abs(heading_error) > config.turn_first_angle:
+            speed = 0.0
+        else:
+            speed *= math.cos(heading_error)
+        # turtlesim turns first and then moves along the new heading, so on an arc the motion
+        # leads the heading by the turn of one period: aim half a chord behind the tangent.
+        lead = (abs(speed) * curvature * config.period_s / 2.0 if prediction.turns_first
+                else 0.0)
+        target = path_heading - lead - math.atan(config.cross_track_gain * offset)
+        steering = _steering(wrap_angle(target - facing), config)
+        angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
+        linear = -speed if polyline.reverse else speed
+        return Command(linear, angular)
+
+
+    def _speed(self, fraction: float, remaining: float, curvature: float,
+               prediction: Prediction, config: ControlConfig, landing: bool) -> float:
+        """The speed along the path for this period, before the heading's share: the top
+        speed, the base's profile or the curve's turn rate, and braking towards the end (signed:
+        negative to back up to it)."""
         speed = config.linear_speed
         if config.limited:
             profiled = self._profiled_speed(fraction, prediction.velocity, config)
@@ -223,20 +244,7 @@ class _PolylineTracker:
                                               config.linear_braking, config.period_s,
                                               prediction, config.limited, landing))
             speed = math.copysign(speed, remaining)
-        if abs(heading_error) > config.turn_first_angle:
-            speed = 0.0
-        else:
-            speed *= math.cos(heading_error)
-        # turtlesim turns first and then moves along the new heading, so on an arc the motion
-        # leads the heading by the turn of one period: aim half a chord behind the tangent.
-        lead = (abs(speed) * curvature * config.period_s / 2.0 if prediction.turns_first
-                else 0.0)
-        target = path_heading - lead - math.atan(config.cross_track_gain * offset)
-        steering = _steering(wrap_angle(target - facing), config)
-        angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
-        linear = -speed if polyline.reverse else speed
-        return Command(linear, angular)
-
+        return speed
 
     def _profiled_speed(self, fraction: float, velocity: Command,
                         config: ControlConfig) -> float:
