@@ -37,9 +37,7 @@ sides, size, rare = {shape}
 request = SimpleNamespace(sides=sides, size=size, clockwise=False, turns=0.0, growth=0.0,
                           max_radius=0.0, frequency=0.0, length=0.0, linear_speed=0.0,
                           angular_speed=0.0, forever=False)
-stalls = () if rare is None else (
-    starved.Stalls(chance=rare, median_ms=35.0, sigma=0.5, longest_ms=120, start_ms=(0, 1)),
-    starved.Stalls(chance=0.0, median_ms=1.0, sigma=0.0, longest_ms=0, start_ms=(0, 1)))
+stalls = () if rare is None else (starved.rare(rare), starved.NONE)
 out = []
 for seed in range({seeds}):
     run = starved.drive('polygon', request, seed, *stalls)

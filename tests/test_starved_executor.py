@@ -13,7 +13,7 @@ import pytest
 
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 from turtle_traj.testing.pure_loop import shape
-from turtle_traj.testing.starved import POSES, TIMER, Stalls, drive
+from turtle_traj.testing.starved import NONE, POSES, TIMER, Stalls, drive
 
 POLYGON = shape(sides=12, size=0.15)  # as tests/test_multithreaded.py draws it
 
@@ -43,14 +43,13 @@ def test_the_harness_starves_as_measured():
 # The timer held back a step at half of its ticks, nothing else: commands act late often, and
 # each approach allows for it, so it stops inside the position tolerance, short of the corner.
 ONE_STEP_LATE = Stalls(chance=0.5, median_ms=18.0, sigma=0.05, longest_ms=20, start_ms=(0, 1))
-NOTHING_HELD = Stalls(chance=0.0, median_ms=0.0, sigma=0.0, longest_ms=0, start_ms=(0, 1))
 
 
 def test_an_approach_that_allows_for_late_commands_lands_on_the_corner():
     """One landing command puts the turtle on each corner once it stands short of it. Without
     it (bb30fc5) the median square of these was 0.399 mm off its path (each leg began that far
     short of its line); a stall that still catches a corner shows as the worst of them."""
-    runs = [drive('polygon', shape(sides=4, size=0.5), seed, ONE_STEP_LATE, NOTHING_HELD)
+    runs = [drive('polygon', shape(sides=4, size=0.5), seed, ONE_STEP_LATE, NONE)
             for seed in range(20)]
     assert all(run.success for run in runs), [run.message for run in runs]
     assert statistics.median(run.max_deviation_m for run in runs) < 1e-5

@@ -59,6 +59,14 @@ class Stalls:
 # timer, and the pose subscription, each held back on its own.
 TIMER = Stalls(chance=0.14, median_ms=28.0, sigma=1.15, longest_ms=450, start_ms=(0, 250))
 POSES = Stalls(chance=0.14, median_ms=28.0, sigma=1.15, longest_ms=450, start_ms=(150, 450))
+# Nothing held back: the poses, when only the timer stalls.
+NONE = Stalls(chance=0.0, median_ms=0.0, sigma=0.0, longest_ms=0, start_ms=(0, 1))
+
+
+def rare(chance: float) -> Stalls:
+    """A quiet but shared machine's: a timer stall (median 35 ms, at most 120 ms) starting at a
+    tick with `chance` (bench/starved_bench.py --rare)."""
+    return Stalls(chance=chance, median_ms=35.0, sigma=0.5, longest_ms=120, start_ms=(0, 1))
 
 
 @dataclass
