@@ -1,268 +1,36 @@
-"""One path follower for every trajectory: in-place turns and continuous polyline tracking.
+"""One path follower for every trajectory, leg by leg: in-place turns and polylines. Pure Python.
 
-Pure Python: `PathFollower.update(pose, config, prediction)` returns the next velocity command.
-It steers from the pose predicted for the moment that command takes effect (`robot_model`), so
-the latency between pose and command is accounted for, not guessed. Curves are tracked with
-curvature feed-forward plus a heading set-point that steers back onto the path
-(`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
-towards the end of the polyline and, near the end, by the predicted remaining distance per
-control period, so the turtle stops on the end point. A turtle facing more than
-`turn_first_angle` away from the path turns in place first.
+`PathFollower.update(pose, config, prediction)` returns the next velocity command, from the leg's
+tracker (`trackers`). On a base with acceleration limits (`ControlConfig.limited`) every command
+stays within reach of the one before (`dynamics`).
 
-On a base with acceleration limits (`ControlConfig.limited`) every command stays within reach
-of the one before (`dynamics`), braking follows the limits, curves follow their time-optimal
-speed profile (`profile`), and a leg ends only once a stop is within reach.
+**A leg's tail.** turtlesim repeats the last command it took until the next one comes; a node
+that falls behind for a few steps as a leg ends (a busy machine) would leave it repeating an
+approach command past the end. So once the rest of a leg fits in the robot's queue
+(`Prediction.room`, turtlesim's keep-last 7), the follower sends it at once, with the next
+leg's first command behind it (`tail`): each acts one step, in order, whenever the node runs.
+It does so only where the prediction is exact (turtlesim, no acceleration limits, a control
+period of one step) and no command is expected late (`late_steps` 0): the tail is what the
+follower would send step by step on the predicted poses, and a command held up on a link would
+hold back those behind it. Until the robot has taken the tail, there is nothing to send.
 """
 
 from __future__ import annotations
 
+import copy
 import math
+from collections.abc import Callable, Sequence
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.dynamics import can_stop, stopping_speed, within_reach
-from turtle_traj.core.control.profile import SpeedProfile, profile_for
+from turtle_traj.core.control.dynamics import within_reach
+from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.control.robot_model import Prediction
-from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.control.trackers import UNPLANNED, PolylineTracker, TurnTracker, exact
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 
-_WINDOW_BEHIND = 3  # segments searched behind the last match
-_WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
-_UNPLANNED = object()  # a polyline's speed profile, before it is planned
-LANDED = 1e-5  # m, rad: on the end, for a landing (`_lands`)
-
-
-def _braking_speed(remaining: float, deceleration: float, period_s: float,
-                   prediction: Prediction, limited: bool = False, landing: bool = False) -> float:
-    """Fastest speed from which the turtle still stops within `remaining`.
-
-    Near the end a command covers what remains of the predicted remainder in one period, so it
-    lands on the end point (deadbeat) when the latency is steady. When a command may act
-    `late_steps` periods longer than one, it covers only its share of the remainder, and a
-    misjudged period is corrected by the next command (backing up if needed: the remainder is
-    signed). Such an approach stops inside the end's tolerance, short of the end; once the
-    turtle stands there, one `landing` command covers the rest in one period.
-    """
-    braking = (stopping_speed(remaining, deceleration, period_s) if limited
-               else math.sqrt(2.0 * deceleration * remaining))
-    share = 1 if landing else 1 + prediction.late_steps
-    return min(braking, remaining / (share * period_s))
-
-
-def _lands(remaining: float, prediction: Prediction, config: ControlConfig) -> bool:
-    """Whether to land on the end with one more command: the approach allowed for late
-    commands and stopped inside the tolerance, short of the end, and the turtle stands there.
-    Once per leg, so a command that acts late again cannot start a hunt (it carries the turtle
-    at most the tolerance past the end). Only where the prediction is exact to the step,
-    turtlesim's: a base's odometry and inertia leave it a little off."""
-    return (prediction.late_steps > 0 and prediction.still and prediction.turns_first
-            and not config.limited and abs(remaining) > LANDED)
-
-
-def _finished(arrived: bool, prediction: Prediction, config: ControlConfig,
-              landed: bool = False) -> Command | None:
-    """None when a leg is over: the predicted pose is there, and the turtle itself too.
-
-    Until then the commands on their way carry the turtle, so hold with a stop. When a command
-    may act longer than predicted, the turtle must also stand still, or it would carry it on;
-    but not after a landing, which carries it at most the tolerance on (`_lands`).
-    A base with acceleration limits must be able to stop within the next period.
-    """
-    if (arrived and (prediction.late_steps == 0 or prediction.still or landed)
-            and (not config.limited or can_stop(prediction.velocity, config))):
-        return None
-    return STOP
-
-
-def _steering(error: float, config: ControlConfig) -> float:
-    """The turn rate that corrects a heading error: proportional, and on a base with an
-    angular acceleration limit no faster than it can stop turning when the error is gone
-    (sqrt(2 alpha |error|)), or a high gain would overshoot, rate-limited."""
-    rate = config.heading_gain * abs(error)
-    if config.max_angular_accel:
-        rate = min(rate, math.sqrt(2.0 * config.max_angular_accel * abs(error)))
-    return math.copysign(rate, error)
-
-
-def _clamp(value: float, limit: float) -> float:
-    return max(-limit, min(limit, value))
-
-
-class _TurnTracker:
-    """Turns by the leg's sweep, counting the rotation actually made (it may exceed pi)."""
-
-    def __init__(self, turn: Turn, pose: Pose2D) -> None:
-        self.turn = turn
-        self.turned = wrap_angle(pose.theta - turn.start_heading)
-        self.previous = pose.theta
-        self.landed = False  # the one landing command is sent (`_lands`)
-
-    @property
-    def fraction(self) -> float:
-        """How much of the turn is made, 0 to 1."""
-        return min(max(self.turned / self.turn.sweep_rad, 0.0), 1.0)
-
-    def update(self, pose: Pose2D, prediction: Prediction,
-               config: ControlConfig) -> Command | None:
-        predicted = prediction.pose
-        self.turned += wrap_angle(pose.theta - self.previous)
-        self.previous = pose.theta
-        remaining = self.turn.sweep_rad - self.turned
-        error = remaining - wrap_angle(predicted.theta - pose.theta)
-        landing = False
-        if abs(error) < config.heading_tolerance:
-            if self.landed or not _lands(error, prediction, config):
-                return _finished(abs(remaining) < config.heading_tolerance, prediction, config,
-                                 self.landed)
-            self.landed = landing = True
-        rate = min(config.angular_speed,
-                   _braking_speed(max(abs(error) - prediction.overrun[1], 0.0),
-                                  config.angular_braking, config.period_s, prediction,
-                                  config.limited, landing))
-        return Command(0.0, math.copysign(rate, error))
-
-
-class _PolylineTracker:
-    """Tracks a polyline, keeping its place along it from one update to the next."""
-
-    def __init__(self, polyline: Polyline, end_tolerance: float,
-                 profile: SpeedProfile | None | object = None) -> None:
-        self.polyline = polyline
-        self.end_tolerance = end_tolerance
-        self.segment = 0
-        self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
-        self._profile = profile  # with acceleration limits: None on a straight line
-        self.landed = False  # the one landing command is sent (`_lands`)
-        # Plain floats: a projection looks at a few segments, too few for numpy to pay.
-        self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
-
-    def _candidates(self) -> list[int] | range:
-        """The segments searched: a window around the last match (wrapping on a loop)."""
-        count = len(self._xs) - 1
-        first, last = self.segment - _WINDOW_BEHIND, self.segment + _WINDOW_AHEAD
-        if self.polyline.repeat:
-            return [index % count for index in range(first, last + 1)]
-        return range(min(max(first, 0), count - 1), min(max(last, 0), count - 1) + 1)
-
-    def _project(self, pose: Pose2D) -> tuple[int, float, float]:
-        """Nearest segment near the last one: index, fraction along it, signed offset."""
-        xs, ys, px, py = self._xs, self._ys, pose.x, pose.y
-        best = None
-        for index in self._candidates():
-            ax, ay = xs[index], ys[index]
-            dx, dy = xs[index + 1] - ax, ys[index + 1] - ay
-            rx, ry = px - ax, py - ay
-            squared = dx * dx + dy * dy
-            squared = 1e-18 if squared < 1e-18 else squared
-            fraction = (rx * dx + ry * dy) / squared
-            fraction = 0.0 if fraction < 0.0 else 1.0 if fraction > 1.0 else fraction
-            distance = math.hypot(px - (ax + dx * fraction), py - (ay + dy * fraction))
-            if best is None or distance < best[0]:
-                best = (distance, index, fraction, (dx * ry - dy * rx) / math.sqrt(squared))
-        _, index, fraction, offset = best
-        return index, fraction, offset
-
-    def _remaining(self, pose: Pose2D, segment: int, fraction: float) -> float:
-        """Distance left to the end (inf on a repeating polyline), signed: negative past it."""
-        polyline = self.polyline
-        if polyline.repeat:
-            return math.inf
-        last = len(polyline.points) - 2
-        end = polyline.points[-1]
-        heading = polyline.headings[last]
-        to_end = (end[0] - pose.x) * math.cos(heading) + (end[1] - pose.y) * math.sin(heading)
-        along_rest = polyline.length - polyline.cumulative_length[segment + 1]
-        return along_rest + (to_end if segment == last else
-                             (1.0 - fraction) * polyline.segment_lengths[segment])
-
-    def _arrived(self, pose: Pose2D, segment: int, remaining: float) -> bool:
-        if self.polyline.repeat:
-            return False
-        end = self.polyline.points[-1]
-        return abs(remaining) <= self.end_tolerance or (
-            segment == len(self.polyline.points) - 2
-            and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
-
-    def update(self, pose: Pose2D, prediction: Prediction,
-               config: ControlConfig) -> Command | None:
-        """Steer from the predicted pose; progress and arrival are the actual pose's."""
-        polyline, predicted = self.polyline, prediction.pose
-        actual_segment, actual_fraction, _ = self._project(pose)
-        self.fraction = (polyline.cumulative_length[actual_segment] + actual_fraction
-                         * polyline.segment_lengths[actual_segment]) / max(polyline.length, 1e-12)
-        self.segment, fraction, offset = self._project(predicted)
-        remaining = self._remaining(predicted, self.segment, fraction)
-        landing = False
-        if self._arrived(predicted, self.segment, remaining):
-            if self.landed or not _lands(remaining, prediction, config):
-                arrived = self._arrived(pose, actual_segment,
-                                        self._remaining(pose, actual_segment, actual_fraction))
-                return _finished(arrived, prediction, config, self.landed)
-            self.landed = landing = True
-        pose = predicted
-
-        facing = pose.theta + (math.pi if polyline.reverse else 0.0)
-        path_heading = float(polyline.headings[self.segment])
-        curvature = float(polyline.curvatures[self.segment])
-        heading_error = wrap_angle(path_heading - facing)
-
-        speed = self._speed(fraction, remaining, curvature, prediction, config, landing)
-        if abs(heading_error) > config.turn_first_angle:
-            speed = 0.0
-        else:
-            speed *= math.cos(heading_error)
-        # turtlesim turns first and then moves along the new heading, so on an arc the motion
-        # leads the heading by the turn of one period: aim half a chord behind the tangent.
-        lead = (abs(speed) * curvature * config.period_s / 2.0 if prediction.turns_first
-                else 0.0)
-        target = path_heading - lead - math.atan(config.cross_track_gain * offset)
-        steering = _steering(wrap_angle(target - facing), config)
-        angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
-        linear = -speed if polyline.reverse else speed
-        return Command(linear, angular)
-
-
-    def _speed(self, fraction: float, remaining: float, curvature: float,
-               prediction: Prediction, config: ControlConfig, landing: bool) -> float:
-        """The speed along the path for this period, before the heading's share: the top
-        speed, the base's profile or the curve's turn rate, and braking towards the end (signed:
-        negative to back up to it)."""
-        speed = config.linear_speed
-        if config.limited:
-            profiled = self._profiled_speed(fraction, prediction.velocity, config)
-            if remaining != math.inf:
-                # the profile ends at rest, so it allows nothing on its last millimetre: a
-                # base that stopped a hair short (its motors lag, its tyres slip) may still
-                # creep there in one period, a move from rest to rest within reach
-                profiled = max(profiled, min(abs(remaining) / config.period_s,
-                                             config.max_linear_accel * config.period_s))
-            speed = min(speed, profiled)
-        elif abs(curvature) > 1e-9:
-            speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
-        if remaining != math.inf:
-            speed = min(speed, _braking_speed(max(abs(remaining) - prediction.overrun[0], 0.0),
-                                              config.linear_braking, config.period_s,
-                                              prediction, config.limited, landing))
-            speed = math.copysign(speed, remaining)
-        return speed
-
-    def _profiled_speed(self, fraction: float, velocity: Command,
-                        config: ControlConfig) -> float:
-        """The profile's speed where this command's period ends (from a standstill the
-        profile starts at 0: it is the window that accelerates the base). The profile is the
-        plan's (`Plan.profiles`), planned with the request rather than in the control loop."""
-        polyline = self.polyline
-        if self._profile is _UNPLANNED:  # not planned with the plan: the settings changed
-            self._profile = profile_for(polyline, config)
-        if self._profile is None:  # a straight line
-            return config.linear_speed
-        arc = (polyline.cumulative_length[self.segment]
-               + fraction * polyline.segment_lengths[self.segment])
-        reach = abs(velocity.linear) + (config.max_linear_accel or 1e6) * config.period_s
-        ahead = min(reach, config.linear_speed) * config.period_s
-        if polyline.repeat:
-            return self._profile.speed_at((arc + ahead) % max(polyline.length, 1e-12))
-        return self._profile.speed_at(arc + ahead)
+# `distinct`: a command moved so its echo is unlike those already sent and those before it
+Distinct = Callable[[Command, Sequence[Command]], Command]
 
 
 class PathFollower:
@@ -287,8 +55,9 @@ class PathFollower:
         self.pen_wanted: bool | None = None
         self.leg_index = 0
         self._end_tolerance = end_tolerance
-        self._tracker: _TurnTracker | _PolylineTracker | None = None
+        self._tracker: TurnTracker | PolylineTracker | None = None
         self._last_command = STOP  # for a caller without a model of the robot
+        self._tail_sent = False  # the rest of this leg, and the next one's start, are sent
 
     @property
     def done(self) -> bool:
@@ -310,16 +79,51 @@ class PathFollower:
         return min(done / max(sum(costs), 1e-12), 1.0)
 
     def update(self, pose: Pose2D, config: ControlConfig,
-               prediction: Prediction | None = None) -> Command:
+               prediction: Prediction | None = None) -> Command | None:
         """The command for this control period, steered from where the commands still on their
         way will take the turtle (`prediction`, from `RobotModel.predict`; without it each
-        command is taken to act at once); STOP once done."""
+        command is taken to act at once); STOP once done; None while a leg's tail is on its
+        way (`tail`): nothing to send."""
         if prediction is None:
             prediction = Prediction.immediate(pose, self._last_command)
+        if self._tail_sent:
+            if prediction.in_flight > 1:  # more than the next leg's first command
+                return None
+            self._tail_sent = False
+            self._next_leg()
+            if prediction.queued:  # the next leg's first command (or a stop) is on its way
+                return None
         command = within_reach(self._next_command(pose, prediction, config),
                                prediction.velocity, config)
         self._last_command = command
         return command
+
+    def tail(self, command: Command, prediction: Prediction, config: ControlConfig,
+             distinct: Distinct = lambda command, _: command) -> tuple[Command, ...]:
+        """The commands to send right after `command` (this period's): the rest of this leg and
+        the next leg's first command, when the leg ends within the robot's queue as predicted;
+        () otherwise. `distinct` moves each as the robot model needs (`RobotModel.distinct`)."""
+        room = prediction.room
+        if (self.done or self._tracker is None or room < 2 or not exact(prediction, config)
+                or prediction.late_steps or not math.isclose(config.period_s, prediction.step_s)
+                or self._tracker.steps_left > room):
+            return ()
+        trial = copy.copy(self)
+        trial._tracker = copy.copy(self._tracker)
+        commands = [command]
+        for _ in range(room - 1):
+            prediction = prediction.then(commands[-1])
+            leg = trial.leg_index
+            commands.append(distinct(trial.update(prediction.pose, config, prediction),
+                                     commands))
+            if trial.leg_index != leg:  # ended: the last is the next leg's first (or a stop)
+                self._tail_sent = True
+                return tuple(commands[1:])
+        return ()
+
+    def _next_leg(self) -> None:
+        self.leg_index += 1
+        self._tracker = None
 
     def _next_command(self, pose: Pose2D, prediction: Prediction,
                       config: ControlConfig) -> Command:
@@ -329,8 +133,7 @@ class PathFollower:
             command = self._tracker.update(pose, prediction, config)
             if command is not None:
                 return command
-            self.leg_index += 1
-            self._tracker = None
+            self._next_leg()
         return STOP
 
     def _start_leg(self, pose: Pose2D, config: ControlConfig) -> bool:
@@ -341,11 +144,11 @@ class PathFollower:
             return False
         self.pen_wanted = None
         if isinstance(leg, Turn):
-            self._tracker = _TurnTracker(leg, pose)
+            self._tracker = TurnTracker(leg, pose)
             return True
         last = self.leg_index == len(self.path.legs) - 1
         tolerance = (self._end_tolerance if last and self._end_tolerance is not None
                      else config.position_tolerance)
-        profile = self._profiles[self.leg_index] if self._profiles else _UNPLANNED
-        self._tracker = _PolylineTracker(leg, tolerance, profile)
+        profile = self._profiles[self.leg_index] if self._profiles else UNPLANNED
+        self._tracker = PolylineTracker(leg, tolerance, profile)
         return True

@@ -48,7 +48,8 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 
 from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, STOP, Command
 from turtle_traj.core.control.delay_fit import DelayFit
@@ -56,6 +57,7 @@ from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed, di
 from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.turtlesim_contract import TOPIC_QOS_DEPTH
 
 CONFIDENCE = 0.95  # the share of commands that act no later than predicted
 # The share a leg's approach allows for: a command there that acts a step late is drawn, one
@@ -80,11 +82,37 @@ class Prediction:
     # turtlesim's step turns first and then moves along the new heading; a base reporting
     # odometry drives arcs
     turns_first: bool = True
+    in_flight: int = 0  # commands sent and not yet taken
+    # how many more commands its queue takes now, one acting each step (`step_s`): 0 without a
+    # queue, or where a command's step is not exactly known (a base's odometry)
+    room: int = 0
+    step_s: float = 0.0
+    # a command sent now would wait behind the last one sent (sent with others, it holds the
+    # robot's next step)
+    queued: bool = False
 
     @classmethod
     def immediate(cls, pose: Pose2D, velocity: Command = STOP) -> Prediction:
         """A robot that takes each command at once (no model: the follower used alone)."""
         return cls(pose, velocity)
+
+    def then(self, command: Command) -> Prediction:
+        """The prediction one step on, with `command` sent now behind the others: it acts
+        exactly one step (the next one queued behind it takes over), and then acts on."""
+        late, step_s = self.late_steps, self.step_s
+        return replace(self, pose=advance(self.pose, command, step_s), velocity=command,
+                       overrun=(abs(command.linear) * late * step_s,
+                                abs(command.angular) * late * step_s),
+                       still=self.still and command == STOP, in_flight=self.in_flight + 1,
+                       room=self.room - 1, queued=True)
+
+
+def advance(pose: Pose2D, command: Command, seconds: float) -> Pose2D:
+    """`pose` after `command` acted `seconds`, as turtlesim integrates a step: heading first,
+    then position along the new heading (unwrapped: steps add up)."""
+    theta = pose.theta + command.angular * seconds
+    return Pose2D(pose.x + command.linear * math.cos(theta) * seconds,
+                  pose.y + command.linear * math.sin(theta) * seconds, theta)
 
 
 @dataclass(frozen=True)
@@ -93,6 +121,9 @@ class _Sent:
     echo: Echo
     stamp: float  # when it was sent, in steps since the first command
     poses: int  # poses observed by then: it acts at a later step
+    # its stamp, or a step after the one before's if sent with it (the same stamp): commands
+    # sent together act one a step, each due at the robot the latency's floor after its slot
+    slot: float
 
 
 class RobotModel:
@@ -119,6 +150,7 @@ class RobotModel:
         self._jitter = RunningQuantile(CONFIDENCE, RATE, prior=0.0)
         self._jitter_tail = RunningQuantile(APPROACH_CONFIDENCE, RATE, prior=0.0)
         self._last_tick: float | None = None
+        self._in_step = False  # the last tick came one step after the one before
         self._follows = RunningQuantile(CONFIDENCE, RATE, prior=1.0)
 
     @property
@@ -134,12 +166,14 @@ class RobotModel:
         any, the velocity the last pose reported (a magnitude, for turtlesim)."""
         return self._sent[-1].command if self._sent else Command(*self._echo)
 
-    def distinct(self, command: Command) -> Command:
+    def distinct(self, command: Command, before: Sequence[Command] = ()) -> Command:
         """`command`, moved by a few float32 steps if its echo would name another command
-        remembered (see `echo.distinct`); as it is without an echo."""
+        remembered, or one of `before` (to be sent ahead of it); see `echo.distinct`. As it is
+        without an echo."""
         if not self.echoes:
             return command
-        return distinct(command, {sent.echo for sent in self._sent}, self.last_sent)
+        taken = {sent.echo for sent in self._sent} | {as_echoed(other) for other in before}
+        return distinct(command, taken, before[-1] if before else self.last_sent)
 
     def ticked(self, now_s: float) -> None:
         """The control timer fired (node clock, seconds), with a run or without: how long
@@ -147,6 +181,8 @@ class RobotModel:
         if self._origin_s is None:
             self._origin_s = now_s
         tick = self._in_steps(now_s)
+        # in step with the robot: one step after the tick before, as the latency was measured
+        self._in_step = self._last_tick is not None and abs(tick - self._last_tick - 1) <= 0.25
         if self._last_tick is not None:
             self._follows.add(tick - self._last_tick)
         self._last_tick = tick
@@ -158,10 +194,13 @@ class RobotModel:
             self._in_effect += 1
 
     def sent(self, command: Command, now_s: float) -> None:
-        """Record a command as it is published (node clock, seconds)."""
+        """Record a command as it is published (node clock, seconds): those sent together
+        carry the same time."""
         if self._origin_s is None:
             self._origin_s = now_s
-        self._sent.append(_Sent(command, as_echoed(command), self._in_steps(now_s), self._poses))
+        stamp, last = self._in_steps(now_s), self._sent[-1] if self._sent else None
+        slot = last.slot + 1.0 if last is not None and last.stamp == stamp else stamp
+        self._sent.append(_Sent(command, as_echoed(command), stamp, self._poses, slot))
         self._count += 1
 
     def observe(self, linear_echo: float, angular_echo: float, pose: Pose2D | None = None) -> None:
@@ -190,7 +229,7 @@ class RobotModel:
         first_seen = in_effect != self._in_effect
         self._in_effect = in_effect
         if first_seen and len(matches) == 1:  # equal commands tell nothing of the latency
-            self._observe_latency(self._poses - self._sent[in_effect - self._first].stamp)
+            self._observe_latency(self._poses - self._sent[in_effect - self._first].slot)
 
     def _observe_motion(self, pose: Pose2D | None) -> None:
         if pose is not None:
@@ -209,7 +248,7 @@ class RobotModel:
         """The newest command due by now: sent the latency's floor ago (a measured velocity
         names no command: this is the one taken to act)."""
         due = [self._first + index for index, sent in enumerate(self._sent)
-               if round(sent.stamp + self._latency.value) <= self._poses]
+               if round(sent.slot + self._latency.value) <= self._poses]
         return due[-1] if due else self._first - 1
 
     @property
@@ -247,30 +286,35 @@ class RobotModel:
     @property
     def excess(self) -> int:
         """Commands overdue beyond the jitter: send none now. A command is due at the robot the
-        latency's floor after it was sent; one in flight past that waits (a queue that a burst
-        filled, and one sent a step keeps full) or is held up (a stalled link, whose commands
-        will arrive together). Each period without a command sent lets the robot take one."""
+        latency's floor after it was sent (one sent with others, after its `slot`); one in
+        flight past that waits (a queue that a burst filled, and one sent a step keeps
+        full) or is held up (a stalled link, whose commands will arrive together). Each period
+        without a command sent lets the robot take one."""
         floor = self._latency.value
         if floor is None:
             return 0
-        overdue = sum(1 for sent in self._pending() if round(sent.stamp + floor) <= self._poses)
+        overdue = sum(1 for sent in self._pending() if round(sent.slot + floor) <= self._poses)
         return max(overdue - max(self._jitter.whole(), 0), 0)
 
     def predict(self, pose: Pose2D, now_s: float) -> Prediction:
         """Where the robot will be when the next command takes effect, and how uncertain."""
         pending = self._pending()
-        x, y, theta = pose.x, pose.y, pose.theta
         for command, steps in self._schedule(pending, now_s):
             for _ in range(steps):
-                theta += command.angular * self.step_s
-                x += command.linear * math.cos(theta) * self.step_s
-                y += command.linear * math.sin(theta) * self.step_s
+                pose = advance(pose, command, self.step_s)
         late = self._late_steps()
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
         still = self._standing and all(sent.command == STOP for sent in pending)
-        return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, overrun, still,
-                          turns_first=self.echoes)
+        # turtlesim's queue (keep last 7), one spare: a stop sent by someone else must fit. A
+        # tick out of step (late: the node was held up) is not one when a command sent now
+        # acts is known to the step (the latency was measured from ticks in step)
+        room = (max(TOPIC_QOS_DEPTH - 1 - len(pending), 0) if self.echoes and self._in_step
+                else 0)
+        queued = bool(self._sent) and self._sent[-1].slot + 0.5 > self._in_steps(now_s)
+        return Prediction(Pose2D(pose.x, pose.y, wrap_angle(pose.theta)), last, late, overrun,
+                          still, turns_first=self.echoes, in_flight=len(pending), room=room,
+                          step_s=self.step_s, queued=queued)
 
     def _pending(self) -> list[_Sent]:
         """The commands in flight, oldest first."""

@@ -1,0 +1,273 @@
+"""A leg's tracker: an in-place turn, or a polyline followed continuously. Pure Python.
+
+Each steers from the pose predicted for the moment its command takes effect (`robot_model`),
+so the latency between pose and command is accounted for, not guessed. Curves are tracked with
+curvature feed-forward plus a heading set-point that steers back onto the path
+(`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
+towards the end of the polyline and, near the end, by the predicted remaining distance per
+control period, so the turtle stops on the end point. A turtle facing more than
+`turn_first_angle` away from the path turns in place first.
+
+On a base with acceleration limits (`ControlConfig.limited`) braking follows the limits, curves
+follow their time-optimal speed profile (`profile`), and a leg ends only once a stop is within
+reach.
+"""
+
+from __future__ import annotations
+
+import math
+
+from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.dynamics import can_stop, stopping_speed
+from turtle_traj.core.control.profile import SpeedProfile, profile_for
+from turtle_traj.core.control.robot_model import Prediction
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
+
+_WINDOW_BEHIND = 3  # segments searched behind the last match
+_WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
+UNPLANNED = object()  # a polyline's speed profile, before it is planned
+LANDED = 1e-5  # m, rad: on the end, for a landing (`_lands`)
+
+
+def _braking_speed(remaining: float, deceleration: float, period_s: float,
+                   prediction: Prediction, limited: bool = False, landing: bool = False) -> float:
+    """Fastest speed from which the turtle still stops within `remaining`.
+
+    Near the end a command covers what remains of the predicted remainder in one period, so it
+    lands on the end point (deadbeat) when the latency is steady. When a command may act
+    `late_steps` periods longer than one, it covers only its share of the remainder, and a
+    misjudged period is corrected by the next command (backing up if needed: the remainder is
+    signed). Such an approach stops inside the end's tolerance, short of the end; once the
+    turtle stands there, one `landing` command covers the rest in one period.
+    """
+    braking = (stopping_speed(remaining, deceleration, period_s) if limited
+               else math.sqrt(2.0 * deceleration * remaining))
+    share = 1 if landing else 1 + prediction.late_steps
+    return min(braking, remaining / (share * period_s))
+
+
+def exact(prediction: Prediction, config: ControlConfig) -> bool:
+    """The prediction is exact to the step: turtlesim's (a base's odometry and inertia leave
+    it a little off)."""
+    return prediction.turns_first and not config.limited
+
+
+def _lands(remaining: float, prediction: Prediction, config: ControlConfig) -> bool:
+    """Whether to land on the end with one more command: the approach allowed for late
+    commands and stopped inside the tolerance, short of the end, and the turtle stands there.
+    Once per leg, so a command that acts late again cannot start a hunt (it carries the turtle
+    at most the tolerance past the end). Only where the prediction is `exact`."""
+    return (prediction.late_steps > 0 and prediction.still and exact(prediction, config)
+            and abs(remaining) > LANDED)
+
+
+def _finished(arrived: bool, prediction: Prediction, config: ControlConfig,
+              landed: bool = False) -> Command | None:
+    """None when a leg is over: the predicted pose is there, and the turtle itself too.
+
+    Until then the commands on their way carry the turtle, so hold with a stop. When a command
+    may act longer than predicted, the turtle must also stand still, or it would carry it on;
+    but not after a landing, which carries it at most the tolerance on (`_lands`).
+    A base with acceleration limits must be able to stop within the next period.
+    """
+    if (arrived and (prediction.late_steps == 0 or prediction.still or landed)
+            and (not config.limited or can_stop(prediction.velocity, config))):
+        return None
+    return STOP
+
+
+def _steering(error: float, config: ControlConfig) -> float:
+    """The turn rate that corrects a heading error: proportional, and on a base with an
+    angular acceleration limit no faster than it can stop turning when the error is gone
+    (sqrt(2 alpha |error|)), or a high gain would overshoot, rate-limited."""
+    rate = config.heading_gain * abs(error)
+    if config.max_angular_accel:
+        rate = min(rate, math.sqrt(2.0 * config.max_angular_accel * abs(error)))
+    return math.copysign(rate, error)
+
+
+def _clamp(value: float, limit: float) -> float:
+    return max(-limit, min(limit, value))
+
+
+class TurnTracker:
+    """Turns by the leg's sweep, counting the rotation actually made (it may exceed pi)."""
+
+    def __init__(self, turn: Turn, pose: Pose2D) -> None:
+        self.turn = turn
+        self.turned = wrap_angle(pose.theta - turn.start_heading)
+        self.previous = pose.theta
+        self.landed = False  # the one landing command is sent (`_lands`)
+        self.steps_left = math.inf  # at the last command's rate, as a guess (braking is slower)
+
+    @property
+    def fraction(self) -> float:
+        """How much of the turn is made, 0 to 1."""
+        return min(max(self.turned / self.turn.sweep_rad, 0.0), 1.0)
+
+    def update(self, pose: Pose2D, prediction: Prediction,
+               config: ControlConfig) -> Command | None:
+        predicted = prediction.pose
+        self.turned += wrap_angle(pose.theta - self.previous)
+        self.previous = pose.theta
+        remaining = self.turn.sweep_rad - self.turned
+        error = remaining - wrap_angle(predicted.theta - pose.theta)
+        landing = False
+        if abs(error) < config.heading_tolerance:
+            if self.landed or not _lands(error, prediction, config):
+                return _finished(abs(remaining) < config.heading_tolerance, prediction, config,
+                                 self.landed)
+            self.landed = landing = True
+        rate = min(config.angular_speed,
+                   _braking_speed(max(abs(error) - prediction.overrun[1], 0.0),
+                                  config.angular_braking, config.period_s, prediction,
+                                  config.limited, landing))
+        self.steps_left = abs(error) / max(rate * config.period_s, 1e-12)
+        return Command(0.0, math.copysign(rate, error))
+
+
+class PolylineTracker:
+    """Tracks a polyline, keeping its place along it from one update to the next."""
+
+    def __init__(self, polyline: Polyline, end_tolerance: float,
+                 profile: SpeedProfile | None | object = None) -> None:
+        self.polyline = polyline
+        self.end_tolerance = end_tolerance
+        self.segment = 0
+        self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
+        self._profile = profile  # with acceleration limits: None on a straight line
+        self.landed = False  # the one landing command is sent (`_lands`)
+        self.steps_left = math.inf  # at the last command's speed, as a guess (braking is slower)
+        # Plain floats: a projection looks at a few segments, too few for numpy to pay.
+        self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
+
+    def _candidates(self) -> list[int] | range:
+        """The segments searched: a window around the last match (wrapping on a loop)."""
+        count = len(self._xs) - 1
+        first, last = self.segment - _WINDOW_BEHIND, self.segment + _WINDOW_AHEAD
+        if self.polyline.repeat:
+            return [index % count for index in range(first, last + 1)]
+        return range(min(max(first, 0), count - 1), min(max(last, 0), count - 1) + 1)
+
+    def _project(self, pose: Pose2D) -> tuple[int, float, float]:
+        """Nearest segment near the last one: index, fraction along it, signed offset."""
+        xs, ys, px, py = self._xs, self._ys, pose.x, pose.y
+        best = None
+        for index in self._candidates():
+            ax, ay = xs[index], ys[index]
+            dx, dy = xs[index + 1] - ax, ys[index + 1] - ay
+            rx, ry = px - ax, py - ay
+            squared = dx * dx + dy * dy
+            squared = 1e-18 if squared < 1e-18 else squared
+            fraction = (rx * dx + ry * dy) / squared
+            fraction = 0.0 if fraction < 0.0 else 1.0 if fraction > 1.0 else fraction
+            distance = math.hypot(px - (ax + dx * fraction), py - (ay + dy * fraction))
+            if best is None or distance < best[0]:
+                best = (distance, index, fraction, (dx * ry - dy * rx) / math.sqrt(squared))
+        _, index, fraction, offset = best
+        return index, fraction, offset
+
+    def _remaining(self, pose: Pose2D, segment: int, fraction: float) -> float:
+        """Distance left to the end (inf on a repeating polyline), signed: negative past it."""
+        polyline = self.polyline
+        if polyline.repeat:
+            return math.inf
+        last = len(polyline.points) - 2
+        end = polyline.points[-1]
+        heading = polyline.headings[last]
+        to_end = (end[0] - pose.x) * math.cos(heading) + (end[1] - pose.y) * math.sin(heading)
+        along_rest = polyline.length - polyline.cumulative_length[segment + 1]
+        return along_rest + (to_end if segment == last else
+                             (1.0 - fraction) * polyline.segment_lengths[segment])
+
+    def _arrived(self, pose: Pose2D, segment: int, remaining: float) -> bool:
+        if self.polyline.repeat:
+            return False
+        end = self.polyline.points[-1]
+        return abs(remaining) <= self.end_tolerance or (
+            segment == len(self.polyline.points) - 2
+            and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
+
+    def update(self, pose: Pose2D, prediction: Prediction,
+               config: ControlConfig) -> Command | None:
+        """Steer from the predicted pose; progress and arrival are the actual pose's."""
+        polyline, predicted = self.polyline, prediction.pose
+        actual_segment, actual_fraction, _ = self._project(pose)
+        self.fraction = (polyline.cumulative_length[actual_segment] + actual_fraction
+                         * polyline.segment_lengths[actual_segment]) / max(polyline.length, 1e-12)
+        self.segment, fraction, offset = self._project(predicted)
+        remaining = self._remaining(predicted, self.segment, fraction)
+        landing = False
+        if self._arrived(predicted, self.segment, remaining):
+            if self.landed or not _lands(remaining, prediction, config):
+                arrived = self._arrived(pose, actual_segment,
+                                        self._remaining(pose, actual_segment, actual_fraction))
+                return _finished(arrived, prediction, config, self.landed)
+            self.landed = landing = True
+        pose = predicted
+
+        facing = pose.theta + (math.pi if polyline.reverse else 0.0)
+        path_heading = float(polyline.headings[self.segment])
+        curvature = float(polyline.curvatures[self.segment])
+        heading_error = wrap_angle(path_heading - facing)
+
+        speed = self._speed(fraction, remaining, curvature, prediction, config, landing)
+        self.steps_left = abs(remaining) / max(abs(speed) * config.period_s, 1e-12)
+        if abs(heading_error) > config.turn_first_angle:
+            speed = 0.0
+        else:
+            speed *= math.cos(heading_error)
+        # turtlesim turns first and then moves along the new heading, so on an arc the motion
+        # leads the heading by the turn of one period: aim half a chord behind the tangent.
+        lead = (abs(speed) * curvature * config.period_s / 2.0 if prediction.turns_first
+                else 0.0)
+        target = path_heading - lead - math.atan(config.cross_track_gain * offset)
+        steering = _steering(wrap_angle(target - facing), config)
+        angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
+        linear = -speed if polyline.reverse else speed
+        return Command(linear, angular)
+
+
+    def _speed(self, fraction: float, remaining: float, curvature: float,
+               prediction: Prediction, config: ControlConfig, landing: bool) -> float:
+        """The speed along the path for this period, before the heading's share: the top
+        speed, the base's profile or the curve's turn rate, and braking towards the end (signed:
+        negative to back up to it)."""
+        speed = config.linear_speed
+        if config.limited:
+            profiled = self._profiled_speed(fraction, prediction.velocity, config)
+            if remaining != math.inf:
+                # the profile ends at rest, so it allows nothing on its last millimetre: a
+                # base that stopped a hair short (its motors lag, its tyres slip) may still
+                # creep there in one period, a move from rest to rest within reach
+                profiled = max(profiled, min(abs(remaining) / config.period_s,
+                                             config.max_linear_accel * config.period_s))
+            speed = min(speed, profiled)
+        elif abs(curvature) > 1e-9:
+            speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
+        if remaining != math.inf:
+            speed = min(speed, _braking_speed(max(abs(remaining) - prediction.overrun[0], 0.0),
+                                              config.linear_braking, config.period_s,
+                                              prediction, config.limited, landing))
+            speed = math.copysign(speed, remaining)
+        return speed
+
+    def _profiled_speed(self, fraction: float, velocity: Command,
+                        config: ControlConfig) -> float:
+        """The profile's speed where this command's period ends (from a standstill the
+        profile starts at 0: it is the window that accelerates the base). The profile is the
+        plan's (`Plan.profiles`), planned with the request rather than in the control loop."""
+        polyline = self.polyline
+        if self._profile is UNPLANNED:  # not planned with the plan: the settings changed
+            self._profile = profile_for(polyline, config)
+        if self._profile is None:  # a straight line
+            return config.linear_speed
+        arc = (polyline.cumulative_length[self.segment]
+               + fraction * polyline.segment_lengths[self.segment])
+        reach = abs(velocity.linear) + (config.max_linear_accel or 1e6) * config.period_s
+        ahead = min(reach, config.linear_speed) * config.period_s
+        if polyline.repeat:
+            return self._profile.speed_at((arc + ahead) % max(polyline.length, 1e-12))
+        return self._profile.speed_at(arc + ahead)
