@@ -110,11 +110,11 @@ class RunManager:
         commands = self._loop.command(self.settings.control, self.settings.arena, now_s)
         if run is None:
             return
-        if not commands:
-            self._finish_if_ended()  # which sends the stop
-            return
         for command in commands:  # sent together: one stamp
             self._publish(command, now_s)
+        if run.ending is not None:
+            self._finish_if_ended()  # which sends the stop
+            return
         if run.pen_wanted is not None and not self._pen.busy:
             self._pen.set(run.plan.pen, down=run.pen_wanted,
                           then=partial(self._pen_answered, run, run.pen_wanted))

@@ -92,6 +92,8 @@ class PathFollower:
             self._tail_sent = False
             self._next_leg()
             if prediction.queued:  # the next leg's first command (or a stop) is on its way
+                if not self.done:
+                    self._start_leg(pose, config)  # a pen to change is asked for at once
                 return None
         command = within_reach(self._next_command(pose, prediction, config),
                                prediction.velocity, config)
