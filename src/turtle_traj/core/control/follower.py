@@ -24,8 +24,8 @@ from collections.abc import Callable, Sequence
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.dynamics import within_reach
+from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile
-from turtle_traj.core.control.robot_model import Prediction
 from turtle_traj.core.control.trackers import UNPLANNED, PolylineTracker, TurnTracker, exact
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 
@@ -100,27 +100,31 @@ class PathFollower:
         self._last_command = command
         return command
 
-    def tail(self, command: Command, prediction: Prediction, config: ControlConfig,
+    def tail(self, pose: Pose2D, prediction: Prediction, config: ControlConfig,
              distinct: Distinct = lambda command, _: command) -> tuple[Command, ...]:
-        """The commands to send right after `command` (this period's): the rest of this leg and
-        the next leg's first command, when the leg ends within the robot's queue as predicted;
-        () otherwise. `distinct` moves each as the robot model needs (`RobotModel.distinct`)."""
+        """The commands to send this period instead of `update`'s: the rest of this leg and the
+        next leg's first command, when the leg ends within the robot's queue as predicted (the
+        node's timer cannot make a queued command late: `Prediction.unheld`); () otherwise.
+        `distinct` moves each as the robot model needs (`RobotModel.distinct`)."""
         room = prediction.room
         if (self.done or self._tracker is None or room < 2 or not exact(prediction, config)
-                or prediction.late_steps or not math.isclose(config.period_s, prediction.step_s)
+                or prediction.late_steps > prediction.held_steps
+                or not math.isclose(config.period_s, prediction.step_s)
                 or self._tracker.steps_left > room):
             return ()
         trial = copy.copy(self)
         trial._tracker = copy.copy(self._tracker)
-        commands = [command]
-        for _ in range(room - 1):
-            prediction = prediction.then(commands[-1])
+        prediction, commands = prediction.unheld(), []
+        for _ in range(room):
             leg = trial.leg_index
-            commands.append(distinct(trial.update(prediction.pose, config, prediction),
-                                     commands))
+            commands.append(distinct(trial.update(pose, config, prediction), commands))
             if trial.leg_index != leg:  # ended: the last is the next leg's first (or a stop)
+                if len(commands) < 2:
+                    return ()
                 self._tail_sent = True
-                return tuple(commands[1:])
+                return tuple(commands)
+            prediction = prediction.then(commands[-1])
+            pose = prediction.pose  # as predicted from here on
         return ()
 
     def _next_leg(self) -> None:

@@ -62,10 +62,10 @@ class ControlLoop:
 
     def command(self, config: ControlConfig, arena: Arena, now_s: float) -> tuple[Command, ...]:
         """This period's commands for the run, to send in order (call it on every tick of the
-        control timer, with a run or without): one, or with a leg's tail the rest of the leg
-        (`PathFollower.tail`); none when there is nothing to send: no run, no pose yet,
-        commands overdue at the robot (`RobotModel.excess`), a tail on its way, or the run has
-        just ended (whoever ends it sends the stop)."""
+        control timer, with a run or without): one, or the rest of the leg when it fits in the
+        robot's queue (`PathFollower.tail`); none when there is nothing to send: no run, no
+        pose yet, commands overdue at the robot (`RobotModel.excess`), a tail on its way, or
+        the run has just ended (whoever ends it sends the stop)."""
         self.model.ticked(now_s)
         run = self.run
         if run is None or self.pose is None:
@@ -77,8 +77,8 @@ class ControlLoop:
         command = run.command(self.pose, self.standing, config, arena, now_s, prediction)
         if command is None or run.ending is not None:
             return ()
-        command = self.model.distinct(command)
-        return (command, *run.tail(command, prediction, config, self.model.distinct))
+        return (run.tail(self.pose, prediction, config, self.model.distinct)
+                or (self.model.distinct(command),))
 
     def sent(self, command: Command, now_s: float) -> None:
         """Record a command as it is published (every one, the stops included; node clock)."""

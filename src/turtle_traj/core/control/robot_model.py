@@ -6,14 +6,16 @@ The model, in one page:
   the oldest command that has arrived and not been taken, if any, and integrates with the one in
   effect; a step with none keeps the last (turtlesim and our bases do exactly this). A command
   acts until the next one is taken: one step each when the robot has a queue, longer when this
-  node sent the next one late (a busy executor, a skipped period).
+  node sent the next one late (a busy executor, a skipped period). Commands sent together
+  (one stamp) queue and act one a step: each has a `slot`, a step after the one before's.
 * **Two clocks, one offset.** Commands are stamped as they are sent (node clock, counted in
   steps). Poses arrive one per robot step, in order, even late ones: counting them counts the
-  robot's steps. A command first seen in effect at pose `k`, sent at step `t`, took `k - t`
-  steps to arrive and act; that offset is the link's latency as the robot's clock sees it. Its
-  floor (`RunningFloor`, of the median of three) is the latency without a queue; how much
-  later than the one before a command arrives (95th percentile) is the jitter. A lost pose,
-  or a cut link, lowers the offsets for good: the floor falls with the second lower one.
+  robot's steps. A command first seen in effect at pose `k`, sent at step `t` (its slot, if sent
+  with others), took `k - t` steps to arrive and act; that offset is the link's latency as the
+  robot's clock sees it. Its floor (`RunningFloor`, of the median of three) is the latency
+  without a queue; how much later than the one before a command arrives (95th percentile) is the
+  jitter. A lost pose, or a cut link, lowers the offsets for good: the floor falls with the
+  second lower one.
 * **One observer says which command is in effect.** turtlesim's pose echoes its velocities
   (`echo`): the command whose echo matches is in effect, and those sent after it are in flight.
   Commands act in order, so among equal echoes (a run of stops) the match is the one nearest a
@@ -25,14 +27,20 @@ The model, in one page:
   each from the step it arrives (its stamp plus the latency, and not before the step after the
   one before it) to the next one's, with turtlesim's integration (heading first, then position
   along the new heading). In lock-step each arrives the step after the one before, exactly.
+  It also says how many more commands turtlesim's queue takes now (`room`: none from a tick
+  out of step with the robot, whose timing was not measured) and whether one sent now would
+  wait behind others (`queued`). The follower uses the queue as a buffer: once the rest of a
+  leg fits, it is sent at once, so a node held up as a leg ends leaves the robot acting the
+  plan, not repeating an approach command past the corner (`follower`, a leg's tail).
 * **The uncertainty** is a distribution, not a worst case. `late_steps`, how many steps longer
-  than one the next command may act, is the jitter's 99th percentile (an approach that misses
-  it draws past the leg's end) plus how much later than one step the 95th percentile of this
-  node's control timer fires after the tick before. Each is a running quantile
-  (`RunningQuantile`): a stall seen once moves it by a fraction of a step, which the next
-  observations take back (for the 99th, within about 1.5 s of driving), so approaches stay
-  brisk; jitter that lasts, as loss on a link does, is hedged: such an approach stops inside
-  the end's tolerance, and one more command lands on the end once the turtle stands there.
+  than one the next command may act, is the jitter's 99th percentile (an approach that misses it
+  draws past the leg's end) plus how much later than one step the 95th percentile of this node's
+  control timer fires after the tick before (`held_steps`: a command queued behind another is not
+  held by it). Each is a running quantile (`RunningQuantile`): a stall seen once moves it by a
+  fraction of a step, which the next observations take back (for the 99th, within about 1.5 s of
+  driving), so approaches stay brisk; jitter that lasts, as loss on a link does, is hedged: such
+  an approach stops inside the end's tolerance, and one more command lands on the end once the
+  turtle stands there.
 * **Faults are observations.** A stalled link holds commands back, and its repair lets them
   through together, to queue at turtlesim's 7-deep subscription: either way commands are
   overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
@@ -49,11 +57,12 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, STOP, Command
 from turtle_traj.core.control.delay_fit import DelayFit
 from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed, distinct
+from turtle_traj.core.control.prediction import Prediction, advance
 from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
@@ -67,52 +76,6 @@ RATE = 0.25  # steps: the most one observation moves a running quantile
 # A base whose odometry measures less than this (m/s, rad/s) stands: a few encoder ticks a
 # period (an XL430's 4096 a turn on 33 mm wheels 0.16 m apart, at 62.5 Hz: 3 mm/s, 0.04 rad/s).
 MEASURED_STILL = (0.01, 0.05)
-
-
-@dataclass(frozen=True)
-class Prediction:
-    """What the model says of the robot for this control period (immutable)."""
-
-    pose: Pose2D  # where the robot will be when the next command takes effect
-    velocity: Command  # the command in effect until then: the last one sent
-    late_steps: int = 0  # how many steps longer than one the next command may act
-    # m, rad the robot may move beyond `pose`: the last command sent, acting `late_steps` longer
-    overrun: tuple[float, float] = (0.0, 0.0)
-    still: bool = True  # it stands, and every command on its way is a stop
-    # turtlesim's step turns first and then moves along the new heading; a base reporting
-    # odometry drives arcs
-    turns_first: bool = True
-    in_flight: int = 0  # commands sent and not yet taken
-    # how many more commands its queue takes now, one acting each step (`step_s`): 0 without a
-    # queue, or where a command's step is not exactly known (a base's odometry)
-    room: int = 0
-    step_s: float = 0.0
-    # a command sent now would wait behind the last one sent (sent with others, it holds the
-    # robot's next step)
-    queued: bool = False
-
-    @classmethod
-    def immediate(cls, pose: Pose2D, velocity: Command = STOP) -> Prediction:
-        """A robot that takes each command at once (no model: the follower used alone)."""
-        return cls(pose, velocity)
-
-    def then(self, command: Command) -> Prediction:
-        """The prediction one step on, with `command` sent now behind the others: it acts
-        exactly one step (the next one queued behind it takes over), and then acts on."""
-        late, step_s = self.late_steps, self.step_s
-        return replace(self, pose=advance(self.pose, command, step_s), velocity=command,
-                       overrun=(abs(command.linear) * late * step_s,
-                                abs(command.angular) * late * step_s),
-                       still=self.still and command == STOP, in_flight=self.in_flight + 1,
-                       room=self.room - 1, queued=True)
-
-
-def advance(pose: Pose2D, command: Command, seconds: float) -> Pose2D:
-    """`pose` after `command` acted `seconds`, as turtlesim integrates a step: heading first,
-    then position along the new heading (unwrapped: steps add up)."""
-    theta = pose.theta + command.angular * seconds
-    return Pose2D(pose.x + command.linear * math.cos(theta) * seconds,
-                  pose.y + command.linear * math.sin(theta) * seconds, theta)
 
 
 @dataclass(frozen=True)
@@ -302,7 +265,8 @@ class RobotModel:
         for command, steps in self._schedule(pending, now_s):
             for _ in range(steps):
                 pose = advance(pose, command, self.step_s)
-        late = self._late_steps()
+        held = max(self._follows.whole(1) - 1, 0)  # this node's timer, late
+        late = max(self._jitter_tail.whole(), 0) + held  # and the link
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
         still = self._standing and all(sent.command == STOP for sent in pending)
@@ -314,7 +278,7 @@ class RobotModel:
         queued = bool(self._sent) and self._sent[-1].slot + 0.5 > self._in_steps(now_s)
         return Prediction(Pose2D(pose.x, pose.y, wrap_angle(pose.theta)), last, late, overrun,
                           still, turns_first=self.echoes, in_flight=len(pending), room=room,
-                          step_s=self.step_s, queued=queued)
+                          step_s=self.step_s, queued=queued, held_steps=held)
 
     def _pending(self) -> list[_Sent]:
         """The commands in flight, oldest first."""
@@ -343,9 +307,6 @@ class RobotModel:
         begins = [self._poses + 1, *starts[:-1]]
         return [(command, end - begin)
                 for command, begin, end in zip(acting, begins, starts, strict=True)]
-
-    def _late_steps(self) -> int:
-        return max(self._jitter_tail.whole(), 0) + max(self._follows.whole(1) - 1, 0)
 
     def _in_steps(self, stamp_s: float) -> float:
         return (stamp_s - self._origin_s) / self.step_s

@@ -23,7 +23,7 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controller import Controller, Limits, State, Stroke
 from turtle_traj.core.control.dynamics import within_reach
 from turtle_traj.core.control.follower import PathFollower
-from turtle_traj.core.control.robot_model import Prediction
+from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 
 _JOIN_M = 1e-6  # polylines whose ends meet this closely join into one stroke

@@ -20,7 +20,7 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.follower import Distinct, PathFollower
 from turtle_traj.core.control.plan import Plan
-from turtle_traj.core.control.robot_model import Prediction
+from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.strokes import ControllerFault, StrokeDriver
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
@@ -188,13 +188,13 @@ class RunSupervisor:
             self.end(False, f'{self.name} aborted: {fault}')
             return STOP
 
-    def tail(self, command: Command, prediction: Prediction, config: ControlConfig,
+    def tail(self, pose: Pose2D, prediction: Prediction, config: ControlConfig,
              distinct: Distinct) -> tuple[Command, ...]:
-        """The commands to send right after `command`: the rest of the leg, when it fits in the
-        robot's queue (`PathFollower.tail`; the exact follower's only)."""
+        """The commands to send this period instead of `command`'s: the rest of the leg, when
+        it fits in the robot's queue (`PathFollower.tail`; the exact follower's only)."""
         if self.ending is not None or not isinstance(self.follower, PathFollower):
             return ()
-        return self.follower.tail(command, prediction, self._config[1], distinct)
+        return self.follower.tail(pose, prediction, self._config[1], distinct)
 
     def watch(self, pose: Pose2D, config: ControlConfig, arena: Arena, now_s: float) -> None:
         """A period with no command sent (commands wait at the robot): end the run if it must

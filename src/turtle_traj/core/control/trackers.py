@@ -20,8 +20,8 @@ import math
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.dynamics import can_stop, stopping_speed
+from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile, profile_for
-from turtle_traj.core.control.robot_model import Prediction
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
 
