@@ -67,21 +67,3 @@ def test_a_node_held_up_as_a_leg_ends_leaves_the_turtle_on_the_corner(ticks):
         # to the micrometre: without the tail a tick missed on the approach drew up to a full
         # step (16 mm at 1 m/s) past the corner
         assert distance_to_polyline(positions, SQUARE).max() < 1e-6, (first, ticks)
-
-
-@pytest.mark.parametrize('seed', range(4))
-def test_a_timer_often_late_draws_the_square_exactly_and_briskly(seed):
-    """Ticks missed one to four at a time, a run starting at one tick in twelve: the model
-    hedges for a late timer, but a tail queued at the robot is not held by it."""
-    rng, held, step = np.random.default_rng(seed), set(), 0
-    while step < 2000:
-        if rng.random() < 1 / 12:
-            held.update(range(step, step + int(rng.integers(1, 5))))
-            step += 4
-        step += 1
-    steady, _, _ = _square(lambda _step: False)
-    positions, _, done = _square(held.__contains__)
-    assert done
-    # without the tail: up to 12 mm past a corner, and up to 30% slower (a hedged approach)
-    assert distance_to_polyline(positions, SQUARE).max() < 1e-6
-    assert len(positions) <= len(steady) + 3

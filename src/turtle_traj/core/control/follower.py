@@ -11,8 +11,9 @@ approach command past the end. So once the rest of a leg fits in the robot's que
 leg's first command behind it (`tail`): each acts one step, in order, whenever the node runs.
 It does so only where the prediction is exact (turtlesim, no acceleration limits, a control
 period of one step) and no command is expected late (`late_steps` 0): the tail is what the
-follower would send step by step on the predicted poses, and a command held up on a link would
-hold back those behind it. Until the robot has taken the tail, there is nothing to send.
+follower would send step by step on the predicted poses, which lateness makes uncertain (and a
+command held up on a link would hold back those behind it). Until the robot has taken the
+tail, there is nothing to send.
 """
 
 from __future__ import annotations
@@ -103,18 +104,17 @@ class PathFollower:
     def tail(self, pose: Pose2D, prediction: Prediction, config: ControlConfig,
              distinct: Distinct = lambda command, _: command) -> tuple[Command, ...]:
         """The commands to send this period instead of `update`'s: the rest of this leg and the
-        next leg's first command, when the leg ends within the robot's queue as predicted (the
-        node's timer cannot make a queued command late: `Prediction.unheld`); () otherwise.
-        `distinct` moves each as the robot model needs (`RobotModel.distinct`)."""
+        next leg's first command, when the leg ends within the robot's queue as predicted; ()
+        otherwise. `distinct` moves each as the robot model needs (`RobotModel.distinct`)."""
         room = prediction.room
         if (self.done or self._tracker is None or room < 2 or not exact(prediction, config)
-                or prediction.late_steps > prediction.held_steps
+                or prediction.late_steps > 0
                 or not math.isclose(config.period_s, prediction.step_s)
                 or self._tracker.steps_left > room):
             return ()
         trial = copy.copy(self)
         trial._tracker = copy.copy(self._tracker)
-        prediction, commands = prediction.unheld(), []
+        commands: list[Command] = []
         for _ in range(room):
             leg = trial.leg_index
             commands.append(distinct(trial.update(pose, config, prediction), commands))

@@ -34,28 +34,17 @@ class Prediction:
     # a command sent now would wait behind the last one sent (sent with others, it holds the
     # robot's next step)
     queued: bool = False
-    # of `late_steps`, those this node's timer may fire late: none for a command queued behind
-    # another, which takes over on the robot's step whenever the node runs
-    held_steps: int = 0
 
     @classmethod
     def immediate(cls, pose: Pose2D, velocity: Command = STOP) -> Prediction:
         """A robot that takes each command at once (no model: the follower used alone)."""
         return cls(pose, velocity)
 
-    def unheld(self) -> Prediction:
-        """For a command another will be queued behind: only the link may make it late."""
-        late = self.late_steps - self.held_steps
-        return replace(self, late_steps=late, held_steps=0,
-                       overrun=_overrun(self.velocity, late, self.step_s))
-
     def then(self, command: Command) -> Prediction:
         """The prediction one step on, with `command` sent now behind the others: it acts
         exactly one step (the next one queued behind it takes over), and then acts on."""
-        late = self.late_steps - self.held_steps
         return replace(self, pose=advance(self.pose, command, self.step_s), velocity=command,
-                       late_steps=late, held_steps=0,
-                       overrun=_overrun(command, late, self.step_s),
+                       overrun=_overrun(command, self.late_steps, self.step_s),
                        still=self.still and command == STOP, in_flight=self.in_flight + 1,
                        room=self.room - 1, queued=True)
 

@@ -35,12 +35,11 @@ The model, in one page:
 * **The uncertainty** is a distribution, not a worst case. `late_steps`, how many steps longer
   than one the next command may act, is the jitter's 99th percentile (an approach that misses it
   draws past the leg's end) plus how much later than one step the 95th percentile of this node's
-  control timer fires after the tick before (`held_steps`: a command queued behind another is not
-  held by it). Each is a running quantile (`RunningQuantile`): a stall seen once moves it by a
-  fraction of a step, which the next observations take back (for the 99th, within about 1.5 s of
-  driving), so approaches stay brisk; jitter that lasts, as loss on a link does, is hedged: such
-  an approach stops inside the end's tolerance, and one more command lands on the end once the
-  turtle stands there.
+  control timer fires after the tick before. Each is a running quantile (`RunningQuantile`): a
+  stall seen once moves it by a fraction of a step, which the next observations take back (for
+  the 99th, within about 1.5 s of driving), so approaches stay brisk; jitter that lasts, as loss
+  on a link does, is hedged: such an approach stops inside the end's tolerance, and one more
+  command lands on the end once the turtle stands there.
 * **Faults are observations.** A stalled link holds commands back, and its repair lets them
   through together, to queue at turtlesim's 7-deep subscription: either way commands are
   overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
@@ -73,6 +72,7 @@ CONFIDENCE = 0.95  # the share of commands that act no later than predicted
 # step at full speed past the end (a lost packet repaired, at 5% loss one command in twenty)
 APPROACH_CONFIDENCE = 0.99
 RATE = 0.25  # steps: the most one observation moves a running quantile
+IN_STEP = 0.25  # steps: a tick this close to the usual interval after the one before is in step
 # A base whose odometry measures less than this (m/s, rad/s) stands: a few encoder ticks a
 # period (an XL430's 4096 a turn on 33 mm wheels 0.16 m apart, at 62.5 Hz: 3 mm/s, 0.04 rad/s).
 MEASURED_STILL = (0.01, 0.05)
@@ -87,6 +87,7 @@ class _Sent:
     # its stamp, or a step after the one before's if sent with it (the same stamp): commands
     # sent together act one a step, each due at the robot the latency's floor after its slot
     slot: float
+    in_step: bool  # sent at a tick that came the usual interval after the one before
 
 
 class RobotModel:
@@ -113,7 +114,10 @@ class RobotModel:
         self._jitter = RunningQuantile(CONFIDENCE, RATE, prior=0.0)
         self._jitter_tail = RunningQuantile(APPROACH_CONFIDENCE, RATE, prior=0.0)
         self._last_tick: float | None = None
-        self._in_step = False  # the last tick came one step after the one before
+        # steps from one tick to the next, as usual (the median), and whether the last tick
+        # came so: the latency is measured, and a command's step predicted exactly, from such
+        self._interval = RunningQuantile(0.5, RATE, prior=1.0)
+        self._in_step = True
         self._follows = RunningQuantile(CONFIDENCE, RATE, prior=1.0)
 
     @property
@@ -144,10 +148,12 @@ class RobotModel:
         if self._origin_s is None:
             self._origin_s = now_s
         tick = self._in_steps(now_s)
-        # in step with the robot: one step after the tick before, as the latency was measured
-        self._in_step = self._last_tick is not None and abs(tick - self._last_tick - 1) <= 0.25
+        self._in_step = False
         if self._last_tick is not None:
-            self._follows.add(tick - self._last_tick)
+            interval = tick - self._last_tick
+            self._in_step = abs(interval - self._interval.value) <= IN_STEP
+            self._interval.add(interval)
+            self._follows.add(interval)
         self._last_tick = tick
         # a command in flight past its lifespan was dropped on the way (the writer keeps it no
         # longer): it will never act, and nothing waits for it
@@ -163,7 +169,8 @@ class RobotModel:
             self._origin_s = now_s
         stamp, last = self._in_steps(now_s), self._sent[-1] if self._sent else None
         slot = last.slot + 1.0 if last is not None and last.stamp == stamp else stamp
-        self._sent.append(_Sent(command, as_echoed(command), stamp, self._poses, slot))
+        self._sent.append(_Sent(command, as_echoed(command), stamp, self._poses, slot,
+                                self._in_step))
         self._count += 1
 
     def observe(self, linear_echo: float, angular_echo: float, pose: Pose2D | None = None) -> None:
@@ -191,8 +198,11 @@ class RobotModel:
             return
         first_seen = in_effect != self._in_effect
         self._in_effect = in_effect
-        if first_seen and len(matches) == 1:  # equal commands tell nothing of the latency
-            self._observe_latency(self._poses - self._sent[in_effect - self._first].slot)
+        sent = self._sent[in_effect - self._first]
+        # equal commands tell nothing of the latency; one sent out of step (a late tick)
+        # arrives at another point of the robot's step, which says nothing of the link
+        if first_seen and len(matches) == 1:
+            self._observe_latency(self._poses - sent.slot)
 
     def _observe_motion(self, pose: Pose2D | None) -> None:
         if pose is not None:
@@ -265,20 +275,19 @@ class RobotModel:
         for command, steps in self._schedule(pending, now_s):
             for _ in range(steps):
                 pose = advance(pose, command, self.step_s)
-        held = max(self._follows.whole(1) - 1, 0)  # this node's timer, late
-        late = max(self._jitter_tail.whole(), 0) + held  # and the link
+        late = max(self._jitter_tail.whole(), 0) + max(self._follows.whole(1) - 1, 0)
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
         still = self._standing and all(sent.command == STOP for sent in pending)
         # turtlesim's queue (keep last 7), one spare: a stop sent by someone else must fit. A
-        # tick out of step (late: the node was held up) is not one when a command sent now
-        # acts is known to the step (the latency was measured from ticks in step)
-        room = (max(TOPIC_QOS_DEPTH - 1 - len(pending), 0) if self.echoes and self._in_step
-                else 0)
+        # command sent out of step (a late tick: the node was held up) may act a step off the
+        # prediction (the latency was measured in step): none while one is on its way
+        exact = self._in_step and all(sent.in_step for sent in pending)
+        room = max(TOPIC_QOS_DEPTH - 1 - len(pending), 0) if self.echoes and exact else 0
         queued = bool(self._sent) and self._sent[-1].slot + 0.5 > self._in_steps(now_s)
         return Prediction(Pose2D(pose.x, pose.y, wrap_angle(pose.theta)), last, late, overrun,
                           still, turns_first=self.echoes, in_flight=len(pending), room=room,
-                          step_s=self.step_s, queued=queued, held_steps=held)
+                          step_s=self.step_s, queued=queued)
 
     def _pending(self) -> list[_Sent]:
         """The commands in flight, oldest first."""
