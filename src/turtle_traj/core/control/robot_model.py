@@ -26,12 +26,12 @@ The model, in one page:
 * **The prediction** replays the command in effect and every command in flight from the pose,
   each from the step it arrives (its stamp plus the latency, and not before the step after the
   one before it) to the next one's, with turtlesim's integration (heading first, then position
-  along the new heading). In lock-step each arrives the step after the one before, exactly.
-  It also says how many more commands turtlesim's queue takes now (`room`: none from a tick
-  out of step with the robot, whose timing was not measured) and whether one sent now would
-  wait behind others (`queued`). The follower uses the queue as a buffer: once the rest of a
-  leg fits, it is sent at once, so a node held up as a leg ends leaves the robot acting the
-  plan, not repeating an approach command past the corner (`follower`, a leg's tail).
+  along the new heading). In lock-step each arrives the step after the one before, exactly. It
+  also says how many more commands turtlesim's queue takes now (`room`: none while a command sent
+  at a tick out of step, late, is on its way: when it acts is not known to the step) and whether
+  one sent now would wait behind others (`queued`). The follower uses the queue as a buffer: once
+  the rest of a leg fits, it is sent at once, so a node held up as a leg ends leaves the robot
+  acting the plan, not repeating an approach command past the corner (`follower`, a leg's tail).
 * **The uncertainty** is a distribution, not a worst case. `late_steps`, how many steps longer
   than one the next command may act, is the jitter's 99th percentile (an approach that misses it
   draws past the leg's end) plus how much later than one step the 95th percentile of this node's
@@ -198,11 +198,8 @@ class RobotModel:
             return
         first_seen = in_effect != self._in_effect
         self._in_effect = in_effect
-        sent = self._sent[in_effect - self._first]
-        # equal commands tell nothing of the latency; one sent out of step (a late tick)
-        # arrives at another point of the robot's step, which says nothing of the link
-        if first_seen and len(matches) == 1:
-            self._observe_latency(self._poses - sent.slot)
+        if first_seen and len(matches) == 1:  # equal commands tell nothing of the latency
+            self._observe_latency(self._poses - self._sent[in_effect - self._first].slot)
 
     def _observe_motion(self, pose: Pose2D | None) -> None:
         if pose is not None:
