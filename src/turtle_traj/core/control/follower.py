@@ -106,16 +106,12 @@ class PathFollower:
         """The commands to send this period instead of `update`'s: the rest of this leg and the
         next leg's first command, when the leg ends within the robot's queue as predicted; ()
         otherwise. `distinct` moves each as the robot model needs (`RobotModel.distinct`)."""
-        room = prediction.room
-        if (self.done or self._tracker is None or room < 2 or not exact(prediction, config)
-                or prediction.late_steps > 0
-                or not math.isclose(config.period_s, prediction.step_s)
-                or self._tracker.steps_left > room):
+        if not self._may_tail(prediction, config):
             return ()
         trial = copy.copy(self)
         trial._tracker = copy.copy(self._tracker)
         commands: list[Command] = []
-        for _ in range(room):
+        for _ in range(prediction.room):
             leg = trial.leg_index
             commands.append(distinct(trial.update(pose, config, prediction), commands))
             if trial.leg_index != leg:  # ended: the last is the next leg's first (or a stop)
@@ -126,6 +122,14 @@ class PathFollower:
             prediction = prediction.then(commands[-1])
             pose = prediction.pose  # as predicted from here on
         return ()
+
+    def _may_tail(self, prediction: Prediction, config: ControlConfig) -> bool:
+        """The prediction is exact to the step, the queue has room for two commands or more,
+        and the leg may end within it (`steps_left`, a guess: braking takes longer)."""
+        return (not self.done and self._tracker is not None and prediction.room >= 2
+                and exact(prediction, config) and prediction.late_steps == 0
+                and math.isclose(config.period_s, prediction.step_s)
+                and self._tracker.steps_left <= prediction.room)
 
     def _next_leg(self) -> None:
         self.leg_index += 1
