@@ -67,3 +67,37 @@ def test_a_node_held_up_as_a_leg_ends_leaves_the_turtle_on_the_corner(ticks):
         # to the micrometre: without the tail a tick missed on the approach drew up to a full
         # step (16 mm at 1 m/s) past the corner
         assert distance_to_polyline(positions, SQUARE).max() < 1e-6, (first, ticks)
+
+
+def test_a_tail_the_link_drops_is_driven_again():
+    """A link that loses the first tail for good (held past the commands' lifespan, the writer
+    drops them): the turtle drives on past the corner meanwhile, but the leg does not end
+    where the tail would have left it; the corner is reached, then every other one."""
+    world = World()
+    turtle = world.spawn(START.x, START.y, START.theta, 'turtle1')
+    loop = ControlLoop(STEP_S)
+    loop.observe(START, 0.0, 0.0)
+    run = loop.start(planning.plan('polygon', shape(sides=4, size=0.5), START, SETTINGS),
+                     arena=SETTINGS.arena, now_s=0.0)
+    queue, positions, lost = deque(maxlen=TOPIC_QOS_DEPTH), [], None
+    for step in range(3000):
+        positions.append((turtle.x, turtle.y))
+        loop.observe(Pose2D(turtle.x, turtle.y, turtle.theta),
+                     float(np.float32(turtle.linear_speed)), float(np.float32(turtle.omega)))
+        commands = loop.command(SETTINGS.control, SETTINGS.arena, step * STEP_S)
+        if run.ending is not None:
+            break
+        for command in commands:
+            loop.sent(command, step * STEP_S)
+        if lost is None and len(commands) > 1:
+            lost = commands  # never arrives
+        else:
+            queue.extend(commands)
+        if queue:
+            taken = queue.popleft()
+            world.command('turtle1', taken.linear, 0.0, taken.angular)
+        world.step()
+    assert lost is not None and run.ending == (True, 'polygon done')
+    drawn = np.array(positions)
+    for corner in SQUARE:
+        assert np.hypot(*(drawn - corner).T).min() < 1e-3

@@ -59,6 +59,7 @@ class PathFollower:
         self._tracker: TurnTracker | PolylineTracker | None = None
         self._last_command = STOP  # for a caller without a model of the robot
         self._tail_sent = False  # the rest of this leg, and the next one's start, are sent
+        self._dropped_before_tail = 0  # commands dropped on the way before it (`Prediction`)
 
     @property
     def done(self) -> bool:
@@ -91,11 +92,14 @@ class PathFollower:
             if prediction.in_flight > 1:  # more than the next leg's first command
                 return None
             self._tail_sent = False
-            self._next_leg()
-            if prediction.queued:  # the next leg's first command (or a stop) is on its way
-                if not self.done:
-                    self._start_leg(pose, config)  # a pen to change is asked for at once
-                return None
+            # the leg ends with its tail taken; one dropped on the way (a link lost it past its
+            # lifespan) left the turtle short, and the leg goes on
+            if prediction.dropped == self._dropped_before_tail:
+                self._next_leg()
+                if prediction.queued:  # the next leg's first command (or a stop) is on its way
+                    if not self.done:
+                        self._start_leg(pose, config)  # a pen to change is asked for at once
+                    return None
         command = within_reach(self._next_command(pose, prediction, config),
                                prediction.velocity, config)
         self._last_command = command
@@ -117,7 +121,7 @@ class PathFollower:
             if trial.leg_index != leg:  # ended: the last is the next leg's first (or a stop)
                 if len(commands) < 2:
                     return ()
-                self._tail_sent = True
+                self._tail_sent, self._dropped_before_tail = True, prediction.dropped
                 return tuple(commands)
             prediction = prediction.then(commands[-1])
             pose = prediction.pose  # as predicted from here on

@@ -34,6 +34,7 @@ class Prediction:
     # a command sent now would wait behind the last one sent (sent with others, it holds the
     # robot's next step)
     queued: bool = False
+    dropped: int = 0  # commands dropped on the way so far (in flight past their lifespan)
 
     @classmethod
     def immediate(cls, pose: Pose2D, velocity: Command = STOP) -> Prediction:

@@ -119,6 +119,7 @@ class RobotModel:
         self._interval = RunningQuantile(0.5, RATE, prior=1.0)
         self._in_step = True
         self._follows = RunningQuantile(CONFIDENCE, RATE, prior=1.0)
+        self._dropped = 0  # commands in flight past their lifespan: dropped on the way
 
     @property
     def in_flight(self) -> int:
@@ -161,6 +162,7 @@ class RobotModel:
         while (self._in_effect is not None and self.in_flight
                and self._sent[-self.in_flight].stamp < tick - lifespan):
             self._in_effect += 1
+            self._dropped += 1
 
     def sent(self, command: Command, now_s: float) -> None:
         """Record a command as it is published (node clock, seconds): those sent together
@@ -284,7 +286,7 @@ class RobotModel:
         queued = bool(self._sent) and self._sent[-1].slot + 0.5 > self._in_steps(now_s)
         return Prediction(Pose2D(pose.x, pose.y, wrap_angle(pose.theta)), last, late, overrun,
                           still, turns_first=self.echoes, in_flight=len(pending), room=room,
-                          step_s=self.step_s, queued=queued)
+                          step_s=self.step_s, queued=queued, dropped=self._dropped)
 
     def _pending(self) -> list[_Sent]:
         """The commands in flight, oldest first."""
