@@ -13,7 +13,8 @@ It does so only where the prediction is exact (turtlesim, no acceleration limits
 period of one step) and no command is expected late (`late_steps` 0): the tail is what the
 follower would send step by step on the predicted poses, which lateness makes uncertain (and a
 command held up on a link would hold back those behind it). Until the robot has taken the
-tail, there is nothing to send.
+tail, there is nothing to send; then the leg ends, unless one of its commands was dropped on the
+way (`Prediction.dropped`).
 """
 
 from __future__ import annotations
