@@ -35,9 +35,8 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 
 # Two workers, a test file each at a time: the subprocess-heavy files wait on DDS discovery
 # and real-time drawings, so two run in about half the time (each worker claims its own
-# ROS_DOMAIN_ID). Not three: 146-167 s quiet and 218-265 s loaded, but a third starves the
-# real-time drawings' nodes often enough that the model hedges, and a node held up longer
-# than the hedge at a corner still overshoots it (issue 44): 1 red run in 4.
+# ROS_DOMAIN_ID). Not three: 151-173 s quiet, but a node starved for a step at a corner
+# overshoots it (issue 44), and three workers starve it often enough to fail 3 runs in 5.
 # PYTEST_ARGS adds options (`--durations=20`).
 test: setup
 	$(PY) -m pytest -q -rs -n 2 --dist loadfile $(PYTEST_ARGS)

@@ -6,10 +6,8 @@ timer and pose stalls fitted to what that test measured), one seeded run per see
 
 `--rare CHANCE` runs the other starvation instead, a quiet but shared machine's: the 0.5 m
 square of the two-host recipe, and a timer stall (median 35 ms, at most 120 ms) starting at a
-tick with that chance, nothing else held back. A stall at a corner's last approach let the
-command before it act on past the corner (issue 44's flake: 5.93 mm in the full suite) until
-the rest of a leg was sent at once (`follower`, a leg's tail); a stall longer than the leg's
-rest at speed still does.
+tick with that chance, nothing else held back. A stall at a corner's last approach lets the
+command before it act on past the corner (issue 44's open flake: 5.93 mm in the full suite).
 
 Each checkout runs from its own `src/` in a process of its own (an old commit with this script's
 harness), and the table gives failures, and the elapsed time over the bound and the deviation at

@@ -106,15 +106,13 @@ class RunManager:
         run = self.run
         if run is not None and self._aborted_for_silence():
             return
-        now_s = self.now_s()
-        commands = self._loop.command(self.settings.control, self.settings.arena, now_s)
+        command = self._loop.command(self.settings.control, self.settings.arena, self.now_s())
         if run is None:
             return
-        for command in commands:  # sent together: one stamp
-            self._publish(command, now_s)
-        if run.ending is not None:
+        if command is None:
             self._finish_if_ended()  # which sends the stop
             return
+        self._publish(command)
         if run.pen_wanted is not None and not self._pen.busy:
             self._pen.set(run.plan.pen, down=run.pen_wanted,
                           then=partial(self._pen_answered, run, run.pen_wanted))
@@ -171,8 +169,8 @@ class RunManager:
         """Publish a stop (harmless while no run is driven)."""
         self._publish(STOP)
 
-    def _publish(self, command: Command, now_s: float | None = None) -> None:
-        self._loop.sent(command, self.now_s() if now_s is None else now_s)
+    def _publish(self, command: Command) -> None:
+        self._loop.sent(command, self.now_s())
         self._base.publish(command)
 
     @serialized

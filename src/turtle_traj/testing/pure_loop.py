@@ -1,8 +1,8 @@
 """The trajectory node's control loop on the simulator's physics, in pure Python (no ROS).
 
-`Loop` is the node's loop exactly (a pose in, the commands out, one taken per 16 ms step, the
-velocity echo in float32 as turtlesim's Pose carries it), with the turtle moved by
-`sim.physics.World` as the simulator moves it: a run in milliseconds, the same on every machine.
+`Loop` is the node's loop exactly (a pose in, one command out per 16 ms step, the velocity echo
+in float32 as turtlesim's Pose carries it), with the turtle moved by `sim.physics.World` as the
+simulator moves it: a run in milliseconds, the same on every machine.
 
     loop = Loop('polygon', shape(sides=4, size=2.0))
     poses = loop.drive()
@@ -11,7 +11,6 @@ velocity echo in float32 as turtlesim's Pose carries it), with the turtle moved 
 
 from __future__ import annotations
 
-from collections import deque
 from types import SimpleNamespace
 
 import numpy as np
@@ -20,7 +19,7 @@ from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.planning import planner as planning
-from turtle_traj.core.turtlesim_contract import STEP_S, TOPIC_QOS_DEPTH
+from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.sim.physics import World
 
 
@@ -49,7 +48,7 @@ class Loop:
     def drive(self, disturb=None, max_steps: int = 20_000) -> list[Pose2D]:
         """Step until the supervisor decides; the poses the turtle reported."""
         turtle, control = self.turtle, self.control
-        poses, queue = [], deque(maxlen=TOPIC_QOS_DEPTH)
+        poses = []
         for step in range(max_steps):
             if disturb is not None:
                 disturb(step, turtle)
@@ -58,15 +57,11 @@ class Loop:
             # the velocity echo as turtlesim's Pose carries it: float32
             control.observe(pose, float(np.float32(turtle.linear_speed)),
                             float(np.float32(turtle.omega)))
-            commands = control.command(self.settings.control, self.settings.arena,
-                                       step * STEP_S)
+            command = control.command(self.settings.control, self.settings.arena,
+                                      step * STEP_S)
             if self.run.ending is not None:
                 return poses
-            for command in commands:
-                control.sent(command, step * STEP_S)
-            queue.extend(commands)
-            if queue:  # turtlesim takes one queued command a step
-                command = queue.popleft()
-                self.world.command('turtle1', command.linear, 0.0, command.angular)
+            control.sent(command, step * STEP_S)
+            self.world.command('turtle1', command.linear, 0.0, command.angular)
             self.world.step()
         raise AssertionError('the run never ended')

@@ -113,13 +113,11 @@ def drive(name: str, request, seed: int, timer: Stalls = TIMER, poses_held: Stal
                 loop.observe(pose, linear, angular)
             poses_free = now + poses_held.draw(rng)
         if now >= timer_free and now >= next_tick:
-            sent = loop.command(settings.control, settings.arena, now / 1000)
+            command = loop.command(settings.control, settings.arena, now / 1000)
             if run.ending is not None:
                 commands.append(STOP)  # the node's last word: a stop
                 break
-            if not isinstance(sent, tuple):  # before 'tails', one command or None
-                sent = () if sent is None else (sent,)
-            for command in sent:
+            if command is not None:
                 loop.sent(command, now / 1000) if stamped else loop.sent(command)
                 commands.append(command)
             next_tick = (now // STEP_MS + 1) * STEP_MS

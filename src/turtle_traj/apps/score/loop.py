@@ -1,14 +1,13 @@
 """A plan driven by the node's control loop on the simulator's physics, in pure Python.
 
-The loop the node runs (a pose in, the commands out, one taken per 16 ms step, the velocity echo
-in float32 as turtlesim's Pose carries it, the pen confirmed at once), on `sim.physics.World`,
-with or without inertia, with the exact follower or any controller: a run in milliseconds, the
-same on every machine.
+The loop the node runs (a pose in, one command out per 16 ms step, the velocity echo in float32
+as turtlesim's Pose carries it, the pen confirmed at once), on `sim.physics.World`, with or
+without inertia, with the exact follower or any controller: a run in milliseconds, the same on
+every machine.
 """
 
 from __future__ import annotations
 
-from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -20,7 +19,7 @@ from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import Settings
-from turtle_traj.core.turtlesim_contract import STEP_S, TOPIC_QOS_DEPTH
+from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.sim.physics import Inertia, World
 
 
@@ -52,7 +51,6 @@ def drive(plan: Plan, start: Pose2D, settings: Settings, *, inertia: Inertia | N
     turtle = world.spawn(start.x, start.y, start.theta, 'turtle1')
     loop = ControlLoop(STEP_S)
     loop.observe(start, 0.0, 0.0)
-    queue: deque[Command] = deque(maxlen=TOPIC_QOS_DEPTH)
     record = Drive(loop.start(plan, arena=settings.arena, now_s=0.0, controller=controller))
     run = record.run
     for step in range(int(max_s / STEP_S)):
@@ -61,19 +59,16 @@ def drive(plan: Plan, start: Pose2D, settings: Settings, *, inertia: Inertia | N
         pose = Pose2D(turtle.x, turtle.y, turtle.theta)
         record.poses.append(pose)
         loop.observe(pose, float(np.float32(turtle.linear_speed)), float(np.float32(turtle.omega)))
-        commands = loop.command(settings.control, settings.arena, step * STEP_S)
+        command = loop.command(settings.control, settings.arena, step * STEP_S)
         if run.ending is not None:
             record.steps = step
             return record
         if run.pen_wanted is not None:
             run.pen_is(run.pen_wanted)  # the simulator's set_pen answers at once
-        for command in commands:  # none: commands wait at the robot
+        if command is not None:  # None: commands wait at the robot, none is sent
             loop.sent(command, step * STEP_S)
-        queue.extend(commands)
-        record.commands.extend(commands)
-        if queue:  # the simulator takes one queued command a step
-            command = queue.popleft()
             world.command('turtle1', command.linear, 0.0, command.angular)
+            record.commands.append(command)
         world.step()
     record.steps = int(max_s / STEP_S)
     run.end(False, f'{run.name} still running after {max_s:g} s')

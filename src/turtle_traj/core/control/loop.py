@@ -60,25 +60,21 @@ class ControlLoop:
         run, self.run = self.run, None
         return run
 
-    def command(self, config: ControlConfig, arena: Arena, now_s: float) -> tuple[Command, ...]:
-        """This period's commands for the run, to send in order (call it on every tick of the
-        control timer, with a run or without): one, or the rest of the leg when it fits in the
-        robot's queue (`PathFollower.tail`); none when there is nothing to send: no run, no
-        pose yet, commands overdue at the robot (`RobotModel.excess`), a tail on its way, or
-        the run has just ended (whoever ends it sends the stop)."""
+    def command(self, config: ControlConfig, arena: Arena, now_s: float) -> Command | None:
+        """This period's command for the run (call it on every tick of the control timer, with
+        a run or without); None when there is nothing to send: no run, no pose yet, commands
+        overdue at the robot (`RobotModel.excess`), or the run has just ended (whoever ends it
+        sends the stop)."""
         self.model.ticked(now_s)
         run = self.run
         if run is None or self.pose is None:
-            return ()
+            return None
         if self.model.excess:
             run.watch(self.pose, config, arena, now_s)  # a wall, or no progress, all the same
-            return ()
+            return None
         prediction = self.model.predict(self.pose, now_s)
         command = run.command(self.pose, self.standing, config, arena, now_s, prediction)
-        if command is None or run.ending is not None:
-            return ()
-        return (run.tail(self.pose, prediction, config, self.model.distinct)
-                or (self.model.distinct(command),))
+        return None if run.ending is not None else self.model.distinct(command)
 
     def sent(self, command: Command, now_s: float) -> None:
         """Record a command as it is published (every one, the stops included; node clock)."""

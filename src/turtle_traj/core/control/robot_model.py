@@ -6,16 +6,14 @@ The model, in one page:
   the oldest command that has arrived and not been taken, if any, and integrates with the one in
   effect; a step with none keeps the last (turtlesim and our bases do exactly this). A command
   acts until the next one is taken: one step each when the robot has a queue, longer when this
-  node sent the next one late (a busy executor, a skipped period). Commands sent together
-  (one stamp) queue and act one a step: each has a `slot`, a step after the one before's.
+  node sent the next one late (a busy executor, a skipped period).
 * **Two clocks, one offset.** Commands are stamped as they are sent (node clock, counted in
   steps). Poses arrive one per robot step, in order, even late ones: counting them counts the
-  robot's steps. A command first seen in effect at pose `k`, sent at step `t` (its slot, if sent
-  with others), took `k - t` steps to arrive and act; that offset is the link's latency as the
-  robot's clock sees it. Its floor (`RunningFloor`, of the median of three) is the latency
-  without a queue; how much later than the one before a command arrives (95th percentile) is the
-  jitter. A lost pose, or a cut link, lowers the offsets for good: the floor falls with the
-  second lower one.
+  robot's steps. A command first seen in effect at pose `k`, sent at step `t`, took `k - t`
+  steps to arrive and act; that offset is the link's latency as the robot's clock sees it. Its
+  floor (`RunningFloor`, of the median of three) is the latency without a queue; how much
+  later than the one before a command arrives (95th percentile) is the jitter. A lost pose,
+  or a cut link, lowers the offsets for good: the floor falls with the second lower one.
 * **One observer says which command is in effect.** turtlesim's pose echoes its velocities
   (`echo`): the command whose echo matches is in effect, and those sent after it are in flight.
   Commands act in order, so among equal echoes (a run of stops) the match is the one nearest a
@@ -26,20 +24,15 @@ The model, in one page:
 * **The prediction** replays the command in effect and every command in flight from the pose,
   each from the step it arrives (its stamp plus the latency, and not before the step after the
   one before it) to the next one's, with turtlesim's integration (heading first, then position
-  along the new heading). In lock-step each arrives the step after the one before, exactly. It
-  also says how many more commands turtlesim's queue takes now (`room`: none while a command sent
-  at a tick out of step, late, is on its way: when it acts is not known to the step) and whether
-  one sent now would wait behind others (`queued`). The follower uses the queue as a buffer: once
-  the rest of a leg fits, it is sent at once, so a node held up as a leg ends leaves the robot
-  acting the plan, not repeating an approach command past the corner (`follower`, a leg's tail).
+  along the new heading). In lock-step each arrives the step after the one before, exactly.
 * **The uncertainty** is a distribution, not a worst case. `late_steps`, how many steps longer
-  than one the next command may act, is the jitter's 99th percentile (an approach that misses it
-  draws past the leg's end) plus how much later than one step the 95th percentile of this node's
-  control timer fires after the tick before. Each is a running quantile (`RunningQuantile`): a
-  stall seen once moves it by a fraction of a step, which the next observations take back (for
-  the 99th, within about 1.5 s of driving), so approaches stay brisk; jitter that lasts, as loss
-  on a link does, is hedged: such an approach stops inside the end's tolerance, and one more
-  command lands on the end once the turtle stands there.
+  than one the next command may act, is the jitter's 99th percentile (an approach that misses
+  it draws past the leg's end) plus how much later than one step the 95th percentile of this
+  node's control timer fires after the tick before. Each is a running quantile
+  (`RunningQuantile`): a stall seen once moves it by a fraction of a step, which the next
+  observations take back (for the 99th, within about 1.5 s of driving), so approaches stay
+  brisk; jitter that lasts, as loss on a link does, is hedged: such an approach stops inside
+  the end's tolerance, and one more command lands on the end once the turtle stands there.
 * **Faults are observations.** A stalled link holds commands back, and its repair lets them
   through together, to queue at turtlesim's 7-deep subscription: either way commands are
   overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
@@ -55,24 +48,21 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, STOP, Command
 from turtle_traj.core.control.delay_fit import DelayFit
 from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed, distinct
-from turtle_traj.core.control.prediction import Prediction, advance
+from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
-from turtle_traj.core.turtlesim_contract import TOPIC_QOS_DEPTH
 
 CONFIDENCE = 0.95  # the share of commands that act no later than predicted
 # The share a leg's approach allows for: a command there that acts a step late is drawn, one
 # step at full speed past the end (a lost packet repaired, at 5% loss one command in twenty)
 APPROACH_CONFIDENCE = 0.99
 RATE = 0.25  # steps: the most one observation moves a running quantile
-IN_STEP = 0.25  # steps: a tick this close to the usual interval after the one before is in step
 # A base whose odometry measures less than this (m/s, rad/s) stands: a few encoder ticks a
 # period (an XL430's 4096 a turn on 33 mm wheels 0.16 m apart, at 62.5 Hz: 3 mm/s, 0.04 rad/s).
 MEASURED_STILL = (0.01, 0.05)
@@ -84,10 +74,6 @@ class _Sent:
     echo: Echo
     stamp: float  # when it was sent, in steps since the first command
     poses: int  # poses observed by then: it acts at a later step
-    # its stamp, or a step after the one before's if sent with it (the same stamp): commands
-    # sent together act one a step, each due at the robot the latency's floor after its slot
-    slot: float
-    in_step: bool  # sent at a tick that came the usual interval after the one before
 
 
 class RobotModel:
@@ -114,12 +100,7 @@ class RobotModel:
         self._jitter = RunningQuantile(CONFIDENCE, RATE, prior=0.0)
         self._jitter_tail = RunningQuantile(APPROACH_CONFIDENCE, RATE, prior=0.0)
         self._last_tick: float | None = None
-        # steps from one tick to the next, as usual (the median), and whether the last tick
-        # came so: the latency is measured, and a command's step predicted exactly, from such
-        self._interval = RunningQuantile(0.5, RATE, prior=1.0)
-        self._in_step = True
         self._follows = RunningQuantile(CONFIDENCE, RATE, prior=1.0)
-        self._dropped = 0  # commands in flight past their lifespan: dropped on the way
 
     @property
     def in_flight(self) -> int:
@@ -134,14 +115,12 @@ class RobotModel:
         any, the velocity the last pose reported (a magnitude, for turtlesim)."""
         return self._sent[-1].command if self._sent else Command(*self._echo)
 
-    def distinct(self, command: Command, before: Sequence[Command] = ()) -> Command:
+    def distinct(self, command: Command) -> Command:
         """`command`, moved by a few float32 steps if its echo would name another command
-        remembered, or one of `before` (to be sent ahead of it); see `echo.distinct`. As it is
-        without an echo."""
+        remembered (see `echo.distinct`); as it is without an echo."""
         if not self.echoes:
             return command
-        taken = {sent.echo for sent in self._sent} | {as_echoed(other) for other in before}
-        return distinct(command, taken, before[-1] if before else self.last_sent)
+        return distinct(command, {sent.echo for sent in self._sent}, self.last_sent)
 
     def ticked(self, now_s: float) -> None:
         """The control timer fired (node clock, seconds), with a run or without: how long
@@ -149,12 +128,8 @@ class RobotModel:
         if self._origin_s is None:
             self._origin_s = now_s
         tick = self._in_steps(now_s)
-        self._in_step = False
         if self._last_tick is not None:
-            interval = tick - self._last_tick
-            self._in_step = abs(interval - self._interval.value) <= IN_STEP
-            self._interval.add(interval)
-            self._follows.add(interval)
+            self._follows.add(tick - self._last_tick)
         self._last_tick = tick
         # a command in flight past its lifespan was dropped on the way (the writer keeps it no
         # longer): it will never act, and nothing waits for it
@@ -162,17 +137,12 @@ class RobotModel:
         while (self._in_effect is not None and self.in_flight
                and self._sent[-self.in_flight].stamp < tick - lifespan):
             self._in_effect += 1
-            self._dropped += 1
 
     def sent(self, command: Command, now_s: float) -> None:
-        """Record a command as it is published (node clock, seconds): those sent together
-        carry the same time."""
+        """Record a command as it is published (node clock, seconds)."""
         if self._origin_s is None:
             self._origin_s = now_s
-        stamp, last = self._in_steps(now_s), self._sent[-1] if self._sent else None
-        slot = last.slot + 1.0 if last is not None and last.stamp == stamp else stamp
-        self._sent.append(_Sent(command, as_echoed(command), stamp, self._poses, slot,
-                                self._in_step))
+        self._sent.append(_Sent(command, as_echoed(command), self._in_steps(now_s), self._poses))
         self._count += 1
 
     def observe(self, linear_echo: float, angular_echo: float, pose: Pose2D | None = None) -> None:
@@ -201,7 +171,7 @@ class RobotModel:
         first_seen = in_effect != self._in_effect
         self._in_effect = in_effect
         if first_seen and len(matches) == 1:  # equal commands tell nothing of the latency
-            self._observe_latency(self._poses - self._sent[in_effect - self._first].slot)
+            self._observe_latency(self._poses - self._sent[in_effect - self._first].stamp)
 
     def _observe_motion(self, pose: Pose2D | None) -> None:
         if pose is not None:
@@ -220,7 +190,7 @@ class RobotModel:
         """The newest command due by now: sent the latency's floor ago (a measured velocity
         names no command: this is the one taken to act)."""
         due = [self._first + index for index, sent in enumerate(self._sent)
-               if round(sent.slot + self._latency.value) <= self._poses]
+               if round(sent.stamp + self._latency.value) <= self._poses]
         return due[-1] if due else self._first - 1
 
     @property
@@ -258,35 +228,30 @@ class RobotModel:
     @property
     def excess(self) -> int:
         """Commands overdue beyond the jitter: send none now. A command is due at the robot the
-        latency's floor after it was sent (one sent with others, after its `slot`); one in
-        flight past that waits (a queue that a burst filled, and one sent a step keeps
-        full) or is held up (a stalled link, whose commands will arrive together). Each period
-        without a command sent lets the robot take one."""
+        latency's floor after it was sent; one in flight past that waits (a queue that a burst
+        filled, and one sent a step keeps full) or is held up (a stalled link, whose commands
+        will arrive together). Each period without a command sent lets the robot take one."""
         floor = self._latency.value
         if floor is None:
             return 0
-        overdue = sum(1 for sent in self._pending() if round(sent.slot + floor) <= self._poses)
+        overdue = sum(1 for sent in self._pending() if round(sent.stamp + floor) <= self._poses)
         return max(overdue - max(self._jitter.whole(), 0), 0)
 
     def predict(self, pose: Pose2D, now_s: float) -> Prediction:
         """Where the robot will be when the next command takes effect, and how uncertain."""
         pending = self._pending()
+        x, y, theta = pose.x, pose.y, pose.theta
         for command, steps in self._schedule(pending, now_s):
             for _ in range(steps):
-                pose = advance(pose, command, self.step_s)
-        late = max(self._jitter_tail.whole(), 0) + max(self._follows.whole(1) - 1, 0)
+                theta += command.angular * self.step_s
+                x += command.linear * math.cos(theta) * self.step_s
+                y += command.linear * math.sin(theta) * self.step_s
+        late = self._late_steps()
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
         still = self._standing and all(sent.command == STOP for sent in pending)
-        # turtlesim's queue (keep last 7), one spare: a stop sent by someone else must fit. A
-        # command sent out of step (a late tick: the node was held up) may act a step off the
-        # prediction (the latency was measured in step): none while one is on its way
-        exact = self._in_step and all(sent.in_step for sent in pending)
-        room = max(TOPIC_QOS_DEPTH - 1 - len(pending), 0) if self.echoes and exact else 0
-        queued = bool(self._sent) and self._sent[-1].slot + 0.5 > self._in_steps(now_s)
-        return Prediction(Pose2D(pose.x, pose.y, wrap_angle(pose.theta)), last, late, overrun,
-                          still, turns_first=self.echoes, in_flight=len(pending), room=room,
-                          step_s=self.step_s, queued=queued, dropped=self._dropped)
+        return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, overrun, still,
+                          turns_first=self.echoes)
 
     def _pending(self) -> list[_Sent]:
         """The commands in flight, oldest first."""
@@ -315,6 +280,9 @@ class RobotModel:
         begins = [self._poses + 1, *starts[:-1]]
         return [(command, end - begin)
                 for command, begin, end in zip(acting, begins, starts, strict=True)]
+
+    def _late_steps(self) -> int:
+        return max(self._jitter_tail.whole(), 0) + max(self._follows.whole(1) - 1, 0)
 
     def _in_steps(self, stamp_s: float) -> float:
         return (stamp_s - self._origin_s) / self.step_s

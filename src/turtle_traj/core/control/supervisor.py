@@ -18,7 +18,7 @@ import numpy as np
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controllers.catalogue import Chosen
-from turtle_traj.core.control.follower import Distinct, PathFollower
+from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.strokes import ControllerFault, StrokeDriver
@@ -163,9 +163,8 @@ class RunSupervisor:
                             'ROS domain, or this node fell behind the simulator)')
 
     def command(self, pose: Pose2D, standing: bool, config: ControlConfig, arena: Arena,
-                now_s: float, prediction: Prediction | None = None) -> Command | None:
-        """The command for this control period (None: the commands on their way suffice); may
-        decide the verdict.
+                now_s: float, prediction: Prediction | None = None) -> Command:
+        """The command for this control period; may decide the verdict.
 
         :param standing: the turtle reports zero velocity.
         :param prediction: the model's prediction for this period (`RobotModel.predict`).
@@ -187,14 +186,6 @@ class RunSupervisor:
         except ControllerFault as fault:
             self.end(False, f'{self.name} aborted: {fault}')
             return STOP
-
-    def tail(self, pose: Pose2D, prediction: Prediction, config: ControlConfig,
-             distinct: Distinct) -> tuple[Command, ...]:
-        """The commands to send this period instead of `command`'s: the rest of the leg, when
-        it fits in the robot's queue (`PathFollower.tail`; the exact follower's only)."""
-        if self.ending is not None or not isinstance(self.follower, PathFollower):
-            return ()
-        return self.follower.tail(pose, prediction, self._config[1], distinct)
 
     def watch(self, pose: Pose2D, config: ControlConfig, arena: Arena, now_s: float) -> None:
         """A period with no command sent (commands wait at the robot): end the run if it must

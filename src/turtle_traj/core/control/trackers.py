@@ -48,19 +48,14 @@ def _braking_speed(remaining: float, deceleration: float, period_s: float,
     return min(braking, remaining / (share * period_s))
 
 
-def exact(prediction: Prediction, config: ControlConfig) -> bool:
-    """The prediction is exact to the step: turtlesim's (a base's odometry and inertia leave
-    it a little off)."""
-    return prediction.turns_first and not config.limited
-
-
 def _lands(remaining: float, prediction: Prediction, config: ControlConfig) -> bool:
     """Whether to land on the end with one more command: the approach allowed for late
     commands and stopped inside the tolerance, short of the end, and the turtle stands there.
     Once per leg, so a command that acts late again cannot start a hunt (it carries the turtle
-    at most the tolerance past the end). Only where the prediction is `exact`."""
-    return (prediction.late_steps > 0 and prediction.still and exact(prediction, config)
-            and abs(remaining) > LANDED)
+    at most the tolerance past the end). Only where the prediction is exact to the step,
+    turtlesim's: a base's odometry and inertia leave it a little off."""
+    return (prediction.late_steps > 0 and prediction.still and prediction.turns_first
+            and not config.limited and abs(remaining) > LANDED)
 
 
 def _finished(arrived: bool, prediction: Prediction, config: ControlConfig,
@@ -100,7 +95,6 @@ class TurnTracker:
         self.turned = wrap_angle(pose.theta - turn.start_heading)
         self.previous = pose.theta
         self.landed = False  # the one landing command is sent (`_lands`)
-        self.steps_left = math.inf  # at the last command's rate, as a guess (braking is slower)
 
     @property
     def fraction(self) -> float:
@@ -124,7 +118,6 @@ class TurnTracker:
                    _braking_speed(max(abs(error) - prediction.overrun[1], 0.0),
                                   config.angular_braking, config.period_s, prediction,
                                   config.limited, landing))
-        self.steps_left = abs(error) / max(rate * config.period_s, 1e-12)
         return Command(0.0, math.copysign(rate, error))
 
 
@@ -139,7 +132,6 @@ class PolylineTracker:
         self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
         self._profile = profile  # with acceleration limits: None on a straight line
         self.landed = False  # the one landing command is sent (`_lands`)
-        self.steps_left = math.inf  # at the last command's speed, as a guess (braking is slower)
         # Plain floats: a projection looks at a few segments, too few for numpy to pay.
         self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
 
@@ -214,7 +206,6 @@ class PolylineTracker:
         heading_error = wrap_angle(path_heading - facing)
 
         speed = self._speed(fraction, remaining, curvature, prediction, config, landing)
-        self.steps_left = abs(remaining) / max(abs(speed) * config.period_s, 1e-12)
         if abs(heading_error) > config.turn_first_angle:
             speed = 0.0
         else:
