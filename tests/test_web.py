@@ -10,7 +10,9 @@ import asyncio
 import http.client
 import json
 import math
+import tempfile
 import time
+from pathlib import Path
 
 import aiohttp
 import numpy as np
@@ -324,6 +326,7 @@ def test_without_a_trajectory_node_the_page_says_why_and_the_keys_still_work(tmp
                                                                              observer_alone):
     from selenium.webdriver.common.keys import Keys
     url, observer = observer_alone
+    left_before = _chromium_leftovers()
     with chromium() as driver:
         driver.get(url)
         wait_for(lambda: 'no trajectory node answers' in _text(driver, 'status'),
@@ -337,6 +340,14 @@ def test_without_a_trajectory_node_the_page_says_why_and_the_keys_still_work(tmp
         driver.find_element('id', 'view').click()  # a go-to: the page says why not
         wait_for(lambda: 'no trajectory node answers' in _text(driver, 'error'),
                  what='the reason for the refused click')
+    # and the browser, closed, left nothing in the temporary folder
+    assert _chromium_leftovers() <= left_before
+
+
+def _chromium_leftovers() -> set[str]:
+    """What chromium leaves in the temporary folder when it runs there (a process singleton's
+    folder per browser)."""
+    return {path.name for path in Path(tempfile.gettempdir()).glob('org.chromium.Chromium.*')}
 
 
 @pytest.fixture
