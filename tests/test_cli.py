@@ -4,6 +4,7 @@ The menu and Ctrl-C on a terminal are in test_terminal.py.
 """
 
 import math
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -12,6 +13,7 @@ import pytest
 
 from turtle_traj.cli import main as cli
 from turtle_traj.client.traj_client import TrajClient
+from turtle_traj.rosutils.priority import NICE
 
 pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
 
@@ -145,3 +147,15 @@ def test_no_progress_line_without_a_terminal(running_system, capsys):
     assert captured.err == '' and '\r' not in captured.out
     assert captured.out.startswith('done: rotate done')
     assert 'heading error' in captured.out
+
+
+def test_the_node_runs_ahead_of_ordinary_work(running_system):
+    # `turtle_traj.rosutils.priority`: every thread of the program (ROS's too) at the default
+    # nice value where that is allowed (root here), and the node says what it runs at
+    threads = Path(f'/proc/{running_system.pid}/task').iterdir()
+    nice = {int((thread / 'stat').read_text().rsplit(')', 1)[1].split()[16]) for thread in threads}
+    said = running_system.said()
+    if os.geteuid() == 0:
+        assert nice == {NICE} and f'scheduling priority: nice {NICE}' in said, said
+    else:
+        assert 'refused' in said and 'CAP_SYS_NICE' in said, said

@@ -12,6 +12,7 @@ from rclpy.parameter import Parameter
 from rclpy.utilities import remove_ros_args
 
 from turtle_traj.node.trajectory_node import TrajectoryNode
+from turtle_traj.rosutils.priority import NICE, add_priority_option, raise_priority
 from turtle_traj.rosutils.runtime import fail, run_nodes
 from turtle_traj.sim.options import SimOptions, SimUnavailable, add_sim_options, options_from
 
@@ -23,6 +24,7 @@ class Options:
     sim: SimOptions | None = None
     ros_args: Sequence[str] = field(default_factory=list)  # argv with ROS arguments, for rclpy
     base: bool = False  # the physics base instead of our turtlesim (with `sim`'s time scale)
+    nice: int = NICE  # the scheduling priority asked for (`rosutils.priority`); 0: as it is
 
     def problem(self) -> str | None:
         if self.base and self.sim is not None and (
@@ -40,7 +42,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument('--with-sim', action='store_true',
                         help='also run our simulator in this process (no launch file needed)')
     add_sim_options(parser, 'with --with-sim: ')
+    add_priority_option(parser)
     return parser
+
 
 
 def main(args: Sequence[str] | None = None) -> int:
@@ -49,7 +53,8 @@ def main(args: Sequence[str] | None = None) -> int:
     with_sim = options_from(parsed)
     if with_sim != SimOptions() and not parsed.with_sim:
         return fail('--time-scale, --gui, --web and --snapshot need --with-sim')
-    return run(Options(sim=with_sim if parsed.with_sim else None, ros_args=argv))
+    return run(Options(sim=with_sim if parsed.with_sim else None, ros_args=argv,
+                       nice=parsed.nice))
 
 
 def run(options: Options) -> int:
@@ -57,6 +62,7 @@ def run(options: Options) -> int:
     if (problem := options.problem()) is not None:
         return fail(problem)
     sim_time = options.sim is not None and options.sim.time_scale is not None
+    priority = raise_priority(options.nice) if options.nice < 0 else None  # before ROS's threads
     beside = None
     if options.sim is not None and not options.base:  # loaded only when asked for
         from turtle_traj.apps.sim_beside import SimBeside
@@ -80,6 +86,9 @@ def run(options: Options) -> int:
             for node in nodes:
                 node.destroy_node()
             raise
+        if priority is not None:
+            logger = controllers[0].get_logger()
+            (logger.info if priority.granted else logger.warning)(str(priority))
         return [*nodes, *controllers]
 
     def on_exit() -> None:

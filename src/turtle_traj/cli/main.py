@@ -25,6 +25,7 @@ from turtle_traj.core.fields import (
     parse_points,
 )
 from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
+from turtle_traj.rosutils.priority import add_priority_option
 from turtle_traj.sim.options import add_sim_options, options_from
 
 if TYPE_CHECKING:
@@ -140,6 +141,7 @@ def build_parser() -> argparse.ArgumentParser:
     up.add_argument('--base', action='store_true',
                     help='the physics base (MuJoCo, a TurtleBot3 Burger) instead of turtlesim: '
                          'the node drives it by odom and TwistStamped cmd_vel, within its limits')
+    add_priority_option(up)
     commands.add_parser('teleop', help="drive turtle1 with the keyboard, as turtlesim's "
                         'turtle_teleop_key (arrows; g t r e d c v b turn; f cancels; q quits)')
     record = commands.add_parser('record', help='record a rosbag2 bag (MCAP) until Ctrl-C: by '
@@ -217,7 +219,7 @@ def _main(args: Sequence[str] | None) -> int:
             setattr(options, item.name, [*getattr(options, item.name), *extra] or None)
     if options.command == 'up':
         from turtle_traj.apps.node import Options, run  # loads the simulator: only here
-        return run(Options(sim=options_from(options), base=options.base))
+        return run(Options(sim=options_from(options), base=options.base, nice=options.nice))
     if options.command == 'score':
         from turtle_traj.apps.score.main import run as run_score
         return run_score(options.controller, options.output, options.course)

@@ -1,0 +1,57 @@
+"""The node's program asks for a scheduling priority ahead of ordinary work, for every thread,
+and says why not when it may not have it (`turtle_traj.rosutils.priority`). Each case runs in a
+Python of its own: the test process keeps its own priority."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+_PROBE = '''
+import json, os, sys, threading, time
+from unittest import mock
+from turtle_traj.rosutils import priority
+started = threading.Event()
+early = threading.Thread(target=lambda: (started.set(), time.sleep(5)), daemon=True)
+early.start()  # a thread a library started before: it is raised too
+started.wait()
+if sys.argv[1] == 'refused':
+    with mock.patch.object(os, 'setpriority', side_effect=PermissionError(1, 'Not permitted')):
+        said = priority.raise_priority(-10)
+else:
+    said = priority.raise_priority(int(sys.argv[1]))
+late = []
+after = threading.Thread(target=lambda: late.append(os.getpriority(os.PRIO_PROCESS, 0)))
+after.start(); after.join()
+nice = {int(t): os.getpriority(os.PRIO_PROCESS, int(t)) for t in os.listdir('/proc/self/task')}
+print(json.dumps([said.nice, said.granted, str(said), sorted(set(nice.values())), late[0]]))
+'''
+
+
+def _probe(asked: str) -> list:
+    done = subprocess.run([sys.executable, '-c', _PROBE, asked], capture_output=True, text=True,
+                          check=True, timeout=60)
+    return json.loads(done.stdout)
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason='a negative nice value needs root here')
+def test_every_thread_and_those_started_later_run_at_the_nice_value_asked_for():
+    nice, granted, said, threads, later = _probe('-7')
+    assert (nice, granted, threads, later) == (-7, True, [-7], -7)
+    assert said == 'scheduling priority: nice -7'
+
+
+def test_a_priority_refused_is_said_with_the_way_to_allow_it():
+    nice, granted, said, threads, _ = _probe('refused')
+    assert not granted and nice == threads[0] == os.getpriority(os.PRIO_PROCESS, 0)
+    assert 'nice -10 refused: Not permitted' in said and 'CAP_SYS_NICE' in said
+    assert '--nice 0' in said
+
+
+def test_a_priority_already_as_high_is_kept():
+    nice, granted, _, threads, _ = _probe('19')
+    assert granted and nice == threads[0] == os.getpriority(os.PRIO_PROCESS, 0)
