@@ -33,13 +33,15 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 	$(PY) -m compileall -q -j 0 $(VENV)/lib > /dev/null
 	touch $@
 
-# Two workers, a test file each at a time: the subprocess-heavy files wait on DDS discovery
-# and real-time drawings, so two run in about half the time (each worker claims its own
-# ROS_DOMAIN_ID). Not three: 151-173 s quiet, but a node starved for a step at a corner
-# overshoots it (issue 44), and three workers starve it often enough to fail 3 runs in 5.
+# Three workers, a test file each at a time, on the two cores: the subprocess-heavy files wait on
+# DDS discovery, real-time drawings and the browser, so a third worker fills the cores (each
+# worker claims its own ROS_DOMAIN_ID): 147-167 s quiet and 218-265 s under two busy loops here,
+# against 175-202 s and 249-292 s with two. The node's program runs ahead of the workers
+# (`rosutils.priority`): before it did, a node starved for a step at a corner overshot it
+# (issue 44), and three workers failed 3 runs in 5.
 # PYTEST_ARGS adds options (`--durations=20`).
 test: setup
-	$(PY) -m pytest -q -rs -n 2 --dist loadfile $(PYTEST_ARGS)
+	$(PY) -m pytest -q -rs -n 3 --dist loadfile $(PYTEST_ARGS)
 
 # Between edits: every test but the system tests (programs, namespaces, a browser, colcon),
 # one test at a time to each worker.
