@@ -46,7 +46,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-
 def main(args: Sequence[str] | None = None) -> int:
     argv = list(sys.argv if args is None else ['turtle_traj', *args])
     parsed = build_parser().parse_args(remove_ros_args(argv)[1:])

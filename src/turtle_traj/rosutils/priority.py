@@ -13,6 +13,7 @@ permission it says why, once, and runs as it is.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import threading
 from dataclasses import dataclass
@@ -41,21 +42,23 @@ def raise_priority(nice: int = NICE) -> Priority:
     if current <= nice:
         return Priority(current, True)
     try:
-        for thread in _threads():  # Linux keeps a nice value per thread
-            os.setpriority(os.PRIO_PROCESS, thread, nice)
+        os.setpriority(os.PRIO_PROCESS, 0, nice)
     except OSError as error:
         return Priority(current, False, f'nice {nice} refused: {error.strerror}; allow it '
                                         'with CAP_SYS_NICE or `ulimit -e`, or pass --nice 0')
+    for thread in _others():  # Linux keeps a nice value per thread
+        with contextlib.suppress(ProcessLookupError):  # one that ended meanwhile
+            os.setpriority(os.PRIO_PROCESS, thread, nice)
     return Priority(os.getpriority(os.PRIO_PROCESS, 0), True)
 
 
-def _threads() -> list[int]:
-    """This process's threads (those a library started at import, too), this one first."""
+def _others() -> list[int]:
+    """This process's other threads (those a library started at import)."""
     try:
-        others = [int(name) for name in os.listdir('/proc/self/task')]
-    except OSError:
-        others = []
-    return [0, *(thread for thread in others if thread != threading.get_native_id())]
+        threads = [int(name) for name in os.listdir('/proc/self/task')]
+    except OSError:  # not Linux: a nice value is the process's
+        return []
+    return [thread for thread in threads if thread != threading.get_native_id()]
 
 
 def add_priority_option(parser: argparse.ArgumentParser) -> None:
