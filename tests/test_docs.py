@@ -63,6 +63,7 @@ def _command_paths(parser, words=()) -> list[tuple[str, ...]]:
 
 PATH = re.compile(r'(?<![/\w])((?:tests|bench|src/turtle_traj|interfaces|ros|docs)/[\w./-]+\.\w+)')
 MODULE = re.compile(r'\b(turtle_traj(?:\.\w+)+)')
+BUILT = 'docs/_build/'  # the site, as `make docs` builds it
 
 
 def test_no_page_names_a_file_or_a_module_that_does_not_exist():
@@ -70,6 +71,8 @@ def test_no_page_names_a_file_or_a_module_that_does_not_exist():
     for page in PAGES:
         text = page.read_text()
         for path in PATH.findall(text):
+            if path.startswith(BUILT):  # made by `make docs`: on a fresh clone, not yet
+                continue
             named += 1
             if not (ROOT / path.rstrip('.')).exists():
                 missing.append(f'{page.name}: {path}')
