@@ -11,6 +11,9 @@ import sys
 
 import pytest
 
+from turtle_traj.rosutils.priority import NICE
+from turtle_traj.testing.processes import program_nice
+
 _PROBE = '''
 import json, os, sys, threading, time
 from unittest import mock
@@ -27,7 +30,12 @@ else:
 late = []
 after = threading.Thread(target=lambda: late.append(os.getpriority(os.PRIO_PROCESS, 0)))
 after.start(); after.join()
-nice = {int(t): os.getpriority(os.PRIO_PROCESS, int(t)) for t in os.listdir('/proc/self/task')}
+nice = {}
+for t in os.listdir('/proc/self/task'):
+    try:
+        nice[t] = os.getpriority(os.PRIO_PROCESS, int(t))
+    except ProcessLookupError:  # a thread ended (the one joined above may linger in the list)
+        pass
 print(json.dumps([said.nice, said.granted, str(said), sorted(set(nice.values())), late[0]]))
 '''
 
@@ -55,3 +63,24 @@ def test_a_priority_refused_is_said_with_the_way_to_allow_it():
 def test_a_priority_already_as_high_is_kept():
     nice, granted, _, threads, _ = _probe('19')
     assert granted and nice == threads[0] == os.getpriority(os.PRIO_PROCESS, 0)
+
+
+@pytest.mark.system
+def test_the_node_alone_runs_ahead_of_ordinary_work_and_says_so(tmp_path):
+    node = subprocess.Popen([sys.executable, '-m', 'turtle_traj', '--ros-args', '-r',
+                             '__ns:=/priority_test'], cwd=tmp_path, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        said = []
+        for line in node.stderr:  # the line comes as the node is made
+            said.append(line)
+            if 'scheduling priority' in line:
+                break
+        nice = program_nice(node.pid)
+    finally:
+        node.kill()
+        node.communicate(timeout=15)
+    if os.geteuid() == 0:
+        assert nice == {NICE} and f'scheduling priority: nice {NICE}\n' in said[-1], said
+    else:
+        assert 'refused' in said[-1] and 'CAP_SYS_NICE' in said[-1], said

@@ -24,7 +24,9 @@ class Options:
     sim: SimOptions | None = None
     ros_args: Sequence[str] = field(default_factory=list)  # argv with ROS arguments, for rclpy
     base: bool = False  # the physics base instead of our turtlesim (with `sim`'s time scale)
-    nice: int = NICE  # the scheduling priority asked for (`rosutils.priority`); 0: as it is
+    # the scheduling priority asked for (`rosutils.priority`); None: NICE for the node alone,
+    # as started with a simulator in the process (a time-scaled one would take the CPU)
+    nice: int | None = None
 
     def problem(self) -> str | None:
         if self.base and self.sim is not None and (
@@ -61,7 +63,9 @@ def run(options: Options) -> int:
     if (problem := options.problem()) is not None:
         return fail(problem)
     sim_time = options.sim is not None and options.sim.time_scale is not None
-    priority = raise_priority(options.nice) if options.nice < 0 else None  # before ROS's threads
+    nice = options.nice if options.nice is not None else (
+        NICE if options.sim is None and not options.base else 0)
+    priority = raise_priority(nice) if nice < 0 else None  # before ROS starts its threads
     beside = None
     if options.sim is not None and not options.base:  # loaded only when asked for
         from turtle_traj.apps.sim_beside import SimBeside

@@ -7,7 +7,8 @@ longer than that now and then; measured here, a 62.5 Hz timer under waves of twe
 on two cores woke more than a step late at 0.05-0.1% of its ticks, and never at nice -10 (at
 most 8 ms late). As ros2_control's controller manager raises its loop's priority, the node's
 program asks for a higher one before ROS starts its threads (they inherit it); without the
-permission it says why, once, and runs as it is.
+permission it says why, once, and runs as it is. Not with a simulator in the same process: its
+steps run in the node's thread, and a time-scaled physics base asks for all the CPU it gets.
 """
 
 from __future__ import annotations
@@ -63,8 +64,10 @@ def _others() -> list[int]:
 
 def add_priority_option(parser: argparse.ArgumentParser) -> None:
     """The programs' `--nice N`."""
-    parser.add_argument('--nice', type=int, default=NICE, metavar='N',
-                        help='run the control loop at this scheduling priority, ahead of '
-                             'ordinary work (-20 to 19; default %(default)s; 0 or more: as '
-                             'started). Negative values need CAP_SYS_NICE or `ulimit -e`; '
-                             'without it the node says so and runs as it is')
+    parser.add_argument('--nice', type=int, metavar='N',
+                        help=f'run the node at this scheduling priority (-20 to 19; 0 or more: as '
+                             f'started). Default: {NICE}, ahead of ordinary work, for the node '
+                             'alone; as started with a simulator in the process, whose steps '
+                             'share its thread (a time-scaled one would take the CPU). Negative '
+                             'values need CAP_SYS_NICE or `ulimit -e`; without it the node says '
+                             'so and runs as it is')

@@ -51,6 +51,17 @@ def program(*args: str, cwd: Path | None = None) -> Iterator[Program]:
         process.wait_and_read()
 
 
+def program_nice(pid: int) -> set[int]:
+    """The nice values of a running program's threads (Linux)."""
+    values = set()
+    for thread in Path(f'/proc/{pid}/task').iterdir():
+        try:  # the 19th field of stat; the name before it, in brackets, may hold spaces
+            values.add(int((thread / 'stat').read_text().rsplit(')', 1)[1].split()[16]))
+        except FileNotFoundError:  # a thread that ended meanwhile
+            continue
+    return values
+
+
 def terminate(process: subprocess.Popen) -> str:
     """Send SIGTERM, wait for the exit and return what the program wrote to stderr."""
     process.terminate()
