@@ -48,37 +48,26 @@ def _braking_speed(remaining: float, deceleration: float, period_s: float,
     return min(braking, remaining / (share * period_s))
 
 
-def _hedges(remaining: float, top_speed: float, prediction: Prediction,
-            config: ControlConfig) -> bool:
-    """Whether this period's approach allows for late commands: it may, and the end is near
-    enough for its share of the remainder to be slower than the top speed."""
-    late = prediction.late_steps
-    return late > 0 and abs(remaining) < (1 + late) * top_speed * config.period_s
-
-
-def _lands(remaining: float, hedged: bool, prediction: Prediction,
-           config: ControlConfig) -> bool:
+def _lands(remaining: float, prediction: Prediction, config: ControlConfig) -> bool:
     """Whether to land on the end with one more command: the approach allowed for late
-    commands (`hedged`, at any period of it: the allowance may have ended since) and stopped
-    inside the tolerance, short of the end, and the turtle stands there. Once per leg, so a
-    command that acts late again cannot start a hunt (it carries the turtle at most the
-    tolerance past the end). Only where the prediction is exact to the step, turtlesim's: a
-    base's odometry and inertia leave it a little off."""
-    return (hedged and prediction.still and prediction.turns_first
+    commands and stopped inside the tolerance, short of the end, and the turtle stands there.
+    Once per leg, so a command that acts late again cannot start a hunt (it carries the turtle
+    at most the tolerance past the end). Only where the prediction is exact to the step,
+    turtlesim's: a base's odometry and inertia leave it a little off."""
+    return (prediction.late_steps > 0 and prediction.still and prediction.turns_first
             and not config.limited and abs(remaining) > LANDED)
 
 
-def _finished(arrived: bool, hedged: bool, prediction: Prediction, config: ControlConfig,
+def _finished(arrived: bool, prediction: Prediction, config: ControlConfig,
               landed: bool = False) -> Command | None:
     """None when a leg is over: the predicted pose is there, and the turtle itself too.
 
     Until then the commands on their way carry the turtle, so hold with a stop. When a command
-    may act longer than predicted, or the approach allowed for that (`hedged`), the turtle
-    must also stand still, or it would carry it on (and a hedged approach lands once it
-    stands); but not after a landing, which carries it at most the tolerance on (`_lands`).
+    may act longer than predicted, the turtle must also stand still, or it would carry it on;
+    but not after a landing, which carries it at most the tolerance on (`_lands`).
     A base with acceleration limits must be able to stop within the next period.
     """
-    if (arrived and (not (hedged or prediction.late_steps) or prediction.still or landed)
+    if (arrived and (prediction.late_steps == 0 or prediction.still or landed)
             and (not config.limited or can_stop(prediction.velocity, config))):
         return None
     return STOP
@@ -106,7 +95,6 @@ class TurnTracker:
         self.turned = wrap_angle(pose.theta - turn.start_heading)
         self.previous = pose.theta
         self.landed = False  # the one landing command is sent (`_lands`)
-        self.hedged = False  # the approach allowed for late commands (`_hedges`)
 
     @property
     def fraction(self) -> float:
@@ -120,12 +108,11 @@ class TurnTracker:
         self.previous = pose.theta
         remaining = self.turn.sweep_rad - self.turned
         error = remaining - wrap_angle(predicted.theta - pose.theta)
-        self.hedged = self.hedged or _hedges(error, config.angular_speed, prediction, config)
         landing = False
         if abs(error) < config.heading_tolerance:
-            if self.landed or not _lands(error, self.hedged, prediction, config):
-                return _finished(abs(remaining) < config.heading_tolerance, self.hedged,
-                                 prediction, config, self.landed)
+            if self.landed or not _lands(error, prediction, config):
+                return _finished(abs(remaining) < config.heading_tolerance, prediction, config,
+                                 self.landed)
             self.landed = landing = True
         rate = min(config.angular_speed,
                    _braking_speed(max(abs(error) - prediction.overrun[1], 0.0),
@@ -145,7 +132,6 @@ class PolylineTracker:
         self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
         self._profile = profile  # with acceleration limits: None on a straight line
         self.landed = False  # the one landing command is sent (`_lands`)
-        self.hedged = False  # the approach allowed for late commands (`_hedges`)
         # Plain floats: a projection looks at a few segments, too few for numpy to pay.
         self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
 
@@ -205,13 +191,12 @@ class PolylineTracker:
                          * polyline.segment_lengths[actual_segment]) / max(polyline.length, 1e-12)
         self.segment, fraction, offset = self._project(predicted)
         remaining = self._remaining(predicted, self.segment, fraction)
-        self.hedged = self.hedged or _hedges(remaining, config.linear_speed, prediction, config)
         landing = False
         if self._arrived(predicted, self.segment, remaining):
-            if self.landed or not _lands(remaining, self.hedged, prediction, config):
+            if self.landed or not _lands(remaining, prediction, config):
                 arrived = self._arrived(pose, actual_segment,
                                         self._remaining(pose, actual_segment, actual_fraction))
-                return _finished(arrived, self.hedged, prediction, config, self.landed)
+                return _finished(arrived, prediction, config, self.landed)
             self.landed = landing = True
         pose = predicted
 
