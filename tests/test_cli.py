@@ -149,7 +149,6 @@ def test_no_progress_line_without_a_terminal(running_system, capsys):
     assert 'heading error' in captured.out
 
 
-
 def test_beside_a_simulator_the_node_runs_as_started(running_system):
     # `turtle_traj.rosutils.priority`: with a simulator in the process (its steps share the
     # node's thread; a time-scaled one takes what CPU it gets) the priority is left as started
