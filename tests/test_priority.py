@@ -18,6 +18,7 @@ _PROBE = '''
 import json, os, sys, threading, time
 from unittest import mock
 from turtle_traj.rosutils import priority
+from turtle_traj.testing.processes import program_nice
 started = threading.Event()
 early = threading.Thread(target=lambda: (started.set(), time.sleep(5)), daemon=True)
 early.start()  # a thread a library started before: it is raised too
@@ -30,13 +31,8 @@ else:
 late = []
 after = threading.Thread(target=lambda: late.append(os.getpriority(os.PRIO_PROCESS, 0)))
 after.start(); after.join()
-nice = {}
-for t in os.listdir('/proc/self/task'):
-    try:
-        nice[t] = os.getpriority(os.PRIO_PROCESS, int(t))
-    except ProcessLookupError:  # a thread ended (the one joined above may linger in the list)
-        pass
-print(json.dumps([said.nice, said.granted, str(said), sorted(set(nice.values())), late[0]]))
+nice = program_nice(os.getpid())
+print(json.dumps([said.nice, said.granted, str(said), sorted(nice), late[0]]))
 '''
 
 
