@@ -13,6 +13,7 @@ from collections.abc import Callable
 
 from geometry_msgs.msg import Twist, TwistStamped
 from rclpy.duration import Duration
+from rclpy.exceptions import InvalidHandle
 from rclpy.node import Node
 from turtlesim.msg import Pose
 
@@ -46,11 +47,11 @@ class BaseTopics:
         self.odometry = value('pose_source') == 'odometry'
         if self.odometry:
             from nav_msgs.msg import Odometry
-            topic = value('odom_topic')
-            node.create_subscription(Odometry, topic, self._on_odometry, POSE_READER_QOS)
+            topic, message, reader = value('odom_topic'), Odometry, self._on_odometry
         else:
-            topic = f'{turtle}/pose'
-            node.create_subscription(Pose, topic, self._on_turtlesim_pose, POSE_READER_QOS)
+            topic, message, reader = f'{turtle}/pose', Pose, self._on_turtlesim_pose
+        self._reader = reader
+        self._poses = node.create_subscription(message, topic, reader, POSE_READER_QOS)
         self.pose_topic = node.resolve_topic_name(topic)
         self.stamped = value('cmd_vel_type') == 'TwistStamped'
         self._clock = node.get_clock()
@@ -72,6 +73,26 @@ class BaseTopics:
         position, twist = msg.pose.pose.position, msg.twist.twist
         self._on_pose(Pose2D(position.x, position.y, yaw_of(msg.pose.pose.orientation)),
                       abs(twist.linear.x), twist.angular.z)
+
+    def read_waiting(self) -> None:
+        """Read every pose that has arrived and not been read yet, in order, now.
+
+        An executor takes one message from a subscription at a time, between its other
+        callbacks: a starved one (rclpy 7.1.6's MultiThreadedExecutor while a handler awaits,
+        ros2/rclpy#1452) dispatched fewer than turtlesim's 62.5 poses a second, and the node,
+        reading its 2 s queue one pose a dispatch, steered from poses 0.3-0.7 s old. The control
+        timer calls this first: each command is steered from the newest pose there is.
+        """
+        poses = self._poses
+        while True:
+            try:
+                with poses.handle:
+                    taken = poses.handle.take_message(poses.msg_type, poses.raw)
+            except InvalidHandle:  # destroyed with the node
+                return
+            if taken is None:
+                return
+            self._reader(taken[0])
 
     def publish(self, command: Command) -> None:
         """Publish a command (the message is refilled: publish() serializes at once)."""

@@ -103,6 +103,7 @@ class RunManager:
     @serialized
     def on_control_timer(self) -> None:
         """The control timer's tick: this period's command for the run, if one runs."""
+        self._base.read_waiting()
         run = self.run
         if run is not None and self._aborted_for_silence():
             return
