@@ -154,3 +154,24 @@ def test_beside_a_simulator_the_node_runs_as_started(running_system):
     # node's thread; a time-scaled one takes what CPU it gets) the priority is left as started
     assert program_nice(running_system.pid) == {os.getpriority(os.PRIO_PROCESS, 0)}
     assert 'scheduling priority' not in running_system.said()
+
+
+def test_a_session_answers_each_call_as_a_process_of_its_own_would(running_system):
+    """`python -m turtle_traj.cli.session` (the two-host tests' calls): the same exit code and
+    the same words, for an answer, a refusal and a usage error."""
+    from turtle_traj.testing.two_hosts import CliSession
+    session = CliSession(subprocess.Popen(
+        [sys.executable, '-m', 'turtle_traj.cli.session'], stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True))
+    try:
+        for args in ([*WAIT, 'params', 'turtle_name'], [*WAIT, 'params', 'blob', '3'],
+                     ['draw', 'blob']):
+            alone = subprocess.run([sys.executable, '-m', 'turtle_traj.cli', *args],
+                                   capture_output=True, text=True, timeout=60)
+            within = session.call(*args, timeout_s=60)
+            assert (within.returncode, within.stdout, within.stderr) == (
+                alone.returncode, alone.stdout, alone.stderr), args
+        assert within.returncode == 2 and "invalid choice: 'blob'" in within.stderr
+    finally:
+        session.process.stdin.close()
+        assert session.process.wait(timeout=30) == 0  # it ends with its input

@@ -11,9 +11,11 @@ context ends by an error or Ctrl-C. The addresses are its own, inside its namesp
 from __future__ import annotations
 
 import atexit
+import json
 import math
 import os
 import re
+import select
 import shutil
 import subprocess
 import sys
@@ -54,6 +56,29 @@ def why_unavailable() -> str | None:
         if shutil.which(tool) is None:
             return f'{tool} is not installed (Debian: apt-get install iproute2 nftables)'
     return None
+
+
+class CliSession:
+    """`turtle-traj` calls made in one process (`turtle_traj.cli.session`), answered as
+    `subprocess.run` answers."""
+
+    def __init__(self, process: subprocess.Popen) -> None:
+        self.process = process
+
+    def call(self, *args: str, timeout_s: float) -> subprocess.CompletedProcess:
+        """Run `turtle-traj ARGS` in the session to its end.
+
+        :raises subprocess.TimeoutExpired: no answer within `timeout_s`.
+        """
+        self.process.stdin.write(json.dumps(args) + '\n')
+        self.process.stdin.flush()
+        ready, _, _ = select.select([self.process.stdout], [], [], timeout_s)
+        line = self.process.stdout.readline() if ready else ''
+        if not line:
+            raise subprocess.TimeoutExpired(['turtle-traj', *args], timeout_s)
+        said = json.loads(line)
+        return subprocess.CompletedProcess(['turtle-traj', *args], said['returncode'],
+                                           said['stdout'], said['stderr'])
 
 
 class TwoHosts:
@@ -129,6 +154,13 @@ class TwoHosts:
         """Run `turtle-traj ARGS` on `host` to its end."""
         return subprocess.run(self.command(host, str(self.cli), *args), env=self.env,
                               capture_output=True, text=True, timeout=timeout_s)
+
+    def session(self, host: str) -> CliSession:
+        """A process on `host` that makes `turtle-traj` calls one after another
+        (`turtle_traj.cli.session`): each says what its own process would, without starting one."""
+        return CliSession(self._spawn(host, sys.executable, '-m', 'turtle_traj.cli.session',
+                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                      stderr=subprocess.DEVNULL, text=True))
 
     def loss(self, percent: int) -> None:
         """Drop `percent` of packets each way (each host's outgoing packets); 0 for none."""
