@@ -39,9 +39,12 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 # ones under test: 3 runs in 5 red on issue 44's stall (a node held up at a corner overshoots
 # it); with every node program at a raised priority, 1 in 4, under two busy loops (a teleop too
 # slow to cancel; a command line that heard no feedback for 5 s from a base at 10x time).
-# PYTEST_ARGS adds options (`--durations=20`).
+# The files go out in the order tests/conftest.py gives them, the slowest first, so the two
+# workers finish together: xdist's default reorders them by their count of tests, and the two-host
+# file (a minute) started 85 s in, its worker done 25-35 s before the other (200-226 s quiet; in
+# our order 186 s). PYTEST_ARGS adds options (`--durations=20`).
 test: setup
-	$(PY) -m pytest -q -rs -n 2 --dist loadfile $(PYTEST_ARGS)
+	$(PY) -m pytest -q -rs -n 2 --dist loadfile --no-loadscope-reorder $(PYTEST_ARGS)
 
 # Between edits: every test but the system tests (programs, namespaces, a browser, colcon),
 # one test at a time to each worker.

@@ -19,9 +19,10 @@ def pytest_configure(config) -> None:
     ros_lifecycle.track()
 
 
-# The files that take longest (--durations, quiet here: the two hosts 88 s, the browser 46 s, the
-# bags 31 s, the hang watchdog 24 s, the command line 22 s), first: with `--dist loadfile` each
-# worker takes the next file as it frees up, so the two finish together.
+# The files that take longest (--durations, quiet here: the two hosts 57-63 s, the tutorials
+# 42-47 s, the browser 42-44 s, the bags 29 s, the hang watchdog 21 s, the command line 22 s),
+# first: with `--dist loadfile --no-loadscope-reorder` (the Makefile) each worker takes the next
+# file as it frees up, so the two finish together.
 SLOWEST_FIRST = ('test_two_hosts', 'test_tutorials', 'test_web', 'test_bags', 'test_hang',
                  'test_cli', 'test_terminal', 'test_multithreaded', 'test_colcon', 'test_teleop',
                  'test_client', 'test_drawing_run')
