@@ -160,9 +160,7 @@ def test_a_session_answers_each_call_as_a_process_of_its_own_would(running_syste
     """`python -m turtle_traj.cli.session` (the two-host tests' calls): the same exit code and
     the same words, for an answer, a refusal and a usage error."""
     from turtle_traj.testing.two_hosts import CliSession
-    session = CliSession(subprocess.Popen(
-        [sys.executable, '-m', 'turtle_traj.cli.session'], stdin=subprocess.PIPE,
-        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True))
+    session = CliSession.start()
     try:
         for args in ([*WAIT, 'params', 'turtle_name'], [*WAIT, 'params', 'blob', '3'],
                      ['draw', 'blob']):

@@ -62,8 +62,18 @@ class CliSession:
     """`turtle-traj` calls made in one process (`turtle_traj.cli.session`), answered as
     `subprocess.run` answers."""
 
+    # the program, and how it is started: its answers on a pipe, its logs nowhere
+    ARGV = (sys.executable, '-m', 'turtle_traj.cli.session')
+    PIPES = {'stdin': subprocess.PIPE, 'stdout': subprocess.PIPE, 'stderr': subprocess.DEVNULL,
+             'text': True}
+
     def __init__(self, process: subprocess.Popen) -> None:
         self.process = process
+
+    @classmethod
+    def start(cls) -> CliSession:
+        """A session on this machine (ended by closing its stdin)."""
+        return cls(subprocess.Popen(cls.ARGV, **cls.PIPES))
 
     def call(self, *args: str, timeout_s: float) -> subprocess.CompletedProcess:
         """Run `turtle-traj ARGS` in the session to its end.
@@ -158,9 +168,7 @@ class TwoHosts:
     def session(self, host: str) -> CliSession:
         """A process on `host` that makes `turtle-traj` calls one after another
         (`turtle_traj.cli.session`): each says what its own process would, without starting one."""
-        return CliSession(self._spawn(host, sys.executable, '-m', 'turtle_traj.cli.session',
-                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                      stderr=subprocess.DEVNULL, text=True))
+        return CliSession(self._spawn(host, *CliSession.ARGV, **CliSession.PIPES))
 
     def loss(self, percent: int) -> None:
         """Drop `percent` of packets each way (each host's outgoing packets); 0 for none."""
