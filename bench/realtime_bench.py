@@ -5,6 +5,10 @@ node's own "at least" bound, and its deviation.
 Several checkouts run side by side, alternating round by round, each from its own `src/` (so an
 old commit is measured with the same script, venv and machine):
     .venv/bin/python bench/realtime_bench.py [--rounds 3] [--repo PATH ...]
+        [--time-scale S] [--bursts]
+With `--time-scale S`, `turtle-traj up --time-scale S` (simulated time, S times real time);
+with `--bursts`, waves of twelve processes importing numpy and rclpy run meanwhile (the load
+that holds a timer up now and then, where steady busy loops do not).
 The kinds are the issue's: the 2 m square, the text "ROS" 1 m high, the star, the circle, a
 go-to and the sine, each from the centre after a reset. The bound is the kinematic one (length
 over the default top speed, turns over the default top turn rate), from the plan the node logs:
@@ -20,6 +24,7 @@ import re
 import statistics
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -34,7 +39,9 @@ KINDS = {
     'go_to': ['go-to', '8', '3'],
     'sine': ['draw', 'sine'],
 }
-ELAPSED = re.compile(r'elapsed ([0-9.]+) s, path [0-9.]+ m, max deviation ([0-9.]+) m')
+ELAPSED = re.compile(r'elapsed ([0-9.]+) s, path [0-9.]+ m, max deviation ([0-9.]+) m, '
+                     r'final error ([0-9.]+) m')
+BURST = [sys.executable, '-c', 'import numpy, rclpy; sum(range(2000000))']
 # the node's plan line: path length and turns in place, from which the kinematic bound is
 # computed here (length over top speed, turns over top turn rate), the same for every commit
 PLAN = re.compile(r': ([0-9.]+) m of path, ([0-9]+) deg of turns in place, at least')
@@ -50,12 +57,21 @@ def _cli(repo: Path, *argv: str) -> str:
     return done.stdout + done.stderr
 
 
-def one_round(repo: Path) -> dict[str, tuple[float, float]]:
-    """Each kind's (elapsed / bound, max deviation in mm) from one `turtle-traj up`."""
+def _bursts(stop: threading.Event) -> None:
+    """Waves of twelve short processes, one wave after another, until `stop`."""
+    while not stop.is_set():
+        wave = [subprocess.Popen(BURST) for _ in range(12)]
+        for process in wave:
+            process.wait()
+
+
+def one_round(repo: Path, up_options: list[str]) -> dict[str, tuple[float, float, float]]:
+    """Each kind's (elapsed / bound, max deviation in mm, final error in mm) from one
+    `turtle-traj up`."""
     log = repo / '.realtime_bench_up.log'
     with open(log, 'w') as out:
-        up = subprocess.Popen([sys.executable, '-m', 'turtle_traj.cli', 'up'], env=_env(repo),
-                              stdout=out, stderr=subprocess.STDOUT)
+        up = subprocess.Popen([sys.executable, '-m', 'turtle_traj.cli', 'up', *up_options],
+                              env=_env(repo), stdout=out, stderr=subprocess.STDOUT)
     try:
         for _ in range(120):  # the node says what it serves once it is up
             if 'serving' in log.read_text():
@@ -72,7 +88,8 @@ def one_round(repo: Path) -> dict[str, tuple[float, float]]:
             length, turns = (float(value) for value in plans[-1])
             bound = (length / DEFAULTS['linear_speed']
                      + math.radians(turns) / DEFAULTS['angular_speed'])
-            figures[kind] = (float(found[1]) / bound, 1000 * float(found[2]))
+            figures[kind] = (float(found[1]) / bound, 1000 * float(found[2]),
+                             1000 * float(found[3]))
         return figures
     finally:
         up.terminate()
@@ -93,25 +110,44 @@ def main() -> int:
     parser.add_argument('--rounds', type=int, default=3)
     parser.add_argument('--repo', type=Path, action='append',
                         help='a checkout to measure (repeatable; default: this one)')
+    parser.add_argument('--time-scale', type=float, metavar='S',
+                        help='run `turtle-traj up --time-scale S`')
+    parser.add_argument('--bursts', action='store_true',
+                        help='waves of twelve processes meanwhile')
     args = parser.parse_args()
     repos = [path.resolve() for path in (args.repo or [Path(__file__).resolve().parents[1]])]
+    up_options = [] if args.time_scale is None else ['--time-scale', str(args.time_scale)]
     isolate('realtime')
     results: dict[Path, list[dict]] = {repo: [] for repo in repos}
-    for round_ in range(args.rounds):
-        for repo in repos:
-            results[repo].append(one_round(repo))
-            print(f'round {round_ + 1} {_label(repo)} done', file=sys.stderr)
+    stop = threading.Event()
+    load = threading.Thread(target=_bursts, args=(stop,))
+    if args.bursts:
+        load.start()
+    try:
+        for round_ in range(args.rounds):
+            for repo in repos:
+                results[repo].append(one_round(repo, up_options))
+                print(f'round {round_ + 1} {_label(repo)} done', file=sys.stderr)
+    finally:
+        stop.set()
+        if load.is_alive():
+            load.join()
     labels = {repo: _label(repo) for repo in repos}
-    print('elapsed / bound per round (median, max); max deviation mm')
-    print(f'{"kind":8}' + ''.join(f'  {labels[repo]:>34}' for repo in repos))
+    print(f'`turtle-traj up {" ".join(up_options)}`' + (', under waves of processes'
+                                                         if args.bursts else ''))
+    print('elapsed / bound per round (median, max); worst max deviation mm; worst final '
+          'error mm')
+    print(f'{"kind":8}' + ''.join(f'  {labels[repo]:>40}' for repo in repos))
     for kind in KINDS:
         row = f'{kind:8}'
         for repo in repos:
             ratios = [each[kind][0] for each in results[repo]]
             worst = max(each[kind][1] for each in results[repo])
+            end = max(each[kind][2] for each in results[repo])
             cell = (', '.join(f'{ratio:.2f}' for ratio in ratios)
-                    + f' ({statistics.median(ratios):.2f}, {max(ratios):.2f}) {worst:.1f}')
-            row += f'  {cell:>34}'
+                    + f' ({statistics.median(ratios):.2f}, {max(ratios):.2f}) {worst:.1f}'
+                    + f' {end:.2f}')
+            row += f'  {cell:>40}'
         print(row)
     return 0
 

@@ -1,6 +1,7 @@
 """Lock-step simulated time: repeatable to the bit, and fine with several nodes in the executor."""
 
 import math
+import time
 
 from rclpy.parameter import Parameter
 from turtle_traj_interfaces.srv import DrawShape, GoTo
@@ -8,12 +9,15 @@ from turtlesim.msg import Pose
 from turtlesim.srv import Spawn
 
 from turtle_traj.apps.in_process import SIM_TIME, InProcessSystem
+from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.node.trajectory_node import TrajectoryNode
+from turtle_traj.rosutils.lockstep import MAX_PACE_LAG_S
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 
-def _pose_stream(context, tmp_path, **sim_parameters) -> list[tuple[float, ...]]:
-    system = InProcessSystem(context=context, output_dir=tmp_path, sim_parameters=sim_parameters)
+def _pose_stream(context, tmp_path, pace=None, **sim_parameters) -> list[tuple[float, ...]]:
+    system = InProcessSystem(context=context, output_dir=tmp_path, sim_parameters=sim_parameters,
+                             pace=pace)
     try:
         response = system.call(DrawShape, 'draw_hexagon', DrawShape.Request(size=1.0))
         assert response.success, response.message
@@ -21,6 +25,11 @@ def _pose_stream(context, tmp_path, **sim_parameters) -> list[tuple[float, ...]]
                 for p in system.poses]
     finally:
         system.close()
+
+
+def _from_first_move(poses: list[tuple[float, ...]]) -> list[tuple[float, ...]]:
+    moving = next(index for index, pose in enumerate(poses) if pose[3] or pose[4])
+    return poses[moving:]
 
 
 def test_the_same_request_gives_a_bit_identical_pose_stream(rclpy_context, tmp_path):
@@ -35,6 +44,32 @@ def test_seeded_command_jitter_repeats_exactly(rclpy_context, tmp_path):
     first = _pose_stream(rclpy_context, tmp_path, **jitter)
     assert first == _pose_stream(rclpy_context, tmp_path, **jitter)
     assert first != _pose_stream(rclpy_context, tmp_path)  # the jitter did change the run
+
+
+def test_paced_lockstep_runs_the_same_steps_never_ahead_of_the_wall_clock(
+        rclpy_context, tmp_path):
+    """Paced (a program's --time-scale): the node answers every step before the next, so the
+    pose stream is the unpaced one to the bit; and simulated time never runs ahead of the
+    wall clock times the pace by more than the lag it may catch up (after a hold-up)."""
+    pace = 10.0
+    system = InProcessSystem(context=rclpy_context, output_dir=tmp_path, pace=pace)
+    stamps: list[tuple[float, float]] = []  # (wall s, simulated s) at each pose heard
+    system.client.create_subscription(
+        Pose, 'turtle1/pose', lambda _pose: stamps.append((time.monotonic(), system.sim_time_s)),
+        TURTLE_TOPIC_QOS)
+    try:
+        response = system.call(DrawShape, 'draw_hexagon', DrawShape.Request(size=1.0))
+        assert response.success, response.message
+        paced = [(p.x, p.y, p.theta, p.linear_velocity, p.angular_velocity)
+                 for p in system.poses]
+    finally:
+        system.close()
+    # The request may reach the node a step sooner or later (the two wait differently between
+    # steps); from the first step the turtle moves, every pose is the same.
+    assert _from_first_move(paced) == _from_first_move(_pose_stream(rclpy_context, tmp_path))
+    (wall_0, sim_0), (wall_n, sim_n) = stamps[0], stamps[-1]
+    assert sim_n - sim_0 > 5.0  # the hexagon's 6 m at 1 m/s, and its turns: 0.5 s unpaced
+    assert sim_n - sim_0 <= pace * (wall_n - wall_0 + MAX_PACE_LAG_S) + STEP_S
 
 
 def test_two_trajectory_nodes_drive_two_turtles_at_once(turtle_system):

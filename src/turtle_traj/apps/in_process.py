@@ -42,7 +42,10 @@ class LockstepSim:
 
     def __init__(self, *, context: Context | None = None, output_dir: Path = Path('output'),
                  client_name: str = 'turtle_traj_client',
-                 sim_parameters: dict[str, object] | None = None) -> None:
+                 sim_parameters: dict[str, object] | None = None,
+                 pace: float | None = None) -> None:
+        """:param pace: keep simulated time to at most this many times the wall clock (as a
+            program's `--time-scale`); None: as fast as the CPU allows."""
         self.nodes: list[Node] = []
         self.executor: LockstepExecutor | None = None
         self.node: TrajectoryNode | None = None  # relative service names are this node's
@@ -57,7 +60,7 @@ class LockstepSim:
             self.add_node(Node(client_name, context=context, parameter_overrides=[SIM_TIME],
                                start_parameter_services=False))
             self.client = self.nodes[-1]
-            self.executor = LockstepExecutor(self.sim, context=context)
+            self.executor = LockstepExecutor(self.sim, context=context, pace=pace)
             for node in self.nodes:
                 self.executor.add_node(node)
 
@@ -160,10 +163,12 @@ class InProcessSystem(LockstepSim):
 
     def __init__(self, *, context: Context | None = None, output_dir: Path = Path('output'),
                  sim_parameters: dict[str, object] | None = None, base_adapter: bool = False,
-                 **node_parameters: object) -> None:
+                 pace: float | None = None, **node_parameters: object) -> None:
         """:param base_adapter: also run `BaseAdapter`, so the simulator is seen as a ROS 2
-            base (Odometry on odom, TwistStamped on cmd_vel)."""
-        super().__init__(context=context, output_dir=output_dir, sim_parameters=sim_parameters)
+            base (Odometry on odom, TwistStamped on cmd_vel).
+        :param pace: as `LockstepSim`'s."""
+        super().__init__(context=context, output_dir=output_dir, sim_parameters=sim_parameters,
+                         pace=pace)
         with self._closed_on_error():
             if base_adapter:
                 self.add_node(BaseAdapter(context=context, parameter_overrides=[SIM_TIME]))

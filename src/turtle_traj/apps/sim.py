@@ -45,13 +45,15 @@ def parameter_overrides(options: SimOptions) -> list[Parameter]:
     return overrides
 
 
-def create_sim(options: SimOptions, stop: Callable[[], None]) -> list[Node]:
+def create_sim(options: SimOptions, stop: Callable[[], None], *,
+               lockstep: bool = False) -> list[Node]:
     """The simulator node (first), with its window when asked (closing the window calls
     `stop`) and its live view.
 
+    :param lockstep: the simulator has no timer: a `LockstepExecutor` steps it.
     :raises SimUnavailable: the window cannot open, or the live view cannot listen.
     """
-    node = SimNode(parameter_overrides=parameter_overrides(options))
+    node = SimNode(lockstep=lockstep, parameter_overrides=parameter_overrides(options))
     nodes: list[Node] = [node]
     if options.web:  # aiohttp is loaded only when asked for
         from turtle_traj.apps.live_view import create_web

@@ -18,10 +18,11 @@ class SimBeside:
         self.options = options
         self.node: SimNode | None = None
 
-    def create(self, stop: Callable[[], None]) -> list[Node]:
+    def create(self, stop: Callable[[], None], *, lockstep: bool = False) -> list[Node]:
         """The simulator node and its live view, if asked for; SimUnavailable when its window
-        cannot open (`--gui`) or the view cannot listen (`--web`)."""
-        nodes = sim_main.create_sim(self.options, stop)
+        cannot open (`--gui`) or the view cannot listen (`--web`). With `lockstep` the
+        simulator has no timer of its own (a `LockstepExecutor` steps it)."""
+        nodes = sim_main.create_sim(self.options, stop, lockstep=lockstep)
         self.node = nodes[0]
         return nodes
 

@@ -12,10 +12,17 @@ listeners instead of rebuilding a wait set on every pass. What lock-step relies 
 `spin_until_future_complete(future, 0)` runs until the queue is empty, including what the callbacks
 it ran queued meanwhile, and that a message published in this process is queued before
 `publish()` returns) is pinned by tests/test_lockstep_contract.py.
+
+Paced (`pace`), it also keeps simulated time from running ahead of the wall clock times the
+pace: a program's `--time-scale` with our simulator in its process. Between steps it serves
+whatever comes (other programs' calls, a window, the live view), so it runs as the simulator on
+its own timer would, except that no step is ever taken before the node has answered the last:
+PX4's software-in-the-loop lockstep, Gazebo's real-time factor.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Iterator
 from typing import Protocol
@@ -33,6 +40,9 @@ from turtle_traj.rosutils.runtime import events_executor
 _NO_WAIT = Duration()
 _ACK_POLL = Duration(nanoseconds=1_000_000)
 _DELIVERY_GRACE_S = 0.1
+# Paced, a process held up longer than this (a machine busy elsewhere) does not catch up in a
+# burst: simulated time loses the lag instead, as a simulator on its own timer would.
+MAX_PACE_LAG_S = 0.2
 
 
 def clock_message(time_s: float) -> Clock:
@@ -52,6 +62,10 @@ class SteppedSimulator(Protocol):
     def clock_message(self) -> Clock:
         """The simulated time now, as /clock carries it."""
 
+    @property
+    def time_s(self) -> float:
+        """The simulated time now, in seconds."""
+
 
 class LockstepExecutor:
     """An executor that steps `simulator` whenever nothing else in the process has work.
@@ -61,11 +75,21 @@ class LockstepExecutor:
     service handler waiting for its trajectory to end) is resumed when what it awaits is done,
     not before. While the simulator is not among the executor's nodes (removed, as if it had
     vanished), nothing steps and `spin_once` waits like a plain executor.
+
+    With `pace`, `spin_once` also waits (serving what comes meanwhile) until the wall clock
+    has caught up with simulated time divided by `pace`, then steps.
     """
 
-    def __init__(self, simulator: SteppedSimulator, *, context: Context | None = None) -> None:
+    def __init__(self, simulator: SteppedSimulator, *, context: Context | None = None,
+                 pace: float | None = None) -> None:
+        """:param pace: simulated seconds per wall-clock second, at most (a program's
+            `--time-scale`); None: as fast as the CPU allows."""
+        if pace is not None and not (math.isfinite(pace) and pace > 0.0):
+            raise ValueError(f'pace must be a positive number, got {pace}')
         self._events = events_executor(context=context)
         self._simulator = simulator
+        self._pace = pace
+        self._pace_origin: tuple[float, float] | None = None  # (wall s, simulated s)
         self._nodes: list[Node] = []
         self._undelivered_since: float | None = None
         # The clocks of our nodes on simulated time, set at each step (see `add_node`).
@@ -120,10 +144,48 @@ class LockstepExecutor:
             self._events.spin_once(timeout_sec)
             return
         self.drain()
-        if self._delivered():
-            self._simulator.step()
-            self._sim_time.clock_callback(self._simulator.clock_message())
-            self.steps += 1
+        if self._pace is not None:
+            self._paced_step(timeout_sec)
+        elif self._delivered():
+            self._step()
+
+    def _step(self) -> None:
+        self._simulator.step()
+        self._sim_time.clock_callback(self._simulator.clock_message())
+        self.steps += 1
+
+    def _paced_step(self, timeout_sec: float | None) -> None:
+        """Step once the wall clock has caught up with simulated time, serving what comes
+        until then (at most `timeout_sec`).
+
+        Acknowledgements are not waited for: other programs' subscribers acknowledge at the
+        middleware's pace, not the simulator's, and ours get each message inside `publish()`.
+        """
+        now = time.monotonic()
+        if self._pace_origin is None:
+            self._pace_origin = (now, self._simulator.time_s)
+        wall_origin, sim_origin = self._pace_origin
+        due = wall_origin + (self._simulator.time_s - sim_origin) / self._pace
+        if now < due:
+            wait = due - now if timeout_sec is None else min(due - now, timeout_sec)
+            self._events.spin_until_future_complete(Future(), wait)
+            return
+        if now - due > MAX_PACE_LAG_S:
+            self._pace_origin = (now, self._simulator.time_s)
+        self._step()
+
+    def spin_until_future_complete(self, future: Future,
+                                   timeout_sec: float | None = None) -> None:
+        """Spin (stepping) until `future` is done or `timeout_sec` of wall time passed, at
+        least once; for a paced executor, which waits for the wall clock (unpaced, `spin_once`
+        never waits)."""
+        deadline = None if timeout_sec is None else time.monotonic() + timeout_sec
+        left = timeout_sec
+        while True:
+            self.spin_once(left)
+            left = None if deadline is None else deadline - time.monotonic()
+            if future.done() or (left is not None and left <= 0.0):
+                return
 
     def drain(self) -> None:
         """Run callbacks until none is ready, including those the callbacks run made ready."""

@@ -57,7 +57,7 @@ def run_nodes(
     *,
     args: Sequence[str] | None = None,
     on_exit: Callable[[], None] | None = None,
-    executor_type: Callable[[], Executor] = lambda: events_executor(),
+    make_executor: Callable[[Sequence[Node]], Executor] = lambda nodes: events_executor(),
 ) -> int:
     """Create nodes, spin them in one executor until asked to stop, then tidy up.
 
@@ -69,10 +69,11 @@ def run_nodes(
     :param create_nodes: builds the nodes once rclpy is initialised; gets `stop`.
     :param args: command-line arguments for rclpy (``--ros-args`` remappings and parameters).
     :param on_exit: runs after spinning stopped and before the nodes are destroyed.
-    :param executor_type: makes the executor (after rclpy is initialised). rclpy's
-        EventsExecutor (experimental, C++) by default: it wakes only for what happened, where
-        the SingleThreadedExecutor rebuilds its wait set over every endpoint on each pass, which
-        cost the trajectory node a fifth of a core doing nothing (bench/speed_bench.py).
+    :param make_executor: makes the executor for the nodes made (which it does not add).
+        rclpy's EventsExecutor (experimental, C++) by default: it wakes only for what happened,
+        where the SingleThreadedExecutor rebuilds its wait set over every endpoint on each
+        pass, which cost the trajectory node a fifth of a core doing nothing
+        (bench/speed_bench.py).
     :return: the process exit code: 0 after a stop, 1 when something else shut the ROS
         context down.
     """
@@ -84,10 +85,11 @@ def run_nodes(
     for signum in _STOP_SIGNALS:
         signal.signal(signum, lambda *_: stop.set())
     nodes: list[Node] = []
-    executor = executor_type()
+    executor: Executor | None = None
     exit_code = 0
     try:
         nodes.extend(create_nodes(stop.set))
+        executor = make_executor(nodes)
         for node in nodes:
             executor.add_node(node)
         # What start-up made (imports, rclpy, the nodes: ~48k objects) lives as long as the
@@ -115,7 +117,8 @@ def run_nodes(
             if nodes and on_exit is not None and rclpy.ok():
                 on_exit()
         finally:
-            executor.shutdown()
+            if executor is not None:
+                executor.shutdown()
             for node in nodes:
                 node.destroy_node()
             rclpy.try_shutdown()
