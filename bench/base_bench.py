@@ -16,7 +16,8 @@ registry at the node's default speeds, with the node's turtlesim Pose and Twist,
 Odometry and TwistStamped through `BaseAdapter`.
 
 Part 3 (`--real-time 1 --real-time 5`), through ROS in (scaled) real time: the 45, 90 and 135
-degree steps and the sine, exact and rounded at DWPP's maximum error (`base_realtime.py`).
+degree steps and the sine, exact and rounded at DWPP's maximum error (`base_realtime.py`); the
+simulator in the node's program (paced lock-step), or with `--separate` as a program of its own.
 """
 
 from __future__ import annotations
@@ -173,6 +174,8 @@ def main(args: Sequence[str] | None = None) -> int:
     parser.add_argument('--skip-ros', action='store_true', help='the pure loop only')
     parser.add_argument('--real-time', type=float, action='append', default=[],
                         metavar='SCALE', help='part 3 at this time scale (repeatable)')
+    parser.add_argument('--separate', action='store_true',
+                        help='part 3 with the simulator and the node as two programs')
     options = parser.parse_args(args)
     isolate('base')
     courses: Courses = {}
@@ -181,7 +184,7 @@ def main(args: Sequence[str] | None = None) -> int:
         passed &= through_ros(odometry=False)
         passed &= through_ros(odometry=True)
     for scale in options.real_time:
-        passed &= through_ros_in_real_time(courses, DWPP_LIMITS, scale)
+        passed &= through_ros_in_real_time(courses, DWPP_LIMITS, scale, options.separate)
     print('every target met' if passed else 'some targets missed (see above)')
     return 0 if passed else 1
 

@@ -1,10 +1,12 @@
 """Part 3 of `base_bench.py`: the step curves and the sine through ROS, in (scaled) real time.
 
 `python -m turtle_traj --with-sim --time-scale S` runs our simulator with inertia and the node
-at the DWPP paper's limits in one process, on the simulator's /clock; this process is the
-client. Each path starts with the turtle teleported to its first point, facing its first leg,
-and runs exact, then rounded at DWPP's maximum error on that path (DWPP from the pure loop: the
-same robot, the same 16 ms steps). The node's own figures are read from its response.
+at the DWPP paper's limits in one process (paced lock-step: the simulator steps once the node
+has answered, S times real time); with `separate`, they are two programs, the simulator on its
+own timer and the node on its /clock, as with a robot elsewhere. This process is the client.
+Each path starts with the turtle teleported to its first point, facing its first leg, and runs
+exact, then rounded at DWPP's maximum error on that path (DWPP from the pure loop: the same
+robot, the same 16 ms steps). The node's own figures are read from its response.
 """
 
 from __future__ import annotations
@@ -23,17 +25,30 @@ from base_loop import Limits
 Courses = dict[str, tuple[np.ndarray, float, float]]
 
 
-def _node_process(limits: Limits, time_scale: float) -> subprocess.Popen:
+def _programs(limits: Limits, time_scale: float, separate: bool) -> list[subprocess.Popen]:
+    # the simulator's inertia, which the node is told too (unscoped: both nodes read it)
     inertia = [f'max_linear_accel:={limits.a}', f'max_angular_accel:={limits.alpha}']
     node = [f'turtle_traj:linear_speed:={limits.v}', f'turtle_traj:angular_speed:={limits.omega}',
             *(f'turtle_traj:arena_{side}:={value}' for side, value in (
                 ('min_x', -100.0), ('min_y', -100.0), ('max_x', 100.0), ('max_y', 100.0)))]
-    argv = [sys.executable, '-m', 'turtle_traj', '--with-sim', '--time-scale', str(time_scale),
-            '--ros-args', *(word for value in inertia + node for word in ('-p', value))]
-    return subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    scale = ['--time-scale', str(time_scale)]
+    if separate:
+        argvs = [['turtle_traj.sim', *scale, '--ros-args', *_parameters(inertia)],
+                 ['turtle_traj', '--ros-args',
+                  *_parameters(['use_sim_time:=true', *inertia, *node])]]
+    else:
+        argvs = [['turtle_traj', '--with-sim', *scale, '--ros-args',
+                  *_parameters(inertia + node)]]
+    return [subprocess.Popen([sys.executable, '-m', *argv], stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL) for argv in argvs]
 
 
-def through_ros_in_real_time(courses: Courses, limits: Limits, time_scale: float) -> bool:
+def _parameters(values: list[str]) -> list[str]:
+    return [word for value in values for word in ('-p', value)]
+
+
+def through_ros_in_real_time(courses: Courses, limits: Limits, time_scale: float,
+                             separate: bool = False) -> bool:
     """Every course exact and rounded; True when every run ends and rounded is no slower than
     DWPP at no more than its maximum error."""
     import rclpy
@@ -42,11 +57,13 @@ def through_ros_in_real_time(courses: Courses, limits: Limits, time_scale: float
     from turtle_traj_interfaces.srv import FollowPath
     from turtlesim.srv import TeleportAbsolute
 
-    print(f'Part 3: through ROS in real time x{time_scale:g} (`python -m turtle_traj --with-sim '
-          f'--time-scale {time_scale:g}`), simulator with inertia, the paper\'s limits\n')
+    how = ('the simulator and the node as two programs' if separate else
+           f'`python -m turtle_traj --with-sim --time-scale {time_scale:g}`, paced lock-step')
+    print(f'Part 3: through ROS in real time x{time_scale:g} ({how}), simulator with inertia, '
+          'the paper\'s limits\n')
     print(f"{'path':8} {'mode':10} {'max mm':>7} {'time s':>7} {'DWPP s':>7} {'end mm':>7}  "
           'verdict')
-    up = _node_process(limits, time_scale)
+    programs = _programs(limits, time_scale, separate)
     rclpy.init()
     client = Node('base_bench_client')
     passed = True
@@ -76,8 +93,9 @@ def through_ros_in_real_time(courses: Courses, limits: Limits, time_scale: float
     finally:
         client.destroy_node()
         rclpy.shutdown()
-        up.terminate()
-        up.wait(timeout=30)
+        for program in programs:
+            program.terminate()
+            program.wait(timeout=30)
     print()
     return passed
 

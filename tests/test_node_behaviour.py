@@ -1,6 +1,8 @@
 """Refusals, stop, live parameters, reset and a vanishing simulator: the node keeps serving."""
 
 import math
+import subprocess
+import sys
 
 import pytest
 from geometry_msgs.msg import Point
@@ -193,3 +195,35 @@ def test_sigterm_ends_simulator_and_node_together_cleanly(tmp_path):
         stderr = terminate(process)
     assert process.returncode == 0, stderr
     assert 'Traceback' not in stderr
+
+
+_SOLVER_PROBE = '''
+import sys, time
+import rclpy
+from rclpy.parameter import Parameter
+from turtle_traj.node.trajectory_node import TrajectoryNode
+
+def loaded_within(seconds):
+    deadline = time.monotonic() + seconds
+    while 'toppra.algorithm' not in sys.modules and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return 'toppra.algorithm' in sys.modules
+
+rclpy.init()
+node = TrajectoryNode()
+print('unlimited', loaded_within(0.5))
+node.set_parameters([Parameter('max_angular_accel', value=1.0)])
+print('limits set live', loaded_within(60.0))
+node.destroy_node()
+rclpy.shutdown()
+'''
+
+
+def test_limits_known_load_the_solver_beside_the_executor_not_in_the_first_run():
+    """TOPP-RA (2.4-2.7 s to import here) is imported as soon as acceleration limits are set:
+    in a run, a simulator on its own clock counted that time without progress and the run
+    aborted (its own interpreter, where nothing imported it before)."""
+    done = subprocess.run([sys.executable, '-c', _SOLVER_PROBE], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split('\n')[:2] == ['unlimited False', 'limits set live True']

@@ -8,10 +8,13 @@ poses stop arriving (see `PoseSilence`).
 
 from __future__ import annotations
 
+import threading
+
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 
+from turtle_traj.core.control.profile import load_solver
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.registry import TRAJECTORIES
 from turtle_traj.node import parameters
@@ -38,6 +41,8 @@ class TrajectoryNode(Node):
             raise
         self.settings = parameters.read_settings(self)
         self.add_post_set_parameters_callback(self._on_parameters_set)
+        self._solver_loader: threading.Thread | None = None
+        self._load_solver_if_limited()
 
         # Handlers await the end of a trajectory, so they must not block the timer's group.
         group = ReentrantCallbackGroup()
@@ -61,6 +66,16 @@ class TrajectoryNode(Node):
 
     def _on_parameters_set(self, _parameters) -> None:
         self.settings = parameters.read_settings(self)
+        self._load_solver_if_limited()
+
+    def _load_solver_if_limited(self) -> None:
+        """On a base with acceleration limits, runs are planned with TOPP-RA: it is imported
+        beside the executor as soon as the limits are known, not in the first run. There its
+        2.4-2.7 s went by with the turtle standing; a simulator on its own clock at 5x counted
+        12 s without progress, and the watchdog aborted the run."""
+        if self.settings.control.limited and self._solver_loader is None:
+            self._solver_loader = threading.Thread(target=load_solver, name='load_solver')
+            self._solver_loader.start()
 
     @property
     def pose(self) -> Pose2D | None:

@@ -116,6 +116,14 @@ class SpeedProfile:
         return cls(polyline.cumulative_length, speed, math.nan)
 
 
+def load_solver() -> None:
+    """Import TOPP-RA, and SciPy under it: 2.4-2.7 s here the first time, which a node should
+    spend at start-up rather than in its first run on a base with acceleration limits (a
+    simulator on its own clock counts it as time without progress)."""
+    import toppra.algorithm  # noqa: F401
+    import toppra.constraint  # noqa: F401
+
+
 def profile_for(polyline: Polyline, config: ControlConfig) -> SpeedProfile | None:
     """The profile a base with acceleration limits follows on `polyline`: the curvature's bound
     on an endless loop, the time-optimal profile on a curve, and None on a straight line (the
