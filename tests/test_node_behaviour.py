@@ -219,6 +219,7 @@ rclpy.shutdown()
 '''
 
 
+@pytest.mark.system
 def test_limits_known_load_the_solver_beside_the_executor_not_in_the_first_run():
     """TOPP-RA (2.4-2.7 s to import here) is imported as soon as acceleration limits are set:
     in a run, a simulator on its own clock counted that time without progress and the run
