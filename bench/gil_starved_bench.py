@@ -3,6 +3,10 @@ concurrent goals, run whole, with a thread in the test's process that holds the 
 (bench/gil_hog.py), one pytest process a run.
 
     .venv/bin/python bench/gil_starved_bench.py [RUNS] [--switch SECONDS ...] [--repo PATH ...]
+        [--alternate-load]
+
+With `--alternate-load`, every second run has two busy loops (one a core) beside it, each
+stopped once the run ends: the flake's loop, half quiet and half loaded.
 
 The full suite fails that test now and then ('polygon aborted: no progress along the path for
 3 s, 0.000 m from it'); bench/starved_bench.py reproduces it in pure Python with stalls drawn
@@ -38,17 +42,41 @@ def run_once(repo: Path, switch_s: float) -> tuple[bool, str, float]:
     return done.returncode == 0, '' if done.returncode == 0 else message, time.monotonic() - began
 
 
+def busy_loops() -> list[subprocess.Popen]:
+    """Two processes that each keep a core busy (stop them with `stop`)."""
+    return [subprocess.Popen([sys.executable, '-c', 'while True: pass']) for _ in range(2)]
+
+
+def stop(processes: list[subprocess.Popen]) -> None:
+    for process in processes:
+        process.kill()
+        process.wait()
+
+
+def run_loaded_or_not(repo: Path, switch_s: float, index: int,
+                      alternate: bool) -> tuple[bool, str, float]:
+    """Run `index`, with two busy loops beside it when `alternate` and `index` is odd."""
+    load = busy_loops() if alternate and index % 2 else []
+    try:
+        return run_once(repo, switch_s)
+    finally:
+        stop(load)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('runs', type=int, nargs='?', default=3)
     parser.add_argument('--switch', type=float, action='append', metavar='SECONDS',
                         help='the GIL slice (repeatable; default 0.01 and 0.005)')
     parser.add_argument('--repo', type=Path, action='append')
+    parser.add_argument('--alternate-load', action='store_true',
+                        help='two busy loops beside every second run')
     args = parser.parse_args()
     print(f'{"checkout":28} {"slice ms":>8} {"failed":>8} {"s a run":>8}')
     for switch in args.switch or [0.01, 0.005]:
         for repo in args.repo or [ROOT]:
-            results = [run_once(repo.resolve(), switch) for _ in range(args.runs)]
+            results = [run_loaded_or_not(repo.resolve(), switch, index, args.alternate_load)
+                       for index in range(args.runs)]
             failed = [message for ok, message, _ in results if not ok]
             seconds = sorted(elapsed for _, _, elapsed in results)[len(results) // 2]
             print(f'{str(repo)[-28:]:28} {switch * 1e3:8.0f} {len(failed):4}/{len(results):<3} '

@@ -181,8 +181,6 @@ class NearestOnPolyline:
     """
 
     _BLOCK = 256  # numpy calls cost more than their arithmetic below a few hundred
-    _ALL_AT_ONCE = 4096  # segments
-    _PAIRS = 1 << 17  # points times segments measured in one call (a few MB of temporaries)
 
     def __init__(self, vertices: np.ndarray) -> None:
         vertices = np.asarray(vertices, dtype=float)
@@ -207,19 +205,11 @@ class NearestOnPolyline:
         return float(np.sqrt(np.min(np.einsum('kj,kj->k', gaps, gaps))))
 
     def distances(self, points: np.ndarray) -> np.ndarray:
-        """Distance of each point (N, 2) to the nearest segment: against every segment at
-        once, _PAIRS point-segment pairs a call, up to _ALL_AT_ONCE segments (numpy's cost
-        per call, not its arithmetic, dominates there); point by point through the blocks
-        beyond."""
+        """Distance of each point (N, 2) to the nearest segment: all at once for a polyline
+        of one block (numpy's cost per call, not its arithmetic, dominates there)."""
         points = np.asarray(points, dtype=float).reshape(-1, 2)
-        count = len(self._starts)
-        if count > self._ALL_AT_ONCE:
+        if len(self._blocks) > 1:
             return np.array([self.distance(x, y) for x, y in points.tolist()])
-        rows = max(1, self._PAIRS // count)
-        return np.concatenate([self._all_at_once(points[first:first + rows])
-                               for first in range(0, len(points), rows)] or [np.empty(0)])
-
-    def _all_at_once(self, points: np.ndarray) -> np.ndarray:
         offsets = points[:, None, :] - self._starts[None, :, :]
         along = np.clip(np.einsum('nkj,kj->nk', offsets, self._edges) / self._squared, 0.0, 1.0)
         gaps = offsets - along[:, :, None] * self._edges[None, :, :]
