@@ -27,7 +27,7 @@ class Options:
     ros_args: Sequence[str] = field(default_factory=list)  # argv with ROS arguments, for rclpy
     base: bool = False  # the physics base instead of our turtlesim (with `sim`'s time scale)
     # the scheduling priority asked for (`rosutils.priority`); None: NICE for the node alone,
-    # as started with a simulator in the process (a time-scaled one would take the CPU)
+    # as started with a simulator in the process (a time-scaled one can take a whole core)
     nice: int | None = None
 
     def problem(self) -> str | None:
@@ -105,7 +105,7 @@ def run(options: Options) -> int:
         if beside is not None:
             beside.save_snapshot()
 
-    def make_executor(_nodes: Sequence[Node]) -> Executor:
+    def make_executor() -> Executor:
         """With simulated time, the simulator steps in lock-step with the node, paced to the
         time scale: never a step before the node has answered the last (at 5x a step is 3.2
         ms of wall time, shorter than a busy machine can hold a timer up)."""

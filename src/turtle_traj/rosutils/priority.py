@@ -8,7 +8,7 @@ on two cores woke more than a step late at 0.05-0.1% of its ticks, and never at 
 most 8 ms late). As ros2_control's controller manager raises its loop's priority, the node's
 program asks for a higher one before ROS starts its threads (they inherit it); without the
 permission it says why, once, and runs as it is. Not with a simulator in the same process: its
-steps run in the node's thread, and a time-scaled physics base asks for all the CPU it gets.
+steps run in the node's thread, and a time-scaled physics base can take a whole core.
 """
 
 from __future__ import annotations
@@ -68,6 +68,6 @@ def add_priority_option(parser: argparse.ArgumentParser) -> None:
                         help=f'run the node at this scheduling priority (-20 to 19; 0 or more: as '
                              f'started). Default: {NICE}, ahead of ordinary work, for the node '
                              'alone; as started with a simulator in the process, whose steps '
-                             'share its thread (a time-scaled one would take the CPU). Negative '
-                             'values need CAP_SYS_NICE or `ulimit -e`; without it the node says '
-                             'so and runs as it is')
+                             'share its thread (a time-scaled one can take a whole core). '
+                             'Negative values need CAP_SYS_NICE or `ulimit -e`; without it the '
+                             'node says so and runs as it is')

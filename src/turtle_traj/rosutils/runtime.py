@@ -57,7 +57,7 @@ def run_nodes(
     *,
     args: Sequence[str] | None = None,
     on_exit: Callable[[], None] | None = None,
-    make_executor: Callable[[Sequence[Node]], Executor] = lambda nodes: events_executor(),
+    make_executor: Callable[[], Executor] = events_executor,
 ) -> int:
     """Create nodes, spin them in one executor until asked to stop, then tidy up.
 
@@ -69,7 +69,7 @@ def run_nodes(
     :param create_nodes: builds the nodes once rclpy is initialised; gets `stop`.
     :param args: command-line arguments for rclpy (``--ros-args`` remappings and parameters).
     :param on_exit: runs after spinning stopped and before the nodes are destroyed.
-    :param make_executor: makes the executor for the nodes made (which it does not add).
+    :param make_executor: makes the executor once the nodes exist (they are added to it here).
         rclpy's EventsExecutor (experimental, C++) by default: it wakes only for what happened,
         where the SingleThreadedExecutor rebuilds its wait set over every endpoint on each
         pass, which cost the trajectory node a fifth of a core doing nothing
@@ -89,7 +89,7 @@ def run_nodes(
     exit_code = 0
     try:
         nodes.extend(create_nodes(stop.set))
-        executor = make_executor(nodes)
+        executor = make_executor()
         for node in nodes:
             executor.add_node(node)
         # What start-up made (imports, rclpy, the nodes: ~48k objects) lives as long as the
