@@ -64,3 +64,33 @@ def test_nearest_on_polyline_agrees_with_the_brute_force_distance(seed):
         measured = [nearest.distance(x, y) for x, y in points]
         assert np.allclose(measured, expected, rtol=0.0, atol=1e-12)
         assert np.allclose(nearest.distances(points), expected, rtol=0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize('seed', range(4))
+def test_a_smoothed_curve_keeps_to_its_tolerance_by_the_brute_force_distance(seed):
+    """The smoothing search's quick check (each point against the segments around it first)
+    decides as measuring every point against every segment does, on curves that wander back
+    near themselves, and the curve it returns keeps its ends and its tolerance."""
+    from turtle_traj.core.geometry import corners
+    from turtle_traj.testing.geometry import distance_to_polyline
+
+    rng = np.random.default_rng(seed)
+    points = np.cumsum(rng.normal(0.0, 0.02, (500, 2)), axis=0) + 5.0
+    polyline = Polyline(points)
+    arc = np.linspace(0.0, polyline.length, int(polyline.length / 0.01) + 1)
+    samples = np.stack([np.interp(arc, polyline.cumulative_length, points[:, axis])
+                        for axis in (0, 1)], axis=1)
+    within = corners._WithinOf(polyline, arc)
+    decisions = set()
+    for sigma in (1.0, 5.0, 20.0, 80.0):
+        candidate = corners._gaussian(samples, sigma)
+        distances = distance_to_polyline(candidate, points)
+        for limit in np.quantile(distances, [0.5, 0.99, 1.0]) + [0.0, 0.0, 1e-9]:
+            decision = within(candidate, float(limit))
+            decisions.add(decision)
+            assert decision == bool(distances.max() <= limit), (sigma, limit)
+    assert decisions == {True, False}
+    for tolerance in (0.005, 0.05):
+        smooth = corners.smoothed_curve(points, tolerance)
+        assert distance_to_polyline(smooth, points).max() <= tolerance
+        assert np.array_equal(smooth[[0, -1]], points[[0, -1]])
