@@ -42,7 +42,8 @@ class TrajectoryNode(Node):
         self.settings = parameters.read_settings(self)
         self.add_post_set_parameters_callback(self._on_parameters_set)
         self._solver_loader: threading.Thread | None = None
-        self._load_solver_if_limited()
+        if self.settings.control.limited:
+            load_solver()  # before the node serves: no run can meet the import (see below)
 
         # Handlers await the end of a trajectory, so they must not block the timer's group.
         group = ReentrantCallbackGroup()
@@ -69,10 +70,13 @@ class TrajectoryNode(Node):
         self._load_solver_if_limited()
 
     def _load_solver_if_limited(self) -> None:
-        """On a base with acceleration limits, runs are planned with TOPP-RA: it is imported
-        beside the executor as soon as the limits are known, not in the first run. There its
-        2.4-2.7 s went by with the turtle standing; a simulator on its own clock at 5x counted
-        12 s without progress, and the watchdog aborted the run."""
+        """On a base with acceleration limits, runs are planned with TOPP-RA, whose import
+        takes 2.4-2.7 s: a node given limits at start-up imports it before it serves, and one
+        given them live imports it beside the executor. In a first run, its time went by with
+        the turtle standing (a simulator on its own clock at 5x counted 12 s without progress,
+        and the watchdog aborted the run); beside a run, the import's long steps in C held
+        Python's lock from the node's callbacks (poses unread for 0.2 s of wall time, 1.2 s
+        at 5x: the run aborted for pose silence, 2 runs in 3 as two programs at 5x)."""
         if self.settings.control.limited and self._solver_loader is None:
             self._solver_loader = threading.Thread(target=load_solver, name='load_solver')
             self._solver_loader.start()
