@@ -74,6 +74,9 @@ class RunSupervisor:
         self._settled_periods = 0
         self._pose = start
         self._path_done_s: float | None = None  # when the follower reached the path's end
+        # when the first command was asked for: the clock read as the run starts can be behind
+        # (a simulated clock whose messages waited in the executor's queue while planning)
+        self._first_command_s: float | None = None
         self._drawn = NearestOnPolyline(plan.drawn_points())
         self.distance = 0.0  # driven so far, pose to pose
         # Poses not yet measured against the path: measured together, when asked or in batches
@@ -171,6 +174,8 @@ class RunSupervisor:
         :param config: the node's control settings (the plan's speeds override them).
         :param now_s: the node clock, seconds.
         """
+        if self._first_command_s is None:
+            self._first_command_s = now_s
         if self.ending is not None:
             return STOP
         if self.follower.done:
@@ -237,15 +242,17 @@ class RunSupervisor:
     def outcome(self, pose: Pose2D | None, now_s: float) -> Outcome:
         """The report of the run once `ending` is decided.
 
-        Elapsed time runs to the path's end (not the settling after it) or to the stop. A run
+        Elapsed time runs from the first command to the path's end (not the settling after it)
+        or to the stop. A run
         that reached its end reports the miss of its end point and end heading; one ended
         early reports its distance from the path, and no heading error.
         """
         success, message = self.ending or (False, f'{self.name} still running')
         path = self.plan.path
         ended_s = self._path_done_s if self._path_done_s is not None else now_s
+        began_s = self.started_s if self._first_command_s is None else self._first_command_s
         outcome = Outcome(
-            success, message, pose, elapsed_s=ended_s - self.started_s,
+            success, message, pose, elapsed_s=max(ended_s - began_s, 0.0),
             path_length=self.distance if path.endless else path.length,
             max_deviation=self.max_deviation, final_error=math.nan,
             pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered)
