@@ -18,6 +18,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 
@@ -102,9 +103,10 @@ def _drive(courses: Courses, limits: Limits, time_scale: float, separate: bool,
     from geometry_msgs.msg import Point
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
-    from turtle_traj.client.answers import first_answer
     from turtle_traj_interfaces.srv import FollowPath
     from turtlesim.srv import TeleportAbsolute
+
+    from turtle_traj.client.answers import first_answer
 
     programs = _programs(limits, time_scale, separate, controller)
     client = Node('base_bench_client')
@@ -124,7 +126,7 @@ def _drive(courses: Courses, limits: Limits, time_scale: float, separate: bool,
                                              theta=heading)
             for mode, tolerance in modes:
                 # sent again while unanswered: a first request can race the service's discovery
-                first_answer(executor, lambda: teleport.call_async(place), 'teleport')
+                first_answer(executor, partial(teleport.call_async, place), 'teleport')
                 time.sleep(0.1 + 0.5 / time_scale)  # a pose from where it now stands
                 request = FollowPath.Request(points=[Point(x=float(x), y=float(y))
                                                      for x, y in points])

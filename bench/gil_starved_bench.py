@@ -13,7 +13,8 @@ The full suite fails that test now and then ('polygon aborted: no progress along
 at random. Here the node runs in ROS as the test runs it, and the starvation is steady: at a
 switch interval of 10 ms the test fails at caf3c5f in every run, at 5 ms (the interpreter's
 default) it passes. The thread starts as the test's body does (bench/gil_hog.py): caf3c5f
-still fails every run, and a run takes about 25 s instead of 70. Each checkout runs its own tests and `src/` (an A/B of two commits).
+still fails every run, and a run takes about 25 s instead of 70. Each checkout runs its own
+tests and `src/` (an A/B of two commits).
 """
 
 from __future__ import annotations

@@ -11,7 +11,13 @@ from turtle_traj.api.ros_interface import make_request
 from turtle_traj.apps.score.courses import PAPER_INERTIA, follow_request, step_curve
 from turtle_traj.apps.score.loop import drive
 from turtle_traj.core.control.commands import Command
-from turtle_traj.core.control.controller import Limits, State, Stroke, interface_problem
+from turtle_traj.core.control.controller import (
+    Limits,
+    PlanController,
+    State,
+    Stroke,
+    interface_problem,
+)
 from turtle_traj.core.control.controllers.catalogue import (
     Chosen,
     UnknownController,
@@ -21,7 +27,8 @@ from turtle_traj.core.control.controllers.catalogue import (
 )
 from turtle_traj.core.control.controllers.dwpp import Dwpp
 from turtle_traj.core.control.controllers.pure_pursuit import ROTATE_MIN_ANGLE, PurePursuit
-from turtle_traj.core.control.strokes import strokes_of
+from turtle_traj.core.control.follower import PathFollower
+from turtle_traj.core.control.strokes import StrokeDriver, strokes_of
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS, settings_from_values
@@ -225,9 +232,25 @@ def test_an_untimed_choice_lets_a_slow_controller_finish():
 
 def test_the_shipped_controllers_are_offered_by_name():
     assert names()[:3] == ['exact', 'dwpp', 'pure_pursuit']
-    assert resolve('exact') is None and choose('exact') is None
+    assert resolve('exact') is None and choose('exact') == Chosen()
     assert resolve('dwpp') is Dwpp and resolve('pure_pursuit') is PurePursuit
     assert resolve('turtle_traj.core.control.controllers.dwpp:Dwpp') is Dwpp
+
+
+def test_every_controller_drives_the_plan_through_one_interface():
+    """The node asks a `PlanController` for every command: the exact follower is one, and a
+    stroke-level controller is made one stroke by stroke."""
+    start = Pose2D(5.0, 5.0, 0.0)
+    plan = planner.plan('square', make_request(BY_NAME['square'], {'size': 1.0}), start,
+                        DEFAULT_SETTINGS)
+    drivers = {name: choose(name).driver(plan, manage_pen=False)
+               for name in ('exact', 'dwpp', 'pure_pursuit')}
+    assert isinstance(drivers['exact'], PathFollower)
+    assert all(isinstance(driver, StrokeDriver) for name, driver in drivers.items()
+               if name != 'exact')
+    for driver in drivers.values():
+        assert isinstance(driver, PlanController)
+        assert not driver.done and driver.progress(plan.control(DEFAULT_SETTINGS.control)) == 0
 
 
 class _NoCommand:

@@ -1,6 +1,11 @@
-"""The controller interface: what a path-following controller is given, and what it gives back.
+"""The controller interfaces: what a path-following controller is given, and what it gives back.
 
-Pure Python, no ROS. A controller follows one *stroke* at a time: a polyline the robot drives
+Pure Python, no ROS. Two levels:
+
+- `PlanController` drives a whole plan (its legs, turns in place and pen) and is what the node
+  asks for a command every control period. The exact follower (`follower.PathFollower`) is one;
+  `strokes.StrokeDriver` makes one of any `Controller`.
+- `Controller`, the one to write, follows one *stroke* at a time: a polyline the robot drives
 without lifting the pen (a square's four sides, a letter's outline, a step curve). The node
 hands it the stroke and the base's limits when the stroke starts; then, once per control
 period, the robot's state as the model of the robot predicts it for the moment the command
@@ -32,6 +37,8 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.geometry.path import Pose2D
 
 
@@ -73,6 +80,35 @@ class Controller(Protocol):
 
     def command(self, state: State) -> Command | None:
         """This period's velocity command; None once the stroke's end is reached."""
+
+
+@runtime_checkable
+class PlanController(Protocol):
+    """A controller of a whole plan, made for one run: every control period the node hands it
+    the last pose and the model of the robot's prediction, and sends the command it returns.
+
+    It reports how far it got (`mark`, `progress`: the run's watchdog and feedback) and when it
+    is `done`; with the pen managed, it names the pen state it waits for (`pen_wanted`) and the
+    node tells it the state the simulator confirmed (`pen_down`).
+    """
+
+    pen_down: bool | None
+    pen_wanted: bool | None
+
+    @property
+    def done(self) -> bool:
+        """The plan's last leg is finished."""
+
+    @property
+    def mark(self) -> tuple[int, float]:
+        """Where it is: the index of its current step, and how much of that step is done."""
+
+    def progress(self, config: ControlConfig) -> float:
+        """How much of the plan is driven, 0 to 1."""
+
+    def update(self, pose: Pose2D, config: ControlConfig,
+               prediction: Prediction | None = None) -> Command:
+        """This period's command (a stop once done)."""
 
 
 def interface_problem(candidate: object) -> str | None:

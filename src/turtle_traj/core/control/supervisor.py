@@ -17,8 +17,8 @@ import numpy as np
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.controller import PlanController
 from turtle_traj.core.control.controllers.catalogue import Chosen
-from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.strokes import ControllerFault, StrokeDriver
@@ -88,19 +88,16 @@ class RunSupervisor:
         self._best_mark = (0, 0.0)  # the furthest the follower got, and when
         self._best_mark_s = started_s
 
-    def _driver(self, controller: Chosen | None) -> PathFollower | StrokeDriver:
-        """The exact follower, or the chosen controller driving stroke by stroke (a controller
-        that cannot be made ends the run at once, with the exact follower left standing in)."""
-        plan, manage_pen = self.plan, self.plan.pen is not None
-        if controller is not None:
-            try:
-                return StrokeDriver(plan.path, controller.factory(), controller.name,
-                                    manage_pen=manage_pen, timed=controller.timed)
-            except Exception as error:  # the controller's constructor
-                self.end(False, f"{self.name} aborted: controller '{controller.name}' could not "
-                                f'be made: {type(error).__name__}: {error}')
-        return PathFollower(plan.path, end_tolerance=plan.end_tolerance, manage_pen=manage_pen,
-                            profiles=plan.profiles)
+    def _driver(self, controller: Chosen | None) -> PlanController:
+        """The chosen controller of the whole plan (None: the exact follower). One that cannot
+        be made ends the run at once, with the exact follower left standing in."""
+        manage_pen = self.plan.pen is not None
+        try:
+            return (controller or Chosen()).driver(self.plan, manage_pen=manage_pen)
+        except Exception as error:  # the controller's constructor
+            self.end(False, f"{self.name} aborted: controller '{controller.name}' could not "
+                            f'be made: {type(error).__name__}: {error}')
+        return Chosen().driver(self.plan, manage_pen=manage_pen)
 
     @property
     def name(self) -> str:

@@ -15,9 +15,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from importlib.metadata import entry_points
 
-from turtle_traj.core.control.controller import Controller, interface_problem
+from turtle_traj.core.control.controller import Controller, PlanController, interface_problem
 from turtle_traj.core.control.controllers.dwpp import Dwpp
 from turtle_traj.core.control.controllers.pure_pursuit import PurePursuit
+from turtle_traj.core.control.follower import PathFollower
+from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.control.strokes import StrokeDriver
 
 EXACT = 'exact'
 SHIPPED: dict[str, type] = {'dwpp': Dwpp, 'pure_pursuit': PurePursuit}
@@ -30,13 +33,22 @@ ControllerFactory = Callable[[], Controller]
 class Chosen:
     """A controller chosen by name: a new one is made for every run."""
 
-    name: str
-    factory: ControllerFactory
+    name: str = EXACT
+    factory: ControllerFactory | None = None  # a `Controller` class; None: the exact follower
     # Answers later than the control period end the run (`strokes.LATE_ANSWERS` in a row; the
     # node's runs, in real or lock-step time). False in pure loops (`turtle-traj score`),
     # whose simulated time waits for the controller: their figures then never depend on how
     # busy the machine is.
     timed: bool = True
+
+    def driver(self, plan: Plan, *, manage_pen: bool) -> PlanController:
+        """The controller of this run's whole plan: the exact follower, or the chosen
+        `Controller` stroke by stroke (its constructor's exception propagates)."""
+        if self.factory is None:
+            return PathFollower(plan.path, end_tolerance=plan.end_tolerance,
+                                manage_pen=manage_pen, profiles=plan.profiles)
+        return StrokeDriver(plan.path, self.factory(), self.name, manage_pen=manage_pen,
+                            timed=self.timed)
 
 
 class UnknownController(ValueError):
@@ -49,13 +61,12 @@ def names() -> list[str]:
     return [EXACT, *SHIPPED, *(name for name in installed if name not in SHIPPED)]
 
 
-def choose(name: str, *, timed: bool = True) -> Chosen | None:
-    """The controller a name stands for (None: the exact follower).
+def choose(name: str, *, timed: bool = True) -> Chosen:
+    """The controller a name stands for.
 
     :raises UnknownController: with the reason.
     """
-    factory = resolve(name)
-    return None if factory is None else Chosen(name, factory, timed)
+    return Chosen(name, resolve(name), timed)
 
 
 @functools.lru_cache(maxsize=64)
