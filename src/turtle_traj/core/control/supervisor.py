@@ -91,12 +91,12 @@ class RunSupervisor:
     def _driver(self, controller: Chosen | None) -> PlanController:
         """The chosen controller of the whole plan (None: the exact follower). One that cannot
         be made ends the run at once, with the exact follower left standing in."""
-        manage_pen = self.plan.pen is not None
+        chosen, manage_pen = controller or Chosen(), self.plan.pen is not None
         try:
-            return (controller or Chosen()).driver(self.plan, manage_pen=manage_pen)
+            return chosen.driver(self.plan, manage_pen=manage_pen)
         except Exception as error:  # the controller's constructor
-            self.end(False, f"{self.name} aborted: controller '{controller.name}' could not "
-                            f'be made: {type(error).__name__}: {error}')
+            self.end(False, f"{self.name} aborted: controller '{chosen.name}' could not be "
+                            f'made: {type(error).__name__}: {error}')
         return Chosen().driver(self.plan, manage_pen=manage_pen)
 
     @property
@@ -240,9 +240,8 @@ class RunSupervisor:
         """The report of the run once `ending` is decided.
 
         Elapsed time runs from the first command to the path's end (not the settling after it)
-        or to the stop. A run
-        that reached its end reports the miss of its end point and end heading; one ended
-        early reports its distance from the path, and no heading error.
+        or to the stop. A run that reached its end reports the miss of its end point and end
+        heading; one ended early reports its distance from the path, and no heading error.
         """
         success, message = self.ending or (False, f'{self.name} still running')
         path = self.plan.path
