@@ -84,6 +84,19 @@ def test_settling_waits_for_standing_still_at_most_a_few_periods():
     assert run.outcome(pose, now_s=1.0).elapsed_s == 0.0  # the settling is not counted
 
 
+def test_elapsed_time_runs_from_the_first_command():
+    """The clock read as a run is set up can be behind (a simulated clock whose messages
+    waited while the request was planned): the run is timed from its first command."""
+    run = Loop('rotate', SimpleNamespace(angle=0.5, speed=0.0)).run
+    assert run.started_s == 0.0
+    pose = Pose2D(5.5, 5.5, 0.0)
+    run.command(pose, True, SETTINGS.control, ARENA, 0.3)  # the first command, 0.3 s later
+    run.follower.leg_index = len(run.plan.path.legs)  # the path is done
+    run.command(pose, True, SETTINGS.control, ARENA, 1.3)
+    assert run.ending == (True, 'rotate done')
+    assert run.outcome(pose, now_s=1.3).elapsed_s == pytest.approx(1.0)
+
+
 @pytest.mark.parametrize(('forever', 'success'), [(True, True), (False, False)])
 def test_a_stop_request_ends_only_an_endless_trajectory_successfully(forever, success):
     run = Loop('circle', shape(size=1.0, forever=forever)).run
