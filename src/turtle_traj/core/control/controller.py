@@ -1,11 +1,10 @@
 """The controller interfaces: what a path-following controller is given, and what it gives back.
 
-Pure Python, no ROS. Two levels:
+Pure Python, no ROS. Two levels. `PlanController` drives a whole plan (its legs, turns in
+place and pen) and is what the node asks for a command every control period: the exact follower
+(`follower.PathFollower`) is one, and `strokes.StrokeDriver` makes one of any `Controller`.
 
-- `PlanController` drives a whole plan (its legs, turns in place and pen) and is what the node
-  asks for a command every control period. The exact follower (`follower.PathFollower`) is one;
-  `strokes.StrokeDriver` makes one of any `Controller`.
-- `Controller`, the one to write, follows one *stroke* at a time: a polyline the robot drives
+`Controller`, the one to write, follows one *stroke* at a time: a polyline the robot drives
 without lifting the pen (a square's four sides, a letter's outline, a step curve). The node
 hands it the stroke and the base's limits when the stroke starts; then, once per control
 period, the robot's state as the model of the robot predicts it for the moment the command
