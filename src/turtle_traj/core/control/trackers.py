@@ -203,6 +203,14 @@ class PolylineTracker:
         facing = pose.theta + (math.pi if polyline.reverse else 0.0)
         path_heading = float(polyline.headings[self.segment])
         curvature = float(polyline.curvatures[self.segment])
+        if config.limited:
+            # a curve's tangent turns along each chord, not at its ends. A base that changes
+            # its turn rate gradually beat against its angular acceleration limit at every
+            # vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside it); turtlesim turns
+            # at once, and its chords are aimed at with the lead below
+
+            path_heading += curvature * float(polyline.segment_lengths[self.segment]) * (
+                fraction - 0.5)
         heading_error = wrap_angle(path_heading - facing)
 
         speed = self._speed(fraction, remaining, curvature, prediction, config, landing)
