@@ -7,7 +7,8 @@ own timer and the node on its /clock, as with a robot elsewhere. This process is
 Each path starts with the turtle teleported to its first point, facing its first leg, and runs
 with DWPP (a node started with `controller:=dwpp`), then exact, then rounded at DWPP's maximum
 error on that path in the pure loop: DWPP goes through the same ROS, the same clocks and the
-same planning as ours. The node's own figures are read from its response.
+same planning as ours. The node's own figures are read from its response. With
+BENCH_PROGRAM_LOGS set, the programs' logs go to this one's output.
 """
 
 from __future__ import annotations
@@ -70,9 +71,9 @@ def through_ros_in_real_time(courses: Courses, limits: Limits, time_scale: float
 
     rclpy.init()
     try:
-        dwpp = _drive(courses, limits, time_scale, separate, 'dwpp', [('dwpp', None)])
+        dwpp = _drive(courses, limits, time_scale, separate, 'dwpp', [('dwpp', False)])
         ours = _drive(courses, limits, time_scale, separate, 'exact',
-                      [('exact', 0.0), ('rounded', 'dwpp')])
+                      [('exact', False), ('rounded', True)])
     finally:
         rclpy.shutdown()
     print(f"{'path':8} {'mode':10} {'max mm':>7} {'time s':>7} {'DWPP s':>7} {'end mm':>7}  "
@@ -97,9 +98,9 @@ def through_ros_in_real_time(courses: Courses, limits: Limits, time_scale: float
 
 
 def _drive(courses: Courses, limits: Limits, time_scale: float, separate: bool,
-           controller: str, modes: list[tuple[str, float | str | None]]) -> dict:
-    """Each course in each mode (its corner tolerance; 'dwpp': DWPP's maximum error) through a
-    node of `controller`: {(course, mode): Run}."""
+           controller: str, modes: list[tuple[str, bool]]) -> dict:
+    """Each course in each mode (named, and whether its corners are rounded at DWPP's maximum
+    error) through a node of `controller`: {(course, mode): Run}."""
     from geometry_msgs.msg import Point
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
@@ -124,14 +125,13 @@ def _drive(courses: Courses, limits: Limits, time_scale: float, separate: bool,
             heading = math.atan2(points[1, 1] - points[0, 1], points[1, 0] - points[0, 0])
             place = TeleportAbsolute.Request(x=float(points[0, 0]), y=float(points[0, 1]),
                                              theta=heading)
-            for mode, tolerance in modes:
+            for mode, rounded in modes:
                 # sent again while unanswered: a first request can race the service's discovery
                 first_answer(executor, partial(teleport.call_async, place), 'teleport')
                 time.sleep(0.1 + 0.5 / time_scale)  # a pose from where it now stands
-                request = FollowPath.Request(points=[Point(x=float(x), y=float(y))
-                                                     for x, y in points])
-                if tolerance is not None:
-                    request.corner_tolerance = dwpp_max_m if tolerance == 'dwpp' else tolerance
+                request = FollowPath.Request(
+                    points=[Point(x=float(x), y=float(y)) for x, y in points],
+                    corner_tolerance=dwpp_max_m if rounded else 0.0)
                 response = call(follow, request)
                 runs[name, mode] = (response.success, response.max_deviation, response.elapsed,
                                     response.final_error, response.message)

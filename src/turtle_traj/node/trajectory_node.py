@@ -14,7 +14,7 @@ from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 
-from turtle_traj.core.control.profile import load_solver
+from turtle_traj.core.control.profile import load_solver, solver_loaded
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.registry import TRAJECTORIES
 from turtle_traj.node import parameters
@@ -77,7 +77,8 @@ class TrajectoryNode(Node):
         and the watchdog aborted the run); beside a run, the import's long steps in C held
         Python's lock from the node's callbacks (poses unread for 0.2 s of wall time, 1.2 s
         at 5x: the run aborted for pose silence, 2 runs in 3 as two programs at 5x)."""
-        if self.settings.control.limited and self._solver_loader is None:
+        if (self.settings.control.limited and self._solver_loader is None
+                and not solver_loaded()):
             self._solver_loader = threading.Thread(target=load_solver, name='load_solver')
             self._solver_loader.start()
 

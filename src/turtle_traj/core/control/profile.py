@@ -11,6 +11,7 @@ only when a base has acceleration limits.
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
@@ -114,6 +115,11 @@ class SpeedProfile:
         speed = np.concatenate((per_segment, [per_segment[-1]]))
         speed[1:-1] = np.minimum(per_segment[:-1], per_segment[1:])
         return cls(polyline.cumulative_length, speed, math.nan)
+
+
+def solver_loaded() -> bool:
+    """TOPP-RA is imported (`load_solver` has run)."""
+    return 'toppra.algorithm' in sys.modules
 
 
 def load_solver() -> None:

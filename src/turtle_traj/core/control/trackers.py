@@ -208,7 +208,6 @@ class PolylineTracker:
             # its turn rate gradually beat against its angular acceleration limit at every
             # vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside it); turtlesim turns
             # at once, and its chords are aimed at with the lead below
-
             path_heading += curvature * float(polyline.segment_lengths[self.segment]) * (
                 fraction - 0.5)
         heading_error = wrap_angle(path_heading - facing)
