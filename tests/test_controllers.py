@@ -303,6 +303,19 @@ def test_a_controller_installed_as_an_entry_point_is_offered_by_its_name(tmp_pat
     assert choose('theirs') == Chosen('theirs', Installed)
 
 
+@pytest.mark.parametrize('radius', [0.5, 1.0])
+def test_from_rest_the_exact_follower_turns_into_a_circle_at_its_curvature(radius):
+    """A circle started from rest on a base with inertia: the end chord turns as the arc does
+    (`Polyline.tangent_curvatures`), so the base turns at the circle's rate as it speeds up.
+    With the chord's half curvature there it started too straight, 0.53-0.58 mm outside."""
+    start = Pose2D(4.0, 5.0, math.pi / 2)
+    plan = planner.plan('circle', shape(size=radius), start, PAPER)
+    run = drive(plan, start, PAPER, inertia=PAPER_INERTIA)
+    assert run.run.ending == (True, 'circle done')
+    worst = distance_to_polyline(run.xy(), plan.path.points()).max()
+    assert worst < 0.3e-3, worst
+
+
 def test_on_a_curve_the_exact_follower_holds_a_steady_turn_rate_within_the_limits():
     """On a base with acceleration limits, the exact follower steers to a curve's tangent as it
     turns along each chord: the turn rate settles instead of beating against its limit at every

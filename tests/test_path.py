@@ -47,6 +47,22 @@ def test_a_curve_knows_its_length_and_curvature():
     assert np.median(arc.curvatures) == pytest.approx(1.0, rel=1e-3)
 
 
+def test_a_sampled_arc_turns_as_an_arc_up_to_its_ends():
+    """The curve's curvature (`tangent_curvatures`) carries the arc's on to its end chords; a
+    chord's view (`curvatures`) counts the end vertices as straight, and gives them half."""
+    radius = 0.5
+    angles = np.linspace(0.0, math.pi / 2, 40)
+    arc = Polyline(radius * np.column_stack((np.sin(angles), 1.0 - np.cos(angles))))
+    chord = 2 * radius * math.sin((angles[1] - angles[0]) / 2)  # each vertex turns by one step
+    expected = (angles[1] - angles[0]) / chord
+    assert arc.tangent_curvatures == pytest.approx(np.full(39, expected), rel=1e-9)
+    assert arc.curvatures[[0, -1]] == pytest.approx([expected / 2, expected / 2], rel=1e-9)
+    assert arc.curvatures[1:-1] == pytest.approx(arc.tangent_curvatures[1:-1], rel=1e-12)
+    straight = Polyline(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]))
+    assert straight.tangent_curvatures.tolist() == [0.0, 0.0]
+    assert Polyline(np.array([[0.0, 0.0], [1.0, 0.0]])).tangent_curvatures.tolist() == [0.0]
+
+
 @pytest.mark.parametrize('seed', range(5))
 def test_nearest_on_polyline_agrees_with_the_brute_force_distance(seed):
     """Blocks pruned by their boxes never hide the nearest segment (independent check)."""

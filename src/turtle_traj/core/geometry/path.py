@@ -61,17 +61,33 @@ class Polyline:
 
     @cached_property
     def curvatures(self) -> np.ndarray:
-        """Signed curvature around each segment (1/m), from the heading change at its ends."""
+        """Signed curvature around each segment (1/m), from the heading change at its ends; an
+        open polyline's end vertices count as straight (a chord's view: turtlesim aims at
+        chords)."""
+        return self._curvatures(open_ends_turn=False)
+
+    @cached_property
+    def tangent_curvatures(self) -> np.ndarray:
+        """As `curvatures`, for the curve the vertices sample: at an open end the curve goes
+        on turning as at the nearest vertex, as `profile.heading_knots` extrapolates its
+        tangent. A sampled arc's end chords get the arc's curvature, not half of it."""
+        return self._curvatures(open_ends_turn=True)
+
+    def _curvatures(self, open_ends_turn: bool) -> np.ndarray:
         turn = wrap_angles(np.diff(self.headings))
         mean_length = 0.5 * (self.segment_lengths[:-1] + self.segment_lengths[1:])
         at_vertices = turn / np.maximum(mean_length, 1e-9)
-        if self.repeat and len(at_vertices):
+        if not len(at_vertices):  # one segment: straight
+            return np.zeros(1)
+        if self.repeat:
             closing = wrap_angle(self.headings[0] - self.headings[-1])
-            edge = closing / max(0.5 * (self.segment_lengths[0] + self.segment_lengths[-1]),
-                                 1e-9)
-            padded = np.concatenate(([edge], at_vertices, [edge]))
+            first = last = closing / max(0.5 * (self.segment_lengths[0]
+                                                + self.segment_lengths[-1]), 1e-9)
+        elif open_ends_turn:
+            first, last = at_vertices[0], at_vertices[-1]
         else:
-            padded = np.concatenate(([0.0], at_vertices, [0.0]))
+            first = last = 0.0
+        padded = np.concatenate(([first], at_vertices, [last]))
         return 0.5 * (padded[:-1] + padded[1:])
 
     @property
