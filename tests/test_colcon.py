@@ -134,14 +134,14 @@ def test_the_installed_executables_draw_a_square(install, tmp_path):
             from turtle_traj_interfaces.srv import DrawShape
             deadline = time.monotonic() + 30.0
             while True:  # the node refuses until the simulator's pose and cmd_vel are matched
-                response = client.call('draw_square', DrawShape.Request(size=1.0),
+                response = client.call('draw_square', DrawShape.Request(size=0.5),
                                        timeout_s=60.0)
                 not_ready = response.message.startswith(('no pose', 'nothing subscribes'))
                 if not not_ready or time.monotonic() > deadline:
                     break
                 time.sleep(0.2)
         assert response.success, response.message
-        assert response.path_length == pytest.approx(4.0)
+        assert response.path_length == pytest.approx(2.0)
     finally:
         for process in (node, sim):
             process.terminate()

@@ -102,13 +102,13 @@ def test_menu_enter_uses_the_nodes_live_default_size(running_system, monkeypatch
     import io
 
     assert cli.main(['reset']) == 0
-    assert cli.main(['params', 'default_side_length', '1.25']) == 0
+    assert cli.main(['params', 'default_side_length', '0.75']) == 0
     try:
         monkeypatch.setattr('sys.stdin', io.StringIO('1\n\nn\n\n'))  # square, all Enter
         assert cli.main(['menu']) == 0
         out = capsys.readouterr().out
-        assert "Enter = the node's default_side_length = 1.25" in out
+        assert "Enter = the node's default_side_length = 0.75" in out
         assert 'done: square done' in out, out
-        assert 'path 5.00 m' in out  # four sides of 1.25 m: the node's value, not 2 m
+        assert 'path 3.00 m' in out  # four sides of 0.75 m: the node's value, not 2 m
     finally:
         assert cli.main(['params', 'default_side_length', '2.0']) == 0
