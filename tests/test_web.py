@@ -303,7 +303,7 @@ def _answers(observer, client, requests: list) -> list:
     answers = []
     for first in range(0, len(requests), 8):
         calls = [client.call_async(request) for request in requests[first:first + 8]]
-        assert observer.spin_until(lambda: all(call.done() for call in calls))
+        assert observer.spin_until(lambda calls=calls: all(call.done() for call in calls))
         answers += [call.result() for call in calls]
     return answers
 
