@@ -245,6 +245,39 @@ def test_a_node_ended_mid_drawing_leaves_the_pen_down(rclpy_context, tmp_path):
         observer.destroy_node()
 
 
+_LAST_CALL = """
+from std_srvs.srv import Trigger
+from rclpy.node import Node
+from turtle_traj.rosutils.runtime import run_nodes
+answered, made = [], []
+def create(stop):
+    node = Node('exiting')
+    node.create_service(Trigger, 'last_call', lambda _request, response: (answered.append(1),
+                                                                         response)[1])
+    client = node.create_client(Trigger, 'last_call')
+    node.create_timer(0.05, lambda: client.service_is_ready() and stop())
+    made.append(client)
+    return [node]
+calls = []
+def on_exit():
+    calls.append(made[0].call_async(Trigger.Request()))
+    return calls
+print(run_nodes(create, on_exit=on_exit), answered, calls[0].done())
+"""
+
+
+def test_a_program_waits_for_the_answers_to_its_last_calls():
+    """The program's end waits for what its nodes asked on their way out (the node puts a
+    drawing's pen back down): destroyed at once, a call could be lost with them, and a node
+    ended mid-drawing left the turtle's pen up, once in a dozen under load. Here the call is
+    to the program's own service: it is answered only if the program spins for it."""
+    import subprocess
+    import sys
+    ran = subprocess.run([sys.executable, '-c', _LAST_CALL], capture_output=True, text=True,
+                         timeout=60)
+    assert ran.stdout.split() == ['0', '[1]', 'True'], ran.stdout + ran.stderr
+
+
 def test_the_pen_parameters_are_checked_and_drawings_use_them(turtle_system):
     from rcl_interfaces.msg import Parameter as ParameterMsg
     from rcl_interfaces.msg import ParameterType, ParameterValue

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from rclpy.executors import Executor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.task import Future
 from rclpy.utilities import remove_ros_args
 
 from turtle_traj.node.trajectory_node import TrajectoryNode
@@ -99,11 +100,11 @@ def run(options: Options) -> int:
             (logger.info if priority.granted else logger.warning)(str(priority))
         return [*nodes, *controllers]
 
-    def on_exit() -> None:
-        for controller in controllers:
-            controller.shutdown_turtle()
+    def on_exit() -> list[Future | None]:
+        ends = [controller.shutdown_turtle() for controller in controllers]
         if beside is not None:
             beside.save_snapshot()
+        return ends
 
     def make_executor() -> Executor:
         """With simulated time, the simulator steps in lock-step with the node, paced to the

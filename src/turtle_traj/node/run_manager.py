@@ -144,10 +144,14 @@ class RunManager:
         return silence > timeout_s
 
     @serialized
-    def shutdown_turtle(self) -> None:
-        """End any run and leave the turtle standing (on program exit)."""
+    def shutdown_turtle(self) -> Future | None:
+        """End any run and leave the turtle standing (on program exit). The run's end, if one
+        ran: it completes once a drawing's pen is down again (a call to the simulator), which
+        a program must wait for before its node goes, or the call may never leave it."""
+        done = self._run_done
         self.abort_run('the node is shutting down')
         self._publish(STOP)
+        return done
 
     @serialized
     def abort_run(self, why: str) -> None:

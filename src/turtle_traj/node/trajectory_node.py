@@ -13,6 +13,7 @@ import threading
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
+from rclpy.task import Future
 
 from turtle_traj.core.control.profile import load_solver, solver_loaded
 from turtle_traj.core.geometry.path import Pose2D
@@ -104,9 +105,10 @@ class TrajectoryNode(Node):
         """End the run, if one runs, as failed: '<trajectory> aborted: <why>'."""
         self._runs.abort_run(why)
 
-    def shutdown_turtle(self) -> None:
-        """End any trajectory and leave the turtle standing (called on program exit)."""
-        self._runs.shutdown_turtle()
+    def shutdown_turtle(self) -> Future | None:
+        """End any trajectory and leave the turtle standing (called on program exit); what to
+        wait for before the node goes (`RunManager.shutdown_turtle`)."""
+        return self._runs.shutdown_turtle()
 
     def now_s(self) -> float:
         """The node clock, seconds."""

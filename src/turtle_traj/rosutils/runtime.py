@@ -10,7 +10,7 @@ import signal
 import sys
 import threading
 import time
-from collections.abc import Callable, MutableMapping, Sequence
+from collections.abc import Callable, Iterable, MutableMapping, Sequence
 from pathlib import Path
 
 import rclpy
@@ -23,6 +23,9 @@ from rclpy.task import Future
 
 # How long the executor may wait before Python gets to run a pending signal handler.
 _SIGNAL_LATENCY_S = 0.1
+# How long a program asked to stop waits for the answers to its last calls (`run_nodes`):
+# the simulator answers set_pen within a step; one that vanished never does.
+EXIT_GRACE_S = 1.0
 _STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}  # SIGHUP: terminal closed
 _FASTDDS_PROFILE = Path(__file__).with_name('fastdds.xml')
 _PROFILE_VARIABLES = ('FASTRTPS_DEFAULT_PROFILES_FILE', 'FASTDDS_DEFAULT_PROFILES_FILE')
@@ -56,7 +59,7 @@ def run_nodes(
     create_nodes: Callable[[Callable[[], None]], Sequence[Node]],
     *,
     args: Sequence[str] | None = None,
-    on_exit: Callable[[], None] | None = None,
+    on_exit: Callable[[], Iterable[Future | None] | None] | None = None,
     make_executor: Callable[[], Executor] = events_executor,
 ) -> int:
     """Create nodes, spin them in one executor until asked to stop, then tidy up.
@@ -68,7 +71,9 @@ def run_nodes(
 
     :param create_nodes: builds the nodes once rclpy is initialised; gets `stop`.
     :param args: command-line arguments for rclpy (``--ros-args`` remappings and parameters).
-    :param on_exit: runs after spinning stopped and before the nodes are destroyed.
+    :param on_exit: runs after spinning stopped and before the nodes are destroyed; the
+        futures it returns (calls it made: a drawing's pen put back down) are spun for, up to
+        `EXIT_GRACE_S` in all, so that its requests leave the program before its nodes go.
     :param make_executor: makes the executor once the nodes exist (they are added to it here).
         rclpy's EventsExecutor (experimental, C++) by default: it wakes only for what happened,
         where the SingleThreadedExecutor rebuilds its wait set over every endpoint on each
@@ -115,7 +120,7 @@ def run_nodes(
     finally:
         try:
             if nodes and on_exit is not None and rclpy.ok():
-                on_exit()
+                _wait_for(executor, on_exit() or ())
         finally:
             if executor is not None:
                 executor.shutdown()
@@ -123,6 +128,16 @@ def run_nodes(
                 node.destroy_node()
             rclpy.try_shutdown()
     return exit_code
+
+
+def _wait_for(executor: Executor | None, futures: Iterable[Future | None]) -> None:
+    """Spin until each future is done, `EXIT_GRACE_S` at most in all (a vanished peer never
+    answers)."""
+    deadline = time.monotonic() + EXIT_GRACE_S
+    for future in futures:
+        if executor is not None and future is not None:
+            executor.spin_until_future_complete(
+                future, timeout_sec=max(deadline - time.monotonic(), 0.0))
 
 
 def process_context() -> tuple[Context, bool]:
