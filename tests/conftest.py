@@ -22,7 +22,7 @@ def pytest_configure(config) -> None:
 # The files that take longest (--durations, quiet here: the two hosts 57-63 s, the tutorials
 # 42-47 s, the browser 42-44 s, the bags 29 s, the hang watchdog 21 s, the command line 22 s),
 # first: with `--dist loadfile --no-loadscope-reorder` (the Makefile) each worker takes the next
-# file as it frees up, so the two finish together.
+# file as it frees up, so the workers finish together.
 SLOWEST_FIRST = ('test_two_hosts', 'test_tutorials', 'test_web', 'test_bags', 'test_hang',
                  'test_cli', 'test_terminal', 'test_multithreaded', 'test_colcon', 'test_teleop',
                  'test_client', 'test_drawing_run')
