@@ -33,19 +33,19 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 	$(PY) -m compileall -q -j 0 $(VENV)/lib > /dev/null
 	touch $@
 
-# Three workers, a test file each at a time: the subprocess-heavy files mostly wait (on DDS
-# discovery and real-time drawings), so with two the suite used one core of two (101% CPU,
-# 185-199 s quiet); with three, 140% and 161 s, 247 s under two busy loops (each worker claims
-# its own ROS_DOMAIN_ID). Three were tried before and starved the programs under test: 3 runs
-# in 5 red on issue 44's stall (a node held up at a corner overshot it: fixed since, by the
-# model of the robot), and, with every node program at a raised priority, 1 in 4 under two
-# busy loops (a teleop too slow to cancel; a command line that heard no feedback for 5 s from a
-# base at 10x time). The files go out in the order tests/conftest.py gives them, the slowest
-# first, so the workers finish together: xdist's default reorders them by their count of tests,
-# and the two-host file (a minute) started 85 s in, its worker done 25-35 s before the other.
-# PYTEST_ARGS adds options (`--durations=20`).
+# Two workers, a test file each at a time (each worker claims its own ROS_DOMAIN_ID): the
+# subprocess-heavy files mostly wait, on DDS discovery and real-time drawings, so two use one
+# core of two (101% CPU; 185-199 s quiet, 199 s the median of three paired runs). Three meet
+# the suite's targets (145 s quiet, the median of three paired runs; 240 s under two busy
+# loops), but in their series one quiet run of nine failed the bag replay: the replayed circle
+# 0.185 m off, against a 0.1 m bound, and not reproduced in 10 runs of the test alone under
+# two busy loops. Two stay until that mechanism is found. (Three were also red before on issue
+# 44's stall, fixed since by the model of the robot.) The files go out in the order
+# tests/conftest.py gives them, the slowest first, so the workers finish together: xdist's
+# default reorders them by their count of tests, and the two-host file (a minute) started 85 s
+# in, its worker done 25-35 s before the other. PYTEST_ARGS adds options (`--durations=20`).
 test: setup
-	$(PY) -m pytest -q -rs -n 3 --dist loadfile --no-loadscope-reorder $(PYTEST_ARGS)
+	$(PY) -m pytest -q -rs -n 2 --dist loadfile --no-loadscope-reorder $(PYTEST_ARGS)
 
 # Between edits: every test but the system tests (programs, namespaces, a browser, colcon),
 # one test at a time to each worker.
