@@ -241,6 +241,20 @@ def test_the_command_line_refuses_unknown_topics_and_bad_bags(recorded, tmp_path
     assert not (tmp_path / 'new').exists()
 
 
+def _replay_report(radial: np.ndarray, applied: np.ndarray) -> str:
+    """What the simulator did with the replayed commands, step by step (each pose echoes the
+    velocities it applied): the evidence a replay off its circle leaves (once in nine full
+    runs in three workers, 0.185 m off: its mechanism is not found yet)."""
+    first = int(np.argmax(radial > 0.05))
+    changes = np.flatnonzero(np.any(np.diff(applied, axis=0) != 0, axis=1))
+    runs = np.diff(np.concatenate(([-1], changes, [len(applied) - 1])))
+    longest = int(np.argmax(runs))
+    return (f'{radial.max():.3f} m off the circle, past 0.05 m from pose {first} of '
+            f'{len(radial)}; applied turn rate mean {applied[:, 1].mean():.3f} rad/s (the bag: '
+            f'about 1.02), first ones {np.round(applied[:12, 1], 3).tolist()}; the longest one '
+            f'command acted: {runs[longest]} steps, from pose {int(runs[:longest].sum())}')
+
+
 @pytest.mark.system
 def test_record_and_play_on_the_real_programs(tmp_path, rclpy_context):
     """`turtle-traj record` ended by SIGINT mid-run keeps every pose it received; `turtle-traj
@@ -311,7 +325,10 @@ def test_record_and_play_on_the_real_programs(tmp_path, rclpy_context):
     # recorded sweep; and a figure against the recorded path itself (0-15 mm when quiet). The
     # lock-step replay above is the exact check.
     replay_offset = moved - (SPAWN_XY_M, SPAWN_XY_M + 1.0)
-    assert np.abs(np.hypot(*replay_offset.T) - 1.0).max() < 0.1
+    radial = np.abs(np.hypot(*replay_offset.T) - 1.0)
+    applied = np.array([(p.linear_velocity, p.angular_velocity) for p in replayed
+                        if p.linear_velocity > 0])
+    assert radial.max() < 0.1, _replay_report(radial, applied)
     swept = np.unwrap(np.arctan2(replay_offset[:, 1], replay_offset[:, 0]))
     assert np.all(np.diff(swept) >= -1e-9)
     assert swept[-1] - swept[0] > 0.8 * (around[-1] - around[0])
