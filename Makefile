@@ -37,9 +37,8 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 # subprocess-heavy files mostly wait, on DDS discovery and real-time drawings, so two use one
 # core of two (101% CPU; 185-199 s quiet, 199 s the median of three paired runs). Three meet
 # the suite's targets (145 s quiet, the median of three paired runs; 240 s under two busy
-# loops), but in their series one quiet run of nine failed the bag replay: the replayed circle
-# 0.185 m off, against a 0.1 m bound, and not reproduced in 10 runs of the test alone under
-# two busy loops. Two stay until that mechanism is found. (Three were also red before on issue
+# loops), but one quiet run in 17 failed the bag replay: the replayed circle 0.185 m off,
+# against a 0.1 m bound, and not reproduced in 10 runs of the test alone under two busy loops. Two stay until that mechanism is found. (Three were also red before on issue
 # 44's stall, fixed since by the model of the robot.) The files go out in the order
 # tests/conftest.py gives them, the slowest first, so the workers finish together: xdist's
 # default reorders them by their count of tests, and the two-host file (a minute) started 85 s

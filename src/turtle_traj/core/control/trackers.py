@@ -202,14 +202,14 @@ class PolylineTracker:
 
         facing = pose.theta + (math.pi if polyline.reverse else 0.0)
         path_heading = float(polyline.headings[self.segment])
-        curvature = float(polyline.curvatures[self.segment])
+        # With limits, steer to the curve's tangent, which turns along each chord, not at its
+        # ends. A base that changes its turn rate gradually beat against its angular
+        # acceleration limit at every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside
+        # it), and started a circle from rest turning at half its rate (0.6 mm outside it);
+        # turtlesim turns at once, and its chords are aimed at with the lead below
+        curvature = float((polyline.tangent_curvatures if config.limited
+                           else polyline.curvatures)[self.segment])
         if config.limited:
-            # steer to the curve's tangent, which turns along each chord, not at its ends. A
-            # base that changes its turn rate gradually beat against its angular acceleration
-            # limit at every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside it), and
-            # started a circle from rest turning at half its rate (0.6 mm outside it); turtlesim
-            # turns at once, and its chords are aimed at with the lead below
-            curvature = float(polyline.tangent_curvatures[self.segment])
             path_heading += curvature * float(polyline.segment_lengths[self.segment]) * (
                 fraction - 0.5)
         heading_error = wrap_angle(path_heading - facing)
