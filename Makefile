@@ -33,18 +33,18 @@ $(INTERFACES): $(INSTALLED) $(INTERFACE_FILES)
 	$(PY) -m compileall -q -j 0 $(VENV)/lib > /dev/null
 	touch $@
 
-# Two workers, a test file each at a time (each worker claims its own ROS_DOMAIN_ID): the
-# subprocess-heavy files mostly wait, on DDS discovery and real-time drawings, so two use one
-# core of two (101% CPU; 185-199 s quiet, 199 s the median of three paired runs). Three meet
-# the suite's targets (145 s quiet, the median of three paired runs; 240 s under two busy
-# loops), but one quiet run in 17 failed the bag replay: the replayed circle 0.185 m off,
-# against a 0.1 m bound, and not reproduced in 10 runs of the test alone under two busy loops. Two stay until that mechanism is found. (Three were also red before on issue
-# 44's stall, fixed since by the model of the robot.) The files go out in the order
-# tests/conftest.py gives them, the slowest first, so the workers finish together: xdist's
-# default reorders them by their count of tests, and the two-host file (a minute) started 85 s
-# in, its worker done 25-35 s before the other. PYTEST_ARGS adds options (`--durations=20`).
+# Three workers, a test file each at a time: the subprocess-heavy files mostly wait (on DDS
+# discovery and real-time drawings), so with two the suite used one core of two (101% CPU,
+# 185-199 s quiet); with three, 145 s quiet and 240 s under two busy loops (medians of paired
+# runs; each worker claims its own ROS_DOMAIN_ID). One quiet run in 17 was red at three: a bag's
+# real-time replay drew its circle 0.185 m off, because a publish() had waited 333 ms on Fast
+# DDS's shared-memory health check (our profile now sends by UDP only: bench/transport_bench.py).
+# The files go out in the order tests/conftest.py gives them, the slowest first, so the workers
+# finish together: xdist's default reorders them by their count of tests, and the two-host file
+# (a minute) started 85 s in, its worker done 25-35 s before the other. PYTEST_ARGS adds
+# options (`--durations=20`).
 test: setup
-	$(PY) -m pytest -q -rs -n 2 --dist loadfile --no-loadscope-reorder $(PYTEST_ARGS)
+	$(PY) -m pytest -q -rs -n 3 --dist loadfile --no-loadscope-reorder $(PYTEST_ARGS)
 
 # Between edits: every test but the system tests (programs, namespaces, a browser, colcon),
 # one test at a time to each worker.

@@ -18,6 +18,12 @@ def test_the_profile_is_taken_where_the_user_chose_nothing():
     period = participant.find('p:rtps/p:builtin/p:discovery_config/p:leaseAnnouncement', NS)
     seconds = int(period.find('p:sec', NS).text) + int(period.find('p:nanosec', NS).text) / 1e9
     assert seconds == 0.5  # below Fast DDS's 3 s default, far below the 20 s lease
+    # UDP only: no shared-memory port whose health check stalls a publish() (see the profile)
+    assert participant.find('p:rtps/p:useBuiltinTransports', NS).text == 'false'
+    chosen = [t.text for t in participant.findall('p:rtps/p:userTransports/p:transport_id', NS)]
+    kinds = {d.find('p:transport_id', NS).text: d.find('p:type', NS).text
+             for d in profile.findall('p:transport_descriptors/p:transport_descriptor', NS)}
+    assert [kinds[name] for name in chosen] == ['UDPv4']
 
 
 @pytest.mark.parametrize('chosen', [

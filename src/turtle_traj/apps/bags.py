@@ -109,7 +109,8 @@ def play(path: Path, topics: list[str], rate: float) -> int:
         if not player.connected():
             print(f'(nothing subscribes to {", ".join(player.topics)} yet: playing anyway)')
         count = player.play(rate, wait=wait)
-        print(f'played {count} messages of {", ".join(player.topics)} from {path}')
+        print(f'played {count} messages of {", ".join(player.topics)} from {path}, each at '
+              f'most {1e3 * player.latest_s:.0f} ms after its time')
         return 0
     except BagError as error:
         return fail(str(error))

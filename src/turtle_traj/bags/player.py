@@ -45,6 +45,7 @@ class Player:
         if unknown:
             raise BagError(f'{bag.path} has no topic {", ".join(unknown)}; it has: '
                            f'{", ".join(sorted(bag.topics))}')
+        self.latest_s = 0.0
         self.publishers = {topic: node.create_publisher(message_type(bag.topics[topic]), topic,
                                                         _qos(bag, topic))
                            for topic in self.topics}
@@ -58,15 +59,19 @@ class Player:
 
     def play(self, rate: float = 1.0, *, wait: Callable[[float], None] = time.sleep) -> int:
         """Publish every message at its recorded time divided by `rate`, from now; how many.
+        `latest_s` is then the longest any message was sent after its time (a stalled
+        publish() delays the ones after it: open loop, the command before acts that longer).
 
         :param wait: waits so many seconds (the caller's spin, or a sleep).
         """
         count, start, first = 0, time.monotonic(), None
+        self.latest_s = 0.0
         for message in self.bag.messages(self.topics):
             first = message.time_ns if first is None else first
             due = start + (message.time_ns - first) * 1e-9 / rate
             while (remaining := due - time.monotonic()) > 0:
                 wait(min(remaining, 0.05))
+            self.latest_s = max(self.latest_s, time.monotonic() - due)
             self.publish(message)
             count += 1
         return count
