@@ -24,7 +24,7 @@ from pathlib import Path
 from isolation import isolate
 
 ROOT = Path(__file__).resolve().parents[1]
-OURS = ROOT / 'src' / 'turtle_traj' / 'fastdds.xml'
+OURS = ROOT / 'src' / 'turtle_traj' / 'rosutils' / 'fastdds.xml'
 OFF = '<library_settings><intraprocess_delivery>OFF</intraprocess_delivery></library_settings>'
 
 
