@@ -23,8 +23,9 @@ def turtle(rclpy_context, tmp_path):
     from turtlesim.msg import Pose
 
     from turtle_traj.rosutils.runtime import spin_until
-    with program('turtle_traj.sim', cwd=tmp_path):
+    with program('turtle_traj.sim', cwd=tmp_path) as sim:
         node = Node('teleop_observer', context=rclpy_context)
+        node.sim_said = sim.said  # what the simulator logged so far
         executor = SingleThreadedExecutor(context=rclpy_context)
         executor.add_node(node)
         node.poses = []
@@ -62,14 +63,15 @@ def test_keys_drive_as_turtle_teleop_key_and_q_restores_the_terminal(turtle):
     turtle.spin_until(lambda: False, timeout_s=1.2)  # the last command times out
     _keys_drive(terminal, turtle, 'v', lambda pose: abs(pose.theta + 1.5708) < 0.03
                 and pose.angular_velocity == 0.0)  # rotate_absolute to -90 degrees
-    terminal.send('e')  # towards 135 degrees ...
-    assert turtle.spin_until(lambda: turtle.poses[-1].angular_velocity != 0.0)
-    # F cancels the last goal whose acceptance teleop has heard (it reads keys and answers
-    # in turn, 0.1 s at most apart): give the answer that moment, then cancel on the way.
-    turtle.spin_until(lambda: False, timeout_s=0.5)
-    terminal.send('f')
-    assert turtle.spin_until(lambda: turtle.poses[-1].angular_velocity == 0.0)
-    assert abs(turtle.poses[-1].theta - 2.3562) > 0.1
+    # Towards 135 degrees (2.4 s), cancelled: F cancels the goal just sent, whether or not
+    # its acceptance is back yet (the keys come together, as from a quick hand). Timed from
+    # the poses this test sees instead, a loaded machine once sent F 2.4 s after E.
+    terminal.send('ef')
+    assert turtle.spin_until(lambda: 'Rotation goal canceled' in turtle.sim_said())
+    count = len(turtle.poses)
+    assert turtle.spin_until(lambda: len(turtle.poses) > count + 3)  # poses after the cancel
+    assert turtle.poses[-1].angular_velocity == 0.0
+    assert abs(turtle.poses[-1].theta - 2.3562) > 1.0
     terminal.send('q')
     assert terminal.finish(close=False) == 0
     assert _echoing(terminal)

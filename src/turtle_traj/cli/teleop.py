@@ -1,7 +1,9 @@
 """`turtle-traj teleop`: turtlesim's `turtle_teleop_key` in a terminal, against any turtlesim.
 
 Arrow keys publish one cmd_vel each at +-scale_linear / +-scale_angular (parameters, 2.0 by
-default, read at every press); G T R E D C V B send rotate_absolute goals, F cancels the goal
+default, read at every press); G T R E D C V B send rotate_absolute goals, F cancels the latest
+goal sent (once its acceptance is back, if it is still on its way: turtle_teleop_key instead
+cancels the latest goal whose acceptance it has heard, an older one while the answer is late)
 and Q quits. The terminal is put in non-canonical, no-echo mode and restored on every way out:
 Q, Ctrl-C, SIGTERM, a closed terminal (SIGHUP) or an error.
 """
@@ -56,7 +58,8 @@ class TeleopNode(Node):
         self.declare_parameter('scale_angular', SCALE_ANGULAR)
         self._cmd_vel = self.create_publisher(Twist, 'turtle1/cmd_vel', TURTLE_TOPIC_QOS)
         self._rotate = ActionClient(self, RotateAbsolute, 'turtle1/rotate_absolute')
-        self._goal = None  # the most recent goal whose acceptance came back
+        self._sent: Future | None = None  # the latest goal sent: its acceptance, to come
+        self._cancel_when_accepted = False  # F came before that acceptance
 
     def destroy_node(self) -> None:
         self._rotate.destroy()  # rclpy's destroy_node leaves a node's action clients alive
@@ -75,16 +78,25 @@ class TeleopNode(Node):
                 self.get_parameter('scale_angular').value)
             self._cmd_vel.publish(twist)
         elif key in ROTATIONS:
-            self._rotate.send_goal_async(
-                RotateAbsolute.Goal(theta=ROTATIONS[key])).add_done_callback(self._accepted)
-        elif key == CANCEL_KEY and self._goal is not None:
-            self._goal.cancel_goal_async()
+            self._sent = self._rotate.send_goal_async(RotateAbsolute.Goal(theta=ROTATIONS[key]))
+            self._cancel_when_accepted = False
+            self._sent.add_done_callback(self._answered)
+        elif key == CANCEL_KEY and self._sent is not None:
+            if self._sent.done():
+                self._cancel(self._sent)
+            else:
+                self._cancel_when_accepted = True
         return key != QUIT_KEY
 
-    def _accepted(self, future: Future) -> None:
-        handle = future.result()
-        if handle.accepted:
-            self._goal = handle
+    def _answered(self, future: Future) -> None:
+        if future is self._sent and self._cancel_when_accepted:
+            self._cancel(future)
+
+    @staticmethod
+    def _cancel(sent: Future) -> None:
+        handle = sent.result()
+        if handle is not None and handle.accepted:
+            handle.cancel_goal_async()
 
 
 def _hang_up(*_args) -> None:
