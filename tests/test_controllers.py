@@ -174,6 +174,11 @@ class _Slow(Dwpp):
         return super().command(state)
 
 
+def _reported_late_s(message: str) -> float:
+    """How late the last answer was, as the run's ending says."""
+    return float(re.search(r'the last after ([0-9.]+) s$', message).group(1))
+
+
 class _WrongType(Dwpp):
     def command(self, state):
         return 'forward'
@@ -211,8 +216,7 @@ def test_a_misbehaving_controller_ends_the_run_saying_what_it_did(controller, sa
     assert message.startswith('follow_path aborted: ') and said in message
     assert len(run.commands) < 20  # at once, not after the progress watchdog
     if controller is _Slow:  # nothing it may be excused (a CPU wait, its thread's collection)
-        took = float(re.search(r'the last after ([0-9.]+) s$', message).group(1))
-        assert took >= 0.05  # shortens its 50 ms sleep
+        assert _reported_late_s(message) >= 0.05  # shortens its 50 ms sleep
 
 
 def test_another_threads_garbage_collection_does_not_excuse_a_slow_controller():
@@ -233,8 +237,7 @@ def test_another_threads_garbage_collection_does_not_excuse_a_slow_controller():
     finally:
         stop.set()
         collector.join()
-    took = float(re.search(r'the last after ([0-9.]+) s$', run.run.ending[1]).group(1))
-    assert took >= 0.05
+    assert _reported_late_s(run.run.ending[1]) >= 0.05
 
 
 def test_commands_beyond_the_limits_are_clamped_and_counted():
