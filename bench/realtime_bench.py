@@ -5,7 +5,10 @@ node's own "at least" bound, and its deviation.
 Several checkouts run side by side, alternating round by round, each from its own `src/` (so an
 old commit is measured with the same script, venv and machine):
     .venv/bin/python bench/realtime_bench.py [--rounds 3] [--repo PATH ...]
-        [--time-scale S] [--bursts]
+        [--time-scale S] [--bursts] [--programs]
+With `--programs`, the simulator and the node run as two programs instead (`python -m
+turtle_traj.sim`, `python -m turtle_traj`), each on its own clock as with the real turtlesim:
+where the node's control ticks fall in turtlesim's step depends on when each started.
 With `--time-scale S`, `turtle-traj up --time-scale S` (simulated time, S times real time);
 with `--bursts`, waves of twelve processes importing numpy and rclpy run meanwhile (the load
 that holds a timer up now and then, where steady busy loops do not).
@@ -65,13 +68,23 @@ def _bursts(stop: threading.Event) -> None:
             process.wait()
 
 
-def one_round(repo: Path, up_options: list[str]) -> dict[str, tuple[float, float, float]]:
-    """Each kind's (elapsed / bound, max deviation in mm, final error in mm) from one
-    `turtle-traj up`."""
-    log = repo / '.realtime_bench_up.log'
+def _start(repo: Path, up_options: list[str] | None, log: Path) -> list[subprocess.Popen]:
+    """`turtle-traj up` (None: the simulator and the node as two programs), its log in `log`."""
+    if up_options is None:
+        programs = [[sys.executable, '-m', 'turtle_traj.sim'],
+                    [sys.executable, '-m', 'turtle_traj']]
+    else:
+        programs = [[sys.executable, '-m', 'turtle_traj.cli', 'up', *up_options]]
     with open(log, 'w') as out:
-        up = subprocess.Popen([sys.executable, '-m', 'turtle_traj.cli', 'up', *up_options],
-                              env=_env(repo), stdout=out, stderr=subprocess.STDOUT)
+        return [subprocess.Popen(argv, env=_env(repo), stdout=out, stderr=subprocess.STDOUT)
+                for argv in programs]
+
+
+def one_round(repo: Path, up_options: list[str] | None) -> dict[str, tuple[float, float, float]]:
+    """Each kind's (elapsed / bound, max deviation in mm, final error in mm) from one
+    `turtle-traj up` (None: two programs)."""
+    log = repo / '.realtime_bench_up.log'
+    started = _start(repo, up_options, log)
     try:
         for _ in range(120):  # the node says what it serves once it is up
             if 'serving' in log.read_text():
@@ -92,8 +105,9 @@ def one_round(repo: Path, up_options: list[str]) -> dict[str, tuple[float, float
                              1000 * float(found[3]))
         return figures
     finally:
-        up.terminate()
-        up.wait(timeout=20)
+        for process in started:
+            process.terminate()
+            process.wait(timeout=20)
         log.unlink(missing_ok=True)
 
 
@@ -114,9 +128,15 @@ def main() -> int:
                         help='run `turtle-traj up --time-scale S`')
     parser.add_argument('--bursts', action='store_true',
                         help='waves of twelve processes meanwhile')
+    parser.add_argument('--programs', action='store_true',
+                        help='the simulator and the node as two programs')
     args = parser.parse_args()
+    if args.programs and args.time_scale is not None:
+        parser.error('--time-scale needs the simulator in the node\'s process')
     repos = [path.resolve() for path in (args.repo or [Path(__file__).resolve().parents[1]])]
     up_options = [] if args.time_scale is None else ['--time-scale', str(args.time_scale)]
+    if args.programs:
+        up_options = None
     isolate('realtime')
     results: dict[Path, list[dict]] = {repo: [] for repo in repos}
     stop = threading.Event()
@@ -133,8 +153,9 @@ def main() -> int:
         if load.is_alive():
             load.join()
     labels = {repo: _label(repo) for repo in repos}
-    print(f'`turtle-traj up {" ".join(up_options)}`' + (', under waves of processes'
-                                                         if args.bursts else ''))
+    started = ('the simulator and the node as two programs' if up_options is None
+               else f'`turtle-traj up {" ".join(up_options)}`')
+    print(started + (', under waves of processes' if args.bursts else ''))
     print('elapsed / bound per round (median, max); worst max deviation mm; worst final '
           'error mm')
     print(f'{"kind":8}' + ''.join(f'  {labels[repo]:>40}' for repo in repos))

@@ -51,7 +51,8 @@ class BaseTopics:
         else:
             topic, message, reader = f'{turtle}/pose', Pose, self._on_turtlesim_pose
         self._reader = reader
-        self._poses = node.create_subscription(message, topic, reader, POSE_READER_QOS)
+        self.on_arrival: Callable[[], None] = lambda: None  # as the executor delivers a pose
+        self._poses = node.create_subscription(message, topic, self._delivered, POSE_READER_QOS)
         self.pose_topic = node.resolve_topic_name(topic)
         self.stamped = value('cmd_vel_type') == 'TwistStamped'
         self._clock = node.get_clock()
@@ -64,6 +65,10 @@ class BaseTopics:
             self._message = self._twist = Twist()
         self.publisher = node.create_publisher(type(self._message), command_topic,
                                                COMMAND_QOS)
+
+    def _delivered(self, msg) -> None:
+        self.on_arrival()
+        self._reader(msg)
 
     def _on_turtlesim_pose(self, msg: Pose) -> None:
         self._on_pose(Pose2D(msg.x, msg.y, msg.theta), msg.linear_velocity,

@@ -72,6 +72,10 @@ class RunManager:
     def settings(self) -> Settings:
         return self._settings()
 
+    def watch_arrivals(self, on_arrival: Callable[[], None]) -> None:
+        """Call `on_arrival` as each pose is delivered (not for those a tick reads)."""
+        self._base.on_arrival = on_arrival
+
     @property
     def command_topic(self) -> str:
         return self._base.publisher.topic_name

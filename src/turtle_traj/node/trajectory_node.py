@@ -20,6 +20,7 @@ from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.registry import TRAJECTORIES
 from turtle_traj.node import parameters
 from turtle_traj.node.commands import CommandServices
+from turtle_traj.node.control_timer import ControlTimer
 from turtle_traj.node.draw_action import DrawActionServer
 from turtle_traj.node.run_manager import WATCHDOG_PERIOD_S, RunManager
 from turtle_traj.node.trajectory_services import TrajectoryServices
@@ -57,8 +58,9 @@ class TrajectoryNode(Node):
         self._commands = CommandServices(self, runs, group)  # ~/stop and ~/reset
         self.stop_service = self._commands.stop_service
 
-        self.create_timer(1.0 / self.get_parameter('control_rate').value,
-                          runs.on_control_timer)
+        self._control = ControlTimer(self, 1.0 / self.get_parameter('control_rate').value,
+                                     runs.on_control_timer)
+        runs.watch_arrivals(self._control.pose_arrived)
         self.create_timer(WATCHDOG_PERIOD_S, runs.on_watchdog,
                           clock=Clock(clock_type=ClockType.STEADY_TIME))
         name = self.get_fully_qualified_name()

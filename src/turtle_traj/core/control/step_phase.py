@@ -1,0 +1,83 @@
+"""Where the control ticks fall in the robot's step, and the timer period that keeps them in its
+middle. Pure.
+
+The robot steps on its own clock (turtlesim's 16 ms timer) and takes, at each step, the command
+that has arrived by then. A node ticking on another clock at the same rate sends each command at
+a fixed phase of that step, set by when the two programs started: a command that arrives just
+before a step is a step late after the least delay, and one that arrives just after it, a step
+early. At that knife-edge the commands' latency flips between two values (the model sees jitter
+and hedges: slower drawings), or stays on one side until a stall flips it at a corner (a
+deadbeat approach then draws one step past it). A tick half a step after the poses arrive puts
+the command's arrival as far from both edges as it can be: only a delay of half a step moves it.
+
+Each pose is published as the robot steps, so the poses' arrival times give the step's phase
+(on this node's clock, whatever the robot's clock says). `next_period` returns the timer period
+that moves the next ticks towards mid-step: a phase-locked loop whose correction takes effect a
+tick later (a timer's next call is fixed when it fires), with a gain that settles in a few ticks
+and a dead band that leaves a locked timer at its period.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+TARGET = 0.5  # steps after the pose's arrival: mid-step
+GAIN = 0.25  # of the phase error corrected each tick (critically damped with the tick's delay)
+MAX_CORRECTION = 0.125  # steps: the most one period is shortened or lengthened
+DEAD_BAND = 0.1  # steps: a phase error this small is left alone
+STEADY = (0.75, 1.25)  # an arrival this many steps after the one before shows the phase
+WINDOW = 64  # arrivals remembered (about 1 s of turtlesim's)
+
+
+class StepPhase:
+    """The phase of the robot's steps, from the poses' arrival times, and the tick period.
+
+    :param period_s: the control timer's period, and the step it locks to: the lock holds only
+        while the poses arrive at that rate (a base's odometry at another rate is left alone).
+    """
+
+    def __init__(self, period_s: float) -> None:
+        self.period_s = period_s
+        self._origin_s: float | None = None
+        self._last_arrival_s: float | None = None
+        self._phases: deque[float] = deque(maxlen=WINDOW)  # radians, of steady arrivals
+
+    def pose_arrived(self, now_s: float) -> None:
+        """A pose arrived (seconds, on the clock the ticks are given on)."""
+        if self._origin_s is None:
+            self._origin_s = now_s
+        last, self._last_arrival_s = self._last_arrival_s, now_s
+        if last is None:
+            return
+        interval = (now_s - last) / self.period_s
+        if not STEADY[0] <= interval <= STEADY[1]:
+            return  # a late pose, or one read with others: its time tells no phase
+        self._phases.append(2.0 * math.pi * self._in_steps(now_s))
+
+    def step_phase(self) -> float | None:
+        """When the poses arrive, as a fraction of a step after the origin (None: not yet
+        known, or they do not arrive once a period)."""
+        if len(self._phases) < WINDOW // 2:
+            return None
+        angle = math.atan2(sum(map(math.sin, self._phases)), sum(map(math.cos, self._phases)))
+        return (angle / (2.0 * math.pi)) % 1.0
+
+    def tick_error(self, now_s: float) -> float | None:
+        """How far after mid-step a tick at `now_s` falls, in steps (-0.5 to 0.5)."""
+        arrival = self.step_phase()
+        if arrival is None:
+            return None
+        return (self._in_steps(now_s) - arrival - TARGET + 0.5) % 1.0 - 0.5
+
+    def next_period(self, now_s: float) -> float:
+        """The timer period to set at a tick at `now_s` (seconds): shorter while the ticks fall
+        after mid-step, longer while before, the period itself once they are there."""
+        error = self.tick_error(now_s)
+        if error is None or abs(error) < DEAD_BAND:
+            return self.period_s
+        correction = max(-MAX_CORRECTION, min(MAX_CORRECTION, GAIN * error))
+        return self.period_s * (1.0 - correction)
+
+    def _in_steps(self, time_s: float) -> float:
+        return ((time_s - self._origin_s) / self.period_s) % 1.0

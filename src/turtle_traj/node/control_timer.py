@@ -1,0 +1,41 @@
+"""The node's control timer, kept in the middle of the robot's steps (`StepPhase`)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+
+from turtle_traj.core.control.step_phase import StepPhase
+
+
+class ControlTimer:
+    """Calls `on_tick` every `period_s` on the node clock. On wall-clock time, the ticks are
+    moved to mid-step of a robot whose poses arrive at that period (`pose_arrived`, called as
+    each pose arrives): the timer's period is nudged until they are. On simulated time the
+    robot steps on the node's own clock: nothing to lock."""
+
+    def __init__(self, node: Node, period_s: float, on_tick: Callable[[], None]) -> None:
+        self._on_tick = on_tick
+        self._phase = StepPhase(period_s)
+        self._steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._locks = not node.get_clock().ros_time_is_active
+        self._period_ns = round(period_s * 1e9)
+        self.timer = node.create_timer(period_s, self._tick)
+
+    def pose_arrived(self) -> None:
+        if self._locks:
+            self._phase.pose_arrived(self._now_s())
+
+    def _tick(self) -> None:
+        fired_s = self._now_s() if self._locks else 0.0
+        self._on_tick()
+        if not self._locks:
+            return
+        period_ns = round(self._phase.next_period(fired_s) * 1e9)
+        if period_ns != self._period_ns:
+            self.timer.timer_period_ns = self._period_ns = period_ns
+
+    def _now_s(self) -> float:
+        return self._steady.now().nanoseconds * 1e-9

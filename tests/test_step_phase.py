@@ -1,0 +1,75 @@
+"""The control ticks lock to mid-step of the robot's steps (`StepPhase`), checked against the
+poses' own schedule: a robot stepping every 16 ms at a phase of its own, a node timer that fires
+as rcl's does (its next call fixed as it fires, the period set in the callback taking effect a
+tick later)."""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+
+from turtle_traj.core.control.step_phase import DEAD_BAND, StepPhase
+
+STEP_S = 0.016
+
+
+def _run(pose_phase: float, seconds: float, *, pose_period_s: float = STEP_S,
+         delay=lambda k: 0.0, late=lambda n: 0.0) -> list[float]:
+    """Tick times of a timer locked by `StepPhase` to poses published at `pose_phase` (in
+    steps) of each period and delivered `delay(k)` later; a tick fires `late(n)` after its
+    call time."""
+    phase = StepPhase(STEP_S)
+    arrivals = sorted(pose_phase * pose_period_s + k * pose_period_s + delay(k)
+                      for k in range(int(seconds / pose_period_s)))
+    ticks, call_s, period, n = [], 0.0, STEP_S, 0
+    for arrival in arrivals:
+        while call_s + late(n) < arrival:
+            fired = call_s + late(n)
+            call_s += period  # rcl: the next call is fixed as the timer fires
+            period = phase.next_period(fired)
+            ticks.append(fired)
+            n += 1
+        phase.pose_arrived(arrival)
+    return ticks
+
+
+def _after_poses(ticks: list[float], pose_phase: float) -> list[float]:
+    """Each tick's phase after the pose of its step, in steps (0 to 1)."""
+    return [((tick / STEP_S) - pose_phase) % 1.0 for tick in ticks]
+
+
+@pytest.mark.parametrize('pose_phase', [0.0, 0.03, 0.25, 0.49, 0.51, 0.75, 0.97])
+def test_ticks_move_to_mid_step_whatever_the_phase_they_started_at(pose_phase):
+    ticks = _run(pose_phase, 3.0)
+    settled = _after_poses(ticks[-60:], pose_phase)
+    assert all(abs(after - 0.5) <= DEAD_BAND for after in settled), settled
+    # locked, the timer keeps the robot's rate: one tick a step
+    assert (ticks[-1] - ticks[-61]) / 60 == pytest.approx(STEP_S, rel=0.02)
+
+
+def test_late_poses_and_late_ticks_do_not_pull_the_lock_off_mid_step():
+    noise = random.Random(7)
+    delays = {k: noise.uniform(0.0, 0.003) + (0.04 if k % 50 == 0 else 0.0)
+              for k in range(400)}  # a few ms each, and a stall every 50th
+    ticks = _run(0.2, 6.0, delay=delays.__getitem__,
+                 late=lambda n: noise.uniform(0.0, 0.002))
+    settled = _after_poses(ticks[-100:], 0.2)
+    # the poses arrive 1.5 ms late on average: mid-step is that much later
+    assert sum(settled) / len(settled) == pytest.approx(0.5 + 0.0015 / STEP_S, abs=0.12)
+
+
+def test_poses_at_another_rate_leave_the_timer_at_its_period():
+    phase = StepPhase(STEP_S)
+    for k in range(200):  # a base's odometry at 30 Hz
+        phase.pose_arrived(k / 30.0)
+    assert phase.step_phase() is None
+    assert phase.next_period(200 / 30.0 + 0.005) == STEP_S
+
+
+def test_before_enough_poses_the_timer_keeps_its_period():
+    phase = StepPhase(STEP_S)
+    for k in range(10):
+        phase.pose_arrived(k * STEP_S)
+    assert phase.tick_error(0.2) is None
+    assert phase.next_period(0.2) == STEP_S
