@@ -20,20 +20,24 @@ class ControlTimer:
         self._on_tick = on_tick
         self._phase = StepPhase(period_s)
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
-        self._locks = not node.get_clock().ros_time_is_active
+        self._node_clock = node.get_clock()
         self._period_ns = round(period_s * 1e9)
         self.timer = node.create_timer(period_s, self._tick)
+
+    @property
+    def _locks(self) -> bool:
+        """On wall-clock time (`use_sim_time` may be set live)."""
+        return not self._node_clock.ros_time_is_active
 
     def pose_arrived(self) -> None:
         if self._locks:
             self._phase.pose_arrived(self._now_s())
 
     def _tick(self) -> None:
-        fired_s = self._now_s() if self._locks else 0.0
+        fired_s = self._now_s()
         self._on_tick()
-        if not self._locks:
-            return
-        period_ns = round(self._phase.next_period(fired_s) * 1e9)
+        period_s = self._phase.next_period(fired_s) if self._locks else self._phase.period_s
+        period_ns = round(period_s * 1e9)
         if period_ns != self._period_ns:
             self.timer.timer_period_ns = self._period_ns = period_ns
 
