@@ -73,19 +73,20 @@ def strokes_of(path: Path) -> list[Polyline | Turn]:
     return steps
 
 
-# By thread: the collector's total time so far in it, and its last start. A collection holds
-# up the thread that runs it; one run by another thread while a controller sleeps or computes
-# is not the controller's excuse (counted for every thread, it once made a controller's 50 ms
-# answer read 49 ms).
-_collecting: dict[int, list[float]] = {}
+# Per thread: the collector's total time so far in it (`total`), and its last start. A
+# collection holds up the thread that runs it; one run by another thread while a controller
+# sleeps or computes is not the controller's excuse (counted for every thread, it once made a
+# controller's 50 ms answer read 49 ms).
+_collecting = threading.local()
 
 
 def _on_collection(phase: str, _info: dict) -> None:
-    mine = _collecting.setdefault(threading.get_ident(), [0.0, 0.0])
+    now = time.perf_counter()
     if phase == 'start':
-        mine[1] = time.perf_counter()
+        _collecting.started = now
     else:
-        mine[0] += time.perf_counter() - mine[1]
+        _collecting.total = (getattr(_collecting, 'total', 0.0)
+                             + now - getattr(_collecting, 'started', now))
 
 
 gc.callbacks.append(_on_collection)
@@ -100,7 +101,7 @@ def _not_the_controllers_s() -> float:
             waited = int(stats.read().split()[1]) * 1e-9
     except (OSError, IndexError, ValueError):
         waited = 0.0
-    return waited + _collecting.get(threading.get_ident(), (0.0,))[0]
+    return waited + getattr(_collecting, 'total', 0.0)
 
 
 class _Along:
