@@ -14,6 +14,7 @@ import math
 import os
 import re
 import subprocess
+import threading
 import time
 from pathlib import Path
 
@@ -154,25 +155,54 @@ def test_at_twenty_percent_a_run_completes_or_says_why_not(hosts):
         assert re.search(r'aborted: .+', done.stdout + done.stderr), done.stdout + done.stderr
 
 
-def _ended_s(process: subprocess.Popen, since: float, until: float) -> float:
-    """Seconds from `since` to the end of `process`, watched until `until` (inf: running)."""
-    while time.monotonic() < until:
-        if process.poll() is not None:
-            return time.monotonic() - since
-        time.sleep(0.01)
-    return math.inf
+class _Answers:
+    """A call left running, its output read line by line as it comes, each with when."""
+
+    def __init__(self, process: subprocess.Popen) -> None:
+        self.process = process
+        self.lines: list[tuple[float, str]] = []  # (monotonic s, line)
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        for line in self.process.stdout:
+            self.lines.append((time.monotonic(), line))
+
+    def answered_s(self, text: str, since: float, until: float) -> float:
+        """Seconds from `since` to the first line that holds `text`, watched until `until`
+        (inf: not said by then). The answer, not the process's end: a command-line process
+        under load took up to 1.8 s more to close its ROS context and exit (3 of 54 over
+        1.5 s in a loop beside two busy loops), with every answer within 0.51 s of a cut."""
+        while time.monotonic() < until:
+            if said := [when for when, line in self.lines if text in line]:
+                return said[0] - since
+            time.sleep(0.01)
+        return math.inf
+
+    def said(self) -> str:
+        """Everything it said, once it has ended (within CALL_TIMEOUT_S)."""
+        self.process.wait(timeout=CALL_TIMEOUT_S)
+        self._reader.join(timeout=CALL_TIMEOUT_S)
+        return ''.join(line for _, line in self.lines)
+
+    def kill(self) -> None:
+        """End it now, if it has not ended."""
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.wait()
 
 
 @pytest.mark.parametrize('cut_s', [0.5, 2.0, 10.0])
 def test_a_cut_link_ends_the_run_and_the_next_call_succeeds(hosts, cut_s):
     _succeeded(hosts.call('reset', '--wait', '30'))
-    circle = hosts.start('draw', 'circle', '--size', '1', '--wait', '30')
+    circle = _Answers(hosts.start('draw', 'circle', '--size', '1', '--wait', '30'))
     try:
         time.sleep(2.5)
-        assert circle.poll() is None, circle.stdout.read()
+        assert circle.process.poll() is None, circle.said()
         hosts.made.link(False)
         cut = time.monotonic()
-        ended_s = _ended_s(circle, cut, cut + min(cut_s, POSE_TIMEOUT_S + 1.0))
+        ended_s = circle.answered_s('no pose on /turtle1/pose', cut,
+                                    cut + min(cut_s, POSE_TIMEOUT_S + 1.0))
         if cut_s > 5.0:
             # a call made during the cut answers at once: the node is on this host
             during = hosts.call('move', '0.2', '--wait', '5', timeout_s=20)
@@ -182,23 +212,21 @@ def test_a_cut_link_ends_the_run_and_the_next_call_succeeds(hosts, cut_s):
         time.sleep(max(cut + cut_s - time.monotonic(), 0.0))
         stopped_s = hosts.last_move_s() - cut
         hosts.made.link(True)
-        said, _ = circle.communicate(timeout=CALL_TIMEOUT_S)
+        said = circle.said()
         time.sleep(0.3)
         # and the commands held for the link were dropped, not delivered late (lifespan)
         stale_s = hosts.last_move_s() - cut
     finally:
         hosts.made.link(True)
-        if circle.poll() is None:
-            circle.kill()
-            circle.wait()
+        circle.kill()
     if cut_s > POSE_TIMEOUT_S:
-        assert 'no pose on /turtle1/pose' in said and circle.returncode != 0, said
+        assert 'no pose on /turtle1/pose' in said and circle.process.returncode != 0, said
         assert ended_s < POSE_TIMEOUT_S + 1.0
         # nothing reaches the turtle: turtlesim's command timeout stops it
         assert stopped_s < COMMAND_TIMEOUT_S + 0.1
         assert stale_s == stopped_s
     else:  # no longer than pose_timeout: the run may ride it out
-        assert circle.returncode == 0 or 'no pose on /turtle1/pose' in said, said
+        assert circle.process.returncode == 0 or 'no pose on /turtle1/pose' in said, said
     done = hosts.call('move', '0.2', '--wait', '30')
     _succeeded(done)
     # driven at its usual pace: no latency learnt in the cut slows its approach (the node's own
@@ -209,15 +237,19 @@ def test_a_cut_link_ends_the_run_and_the_next_call_succeeds(hosts, cut_s):
 def test_a_simulator_restarted_on_its_host_is_driven_again(hosts):
     reset = hosts.call('reset', '--wait', '30')
     _succeeded(reset)
-    circle = hosts.start('draw', 'circle', '--size', '1', '--wait', '30')
+    circle = _Answers(hosts.start('draw', 'circle', '--size', '1', '--wait', '30'))
     time.sleep(2.5)
     hosts.sim.kill()
     hosts.sim.wait()
     killed = time.monotonic()
-    said, _ = circle.communicate(timeout=CALL_TIMEOUT_S)
-    assert circle.returncode != 0
-    assert 'no pose on /turtle1/pose' in said
-    assert time.monotonic() - killed < POSE_TIMEOUT_S + 1.0 + 2.0  # and the CLI's own exit
+    answered_s = circle.answered_s('no pose on /turtle1/pose', killed,
+                                   killed + POSE_TIMEOUT_S + 1.0)
+    try:
+        said = circle.said()
+    finally:
+        circle.kill()
+    assert circle.process.returncode != 0
+    assert answered_s < POSE_TIMEOUT_S + 1.0, said
     hosts.sim = hosts.start_sim()
     restarted = time.monotonic()
     while PoseLog.read(hosts.log).poses[-1, 0] < restarted:  # it is up: it publishes poses
