@@ -14,7 +14,7 @@ from turtle_traj.core.turtlesim_contract import STEP_S
 
 pytestmark = pytest.mark.system  # starts a program: `make check` leaves it out
 
-SETTLE_S = 1.5  # the lock needs half a second of poses, then a few ticks
+SETTLE_S = 1.5  # the lock needs a fifth of a second of poses; the simulator, time to start
 MEASURE_S = 1.5
 
 

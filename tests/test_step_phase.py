@@ -9,16 +9,16 @@ import random
 
 import pytest
 
-from turtle_traj.core.control.step_phase import DEAD_BAND, StepPhase
+from turtle_traj.core.control.step_phase import DEAD_BAND, KNOWN, StepPhase
 
 STEP_S = 0.016
 
 
 def _run(pose_phase: float, seconds: float, *, pose_period_s: float = STEP_S,
-         delay=lambda k: 0.0, late=lambda n: 0.0) -> list[float]:
+         delay=lambda k: 0.0, late=lambda n: 0.0, driving=lambda t: False) -> list[float]:
     """Tick times of a timer locked by `StepPhase` to poses published at `pose_phase` (in
     steps) of each period and delivered `delay(k)` later; a tick fires `late(n)` after its
-    call time."""
+    call time; a run is driven while `driving(t)`."""
     phase = StepPhase(STEP_S)
     arrivals = sorted(pose_phase * pose_period_s + k * pose_period_s + delay(k)
                       for k in range(int(seconds / pose_period_s)))
@@ -27,7 +27,7 @@ def _run(pose_phase: float, seconds: float, *, pose_period_s: float = STEP_S,
         while call_s + late(n) < arrival:
             fired = call_s + late(n)
             call_s += period  # rcl: the next call is fixed as the timer fires
-            period = phase.next_period(fired)
+            period = phase.next_period(fired, hold=driving(fired))
             ticks.append(fired)
             n += 1
         phase.pose_arrived(arrival)
@@ -46,6 +46,25 @@ def test_ticks_move_to_mid_step_whatever_the_phase_they_started_at(pose_phase):
     assert all(abs(after - 0.5) <= DEAD_BAND for after in settled), settled
     # locked, the timer keeps the robot's rate: one tick a step
     assert (ticks[-1] - ticks[-61]) / 60 == pytest.approx(STEP_S, rel=0.02)
+
+
+@pytest.mark.parametrize('pose_phase', [0.0, 0.25, 0.49, 0.51, 0.97])
+def test_the_lock_settles_in_a_fifth_of_a_second_of_poses(pose_phase):
+    # a run sent as soon as the node has heard the simulator starts locked (the first run of
+    # the two-host recipe began 0.15 to 0.5 s after the node's first pose, in 75 runs)
+    ticks = _run(pose_phase, 1.0)
+    after = _after_poses([tick for tick in ticks if tick >= 0.2], pose_phase)
+    assert all(abs(phase - 0.5) <= DEAD_BAND for phase in after), after
+
+
+def test_a_driven_run_keeps_its_phase_and_the_lock_resumes_after_it():
+    # a run from the first pose: its ticks stay where they began (each command was predicted
+    # to act until the next tick); then the lock moves them
+    ticks = _run(0.03, 2.0, driving=lambda t: t < 1.0)
+    during = [tick for tick in ticks if tick < 1.0]
+    assert all(b - a == pytest.approx(STEP_S, abs=1e-9) for a, b in zip(during, during[1:]))
+    after = _after_poses([tick for tick in ticks if tick >= 1.2], 0.03)
+    assert all(abs(phase - 0.5) <= DEAD_BAND for phase in after), after
 
 
 def test_late_poses_and_late_ticks_do_not_pull_the_lock_off_mid_step():
@@ -69,7 +88,7 @@ def test_poses_at_another_rate_leave_the_timer_at_its_period():
 
 def test_before_enough_poses_the_timer_keeps_its_period():
     phase = StepPhase(STEP_S)
-    for k in range(10):
+    for k in range(KNOWN):  # one phase fewer than KNOWN: the first has no interval
         phase.pose_arrived(k * STEP_S)
     assert phase.tick_error(0.2) is None
     assert phase.next_period(0.2) == STEP_S

@@ -13,11 +13,14 @@ from turtle_traj.core.control.step_phase import StepPhase
 class ControlTimer:
     """Calls `on_tick` every `period_s` on the node clock. On wall-clock time, the ticks are
     moved to mid-step of a robot whose poses arrive at that period (`pose_arrived`, called as
-    each pose arrives): the timer's period is nudged until they are. On simulated time the
-    robot steps on the node's own clock: nothing to lock."""
+    each pose arrives): the timer's period is set until they are, between runs (`driving`
+    says whether one is driven). On simulated time the robot steps on the node's own clock:
+    nothing to lock."""
 
-    def __init__(self, node: Node, period_s: float, on_tick: Callable[[], None]) -> None:
+    def __init__(self, node: Node, period_s: float, on_tick: Callable[[], None],
+                 driving: Callable[[], bool]) -> None:
         self._on_tick = on_tick
+        self._driving = driving
         self._phase = StepPhase(period_s)
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
         self._node_clock = node.get_clock()
@@ -36,7 +39,8 @@ class ControlTimer:
     def _tick(self) -> None:
         fired_s = self._now_s()
         self._on_tick()
-        period_s = self._phase.next_period(fired_s) if self._locks else self._phase.period_s
+        period_s = (self._phase.next_period(fired_s, hold=self._driving()) if self._locks
+                    else self._phase.period_s)
         period_ns = round(period_s * 1e9)
         if period_ns != self._period_ns:
             self.timer.timer_period_ns = self._period_ns = period_ns

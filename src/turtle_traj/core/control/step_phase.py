@@ -12,9 +12,13 @@ the command's arrival as far from both edges as it can be: only a delay of half 
 
 Each pose is published as the robot steps, so the poses' arrival times give the step's phase
 (on this node's clock, whatever the robot's clock says). `next_period` returns the timer period
-that moves the next ticks towards mid-step: a phase-locked loop whose correction takes effect a
-tick later (a timer's next call is fixed when it fires), with a gain that settles in a few ticks
-and a dead band that leaves a locked timer at its period.
+that moves the next ticks to mid-step: between runs, the whole error at once, counting the
+correction already on its way (a timer's next call is fixed when it fires, so a period set at a
+tick takes effect a tick later); a dead band leaves a locked timer at its period. While a run is
+driven the period is held: each command was predicted to act until the next tick, and a tick
+moved across the step's edge makes a command act a step more or less than predicted (at a
+corner's approach, a step at full speed past it). So the lock settles in the first tenths of a
+second of poses, before the first run, and a run keeps the phase it started with.
 """
 
 from __future__ import annotations
@@ -23,11 +27,13 @@ import math
 from collections import deque
 
 TARGET = 0.5  # steps after the pose's arrival: mid-step
-GAIN = 0.25  # of the phase error corrected each tick (critically damped with the tick's delay)
-MAX_CORRECTION = 0.125  # steps: the most one period is shortened or lengthened
+MAX_CORRECTION = 0.5  # steps: the most one period is shortened or lengthened (any phase, once)
 DEAD_BAND = 0.1  # steps: a phase error this small is left alone
 STEADY = (0.75, 1.25)  # an arrival this many steps after the one before shows the phase
 WINDOW = 64  # arrivals remembered (about 1 s of turtlesim's)
+# steady arrivals that show the phase: 0.13 s of turtlesim's poses. Their mean is good to a few
+# hundredths of a step, as each lands within a quarter step (STEADY); more refine it.
+KNOWN = 8
 
 
 class StepPhase:
@@ -42,6 +48,7 @@ class StepPhase:
         self._origin_s: float | None = None
         self._last_arrival_s: float | None = None
         self._phases: deque[float] = deque(maxlen=WINDOW)  # radians, of steady arrivals
+        self._pending = 0.0  # steps: the correction set at the last tick, not yet in effect
 
     def pose_arrived(self, now_s: float) -> None:
         """A pose arrived (seconds, on the clock the ticks are given on)."""
@@ -58,7 +65,7 @@ class StepPhase:
     def step_phase(self) -> float | None:
         """When the poses arrive, as a fraction of a step after the origin (None: not yet
         known, or they do not arrive once a period)."""
-        if len(self._phases) < WINDOW // 2:
+        if len(self._phases) < KNOWN:
             return None
         angle = math.atan2(sum(map(math.sin, self._phases)), sum(map(math.cos, self._phases)))
         return (angle / (2.0 * math.pi)) % 1.0
@@ -70,14 +77,20 @@ class StepPhase:
             return None
         return (self._in_steps(now_s) - arrival - TARGET + 0.5) % 1.0 - 0.5
 
-    def next_period(self, now_s: float) -> float:
-        """The timer period to set at a tick at `now_s` (seconds): shorter while the ticks fall
-        after mid-step, longer while before, the period itself once they are there."""
+    def next_period(self, now_s: float, *, hold: bool = False) -> float:
+        """The timer period to set at a tick at `now_s` (seconds): one that brings the tick
+        after next to mid-step, counting the correction set at the last tick; the period itself
+        once the ticks are there, before the phase is known, and while `hold` (a run is
+        driven)."""
+        pending, self._pending = self._pending, 0.0
         error = self.tick_error(now_s)
-        if error is None or abs(error) < DEAD_BAND:
+        if hold or error is None:
             return self.period_s
-        correction = max(-MAX_CORRECTION, min(MAX_CORRECTION, GAIN * error))
-        return self.period_s * (1.0 - correction)
+        error = (error + pending + 0.5) % 1.0 - 0.5  # where the tick after next would fall
+        if abs(error) < DEAD_BAND:
+            return self.period_s
+        self._pending = -max(-MAX_CORRECTION, min(MAX_CORRECTION, error))
+        return self.period_s * (1.0 + self._pending)
 
     def _in_steps(self, time_s: float) -> float:
         return ((time_s - self._origin_s) / self.period_s) % 1.0
