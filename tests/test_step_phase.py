@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import random
 
+import numpy as np
 import pytest
 
 from turtle_traj.core.control.step_phase import DEAD_BAND, KNOWN, StepPhase
@@ -62,7 +63,7 @@ def test_a_driven_run_keeps_its_phase_and_the_lock_resumes_after_it():
     # to act until the next tick); then the lock moves them
     ticks = _run(0.03, 2.0, driving=lambda t: t < 1.0)
     during = [tick for tick in ticks if tick < 1.0]
-    assert all(b - a == pytest.approx(STEP_S, abs=1e-9) for a, b in zip(during, during[1:]))
+    assert np.diff(during) == pytest.approx(STEP_S, abs=1e-9)
     after = _after_poses([tick for tick in ticks if tick >= 1.2], 0.03)
     assert all(abs(phase - 0.5) <= DEAD_BAND for phase in after), after
 
