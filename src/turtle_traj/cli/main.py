@@ -208,6 +208,11 @@ def main(args: Sequence[str] | None = None) -> int:
 def _main(args: Sequence[str] | None) -> int:
     parser = build_parser()
     options = parser.parse_args(args)
+    # Our programs' Fast DDS settings (fastdds.xml), for the command line's requests too: by
+    # UDP, a request lost at a busy node's full socket buffer waits for the sender's next
+    # heartbeat, 3 s by Fast DDS's default, a few milliseconds by ours.
+    from turtle_traj.rosutils.runtime import use_our_fastdds_profile
+    use_our_fastdds_profile()
     trajectory = getattr(options, 'trajectory', None)
     for item in trajectory.fields if trajectory is not None else ():
         if item.type == POINTS:  # from the command line, then from --file

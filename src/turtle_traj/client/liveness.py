@@ -1,5 +1,7 @@
-"""Noticing that a node went away mid-run: its feedback falls silent, then it leaves a
-parameter request unanswered (a busy node answers that at once; a killed one never does)."""
+"""Noticing that a node went away mid-run: its feedback falls silent, then it leaves parameter
+requests unanswered (a busy node answers one at once; a killed one never does). The request is
+sent again each second while unanswered: one can be lost (a busy program's full socket buffer
+drops it), and a node that has not yet matched our reply reader cannot answer it."""
 
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ from rclpy.task import Future
 
 FEEDBACK_SILENCE_S = 2.0  # no feedback for this long: ask whether the node still answers
 PROBE_TIMEOUT_S = 3.0  # no answer within this: the node is gone
+PROBE_RESEND_S = 1.0  # a probe not answered within this is sent again
 
 
 class Liveness:
@@ -20,24 +23,34 @@ class Liveness:
     def __init__(self, node: Node, node_name: str) -> None:
         self._client = node.create_client(GetParameters, f'{node_name}/get_parameters')
         self.last_heard = time.monotonic()
-        self._probe: tuple[Future, float] | None = None
+        self._probes: list[Future] = []  # sent since the node was last heard
+        self._first_probe_s = self._last_probe_s = 0.0
 
     def heard(self) -> None:
-        self.last_heard, self._probe = time.monotonic(), None
+        self.last_heard = time.monotonic()
+        for probe in self._probes:  # left unanswered: the client forgets them
+            self._client.remove_pending_request(probe)
+        self._probes = []
 
     def silence_s(self) -> float:
         return time.monotonic() - self.last_heard
 
     def gone(self) -> bool:
-        """True once the node has been silent and then left a probe unanswered too long."""
+        """True once the node has been silent and then left its probes unanswered too long."""
         now = time.monotonic()
         if now - self.last_heard < FEEDBACK_SILENCE_S:
             return False
-        if self._probe is None:  # silent: does the node still answer at all?
-            request = GetParameters.Request(names=['turtle_name'])
-            self._probe = (self._client.call_async(request), now)
-        elif self._probe[0].done():
+        if any(probe.done() for probe in self._probes):
             self.heard()
-        elif now - self._probe[1] > PROBE_TIMEOUT_S:
+            return False
+        if self._probes and now - self._first_probe_s > PROBE_TIMEOUT_S:
             return True
+        if not self._probes or now - self._last_probe_s > PROBE_RESEND_S:
+            self._probe(now)  # silent: does the node still answer at all?
         return False
+
+    def _probe(self, now: float) -> None:
+        if not self._probes:
+            self._first_probe_s = now
+        self._last_probe_s = now
+        self._probes.append(self._client.call_async(GetParameters.Request(names=['turtle_name'])))

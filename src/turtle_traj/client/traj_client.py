@@ -169,6 +169,7 @@ class TrajClient:
             handle = goal_handle(action, goal_id, handle, repeated=len(sent) > 1)
             if not handle.accepted:
                 raise GoalRejected(f'{self.node_name} rejected the goal')
+            liveness.heard()  # the acceptance: the silence counts from here, not the request
             result = self._follow(goal.trajectory, handle, liveness, timeout_s)
         except KeyboardInterrupt:
             return self._cancel(action, goal_id, sent, INTERRUPTED)
@@ -203,7 +204,7 @@ class TrajClient:
             if liveness.gone():
                 raise TrajClientError(
                     f'{self.node_name} stopped answering during the {name} (no feedback for '
-                    f'{liveness.silence_s():.0f} s, no reply to a parameter request): it was '
+                    f'{liveness.silence_s():.0f} s, no reply to parameter requests): it was '
                     "probably killed. The turtle stops 1 s after the node's last command "
                     f"(turtlesim's command timeout); {_START_ONE}")
         return result.result()
