@@ -61,7 +61,9 @@ def test_a_lost_goal_answer_ends_as_one_run_reported_truthfully(running_system, 
         outcome = client.draw(make_goal(BY_NAME['square'], {'size': 1.0}),
                               on_feedback=lambda feedback: progress.append(feedback.progress),
                               timeout_s=30.0)
-        assert len(requests) == 2 and requests[0] == requests[1]  # one goal id, sent twice
+        # one goal id, sent again while unanswered: twice, or more where the second answer
+        # took over ANSWER_WAIT_S (this test at nice 19 beside a loaded suite, once)
+        assert len(requests) >= 2 and len(set(requests)) == 1, len(requests)
         assert len(result_requests) >= 2  # the result was asked for again
         assert outcome.status == GoalStatus.STATUS_SUCCEEDED and not outcome.cancelled
         assert outcome.result.message == 'square done'
