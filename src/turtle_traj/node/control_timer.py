@@ -37,10 +37,13 @@ class ControlTimer:
             self._phase.pose_arrived(self._now_s())
 
     def _tick(self) -> None:
-        fired_s = self._now_s()
         self._on_tick()
-        period_s = (self._phase.next_period(fired_s, hold=self._driving()) if self._locks
-                    else self._phase.period_s)
+        until_next_ns = self.timer.time_until_next_call()  # fixed as the timer fired
+        if self._locks and until_next_ns is not None:
+            next_call_s = self._now_s() + until_next_ns * 1e-9
+            period_s = self._phase.next_period(next_call_s, hold=self._driving())
+        else:
+            period_s = self._phase.period_s
         period_ns = round(period_s * 1e9)
         if period_ns != self._period_ns:
             self.timer.timer_period_ns = self._period_ns = period_ns

@@ -11,14 +11,14 @@ deadbeat approach then draws one step past it). A tick half a step after the pos
 the command's arrival as far from both edges as it can be: only a delay of half a step moves it.
 
 Each pose is published as the robot steps, so the poses' arrival times give the step's phase
-(on this node's clock, whatever the robot's clock says). `next_period` returns the timer period
-that moves the next ticks to mid-step: between runs, the whole error at once, counting the
-correction already on its way (a timer's next call is fixed when it fires, so a period set at a
-tick takes effect a tick later); a dead band leaves a locked timer at its period. While a run is
-driven the period is held: each command was predicted to act until the next tick, and a tick
-moved across the step's edge makes a command act a step more or less than predicted (at a
-corner's approach, a step at full speed past it). So the lock settles in the first tenths of a
-second of poses, before the first run, and a run keeps the phase it started with.
+(on this node's clock, whatever the robot's clock says). The timer's schedule is what is locked,
+not the times its callbacks ran (a loaded executor runs them late, by chance): a timer's next call
+is fixed as it fires, so `next_period`, given that call's time, returns the period that brings the
+call after it to mid-step, the whole error at once between runs; a dead band leaves a locked timer
+at its period. While a run is driven the period is held: each command was predicted to act until
+the next tick, and a tick moved across the step's edge makes a command act a step more or less than
+predicted (at a corner's approach, a step at full speed past it). So the lock settles in the first
+tenths of a second of poses, before the first run, and a run keeps the phase it started with.
 """
 
 from __future__ import annotations
@@ -48,7 +48,6 @@ class StepPhase:
         self._origin_s: float | None = None
         self._last_arrival_s: float | None = None
         self._phases: deque[float] = deque(maxlen=WINDOW)  # radians, of steady arrivals
-        self._pending = 0.0  # steps: the correction set at the last tick, not yet in effect
 
     def pose_arrived(self, now_s: float) -> None:
         """A pose arrived (seconds, on the clock the ticks are given on)."""
@@ -77,20 +76,14 @@ class StepPhase:
             return None
         return (self._in_steps(now_s) - arrival - TARGET + 0.5) % 1.0 - 0.5
 
-    def next_period(self, now_s: float, *, hold: bool = False) -> float:
-        """The timer period to set at a tick at `now_s` (seconds): one that brings the tick
-        after next to mid-step, counting the correction set at the last tick; the period itself
-        once the ticks are there, before the phase is known, and while `hold` (a run is
-        driven)."""
-        pending, self._pending = self._pending, 0.0
-        error = self.tick_error(now_s)
-        if hold or error is None:
+    def next_period(self, next_call_s: float, *, hold: bool = False) -> float:
+        """The timer period to set at a tick whose next call is at `next_call_s` (seconds): one
+        that brings the call after it to mid-step; the period itself once the calls are there,
+        before the phase is known, and while `hold` (a run is driven)."""
+        error = self.tick_error(next_call_s)
+        if hold or error is None or abs(error) < DEAD_BAND:
             return self.period_s
-        error = (error + pending + 0.5) % 1.0 - 0.5  # where the tick after next would fall
-        if abs(error) < DEAD_BAND:
-            return self.period_s
-        self._pending = -max(-MAX_CORRECTION, min(MAX_CORRECTION, error))
-        return self.period_s * (1.0 + self._pending)
+        return self.period_s * (1.0 - max(-MAX_CORRECTION, min(MAX_CORRECTION, error)))
 
     def _in_steps(self, time_s: float) -> float:
         return ((time_s - self._origin_s) / self.period_s) % 1.0
