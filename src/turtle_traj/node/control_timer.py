@@ -13,9 +13,9 @@ from turtle_traj.core.control.step_phase import StepPhase
 class ControlTimer:
     """Calls `on_tick` every `period_s` on the node clock. On wall-clock time, the ticks are
     moved to mid-step of a robot whose poses arrive at that period (`pose_arrived`, called as
-    each pose arrives): the timer's period is set until they are, between runs (`driving`
-    says whether one is driven). On simulated time the robot steps on the node's own clock:
-    nothing to lock."""
+    each pose arrives): the timer's period is set until they are, at once between runs and
+    gently while one is driven (`driving` says whether one is). On simulated time the robot
+    steps on the node's own clock: nothing to lock."""
 
     def __init__(self, node: Node, period_s: float, on_tick: Callable[[], None],
                  driving: Callable[[], bool]) -> None:
@@ -41,7 +41,7 @@ class ControlTimer:
         until_next_ns = self.timer.time_until_next_call()  # fixed as the timer fired
         if self._locks and until_next_ns is not None:
             next_call_s = self._now_s() + until_next_ns * 1e-9
-            period_s = self._phase.next_period(next_call_s, hold=self._driving())
+            period_s = self._phase.next_period(next_call_s, driving=self._driving())
         else:
             period_s = self._phase.period_s
         period_ns = round(period_s * 1e9)

@@ -14,11 +14,11 @@ Each pose is published as the robot steps, so the poses' arrival times give the 
 (on this node's clock, whatever the robot's clock says). The timer's schedule is what is locked,
 not the times its callbacks ran (a loaded executor runs them late, by chance): a timer's next call
 is fixed as it fires, so `next_period`, given that call's time, returns the period that brings the
-call after it to mid-step, the whole error at once between runs; a dead band leaves a locked timer
-at its period. While a run is driven the period is held: each command was predicted to act until
-the next tick, and a tick moved across the step's edge makes a command act a step more or less than
-predicted (at a corner's approach, a step at full speed past it). So the lock settles in the first
-tenths of a second of poses, before the first run, and a run keeps the phase it started with.
+call after it towards mid-step; a dead band leaves a locked timer at its period. Between runs the
+whole error is corrected at once, so the lock settles in the first tenths of a second of poses,
+before the first run. While a run is driven, a quarter of it, at most an eighth of a step a tick:
+the poses' phase moves by a millisecond or two once the turtle is driven, and a tick that moves
+towards mid-step moves away from both edges, so no command acts a step more or less than predicted.
 """
 
 from __future__ import annotations
@@ -28,6 +28,8 @@ from collections import deque
 
 TARGET = 0.5  # steps after the pose's arrival: mid-step
 MAX_CORRECTION = 0.5  # steps: the most one period is shortened or lengthened (any phase, once)
+DRIVING_GAIN = 0.25  # of the error corrected each tick while a run is driven
+DRIVING_MAX_CORRECTION = 0.125  # steps: the most a period changes while a run is driven
 DEAD_BAND = 0.1  # steps: a phase error this small is left alone
 STEADY = (0.75, 1.25)  # an arrival this many steps after the one before shows the phase
 WINDOW = 64  # arrivals remembered (about 1 s of turtlesim's)
@@ -76,14 +78,19 @@ class StepPhase:
             return None
         return (self._in_steps(now_s) - arrival - TARGET + 0.5) % 1.0 - 0.5
 
-    def next_period(self, next_call_s: float, *, hold: bool = False) -> float:
+    def next_period(self, next_call_s: float, *, driving: bool = False) -> float:
         """The timer period to set at a tick whose next call is at `next_call_s` (seconds): one
-        that brings the call after it to mid-step; the period itself once the calls are there,
-        before the phase is known, and while `hold` (a run is driven)."""
+        that brings the call after it to mid-step, or while `driving` (a run is driven) a
+        quarter of the way; the period itself once the calls are there, and before the phase
+        is known."""
         error = self.tick_error(next_call_s)
-        if hold or error is None or abs(error) < DEAD_BAND:
+        if error is None or abs(error) < DEAD_BAND:
             return self.period_s
-        return self.period_s * (1.0 - max(-MAX_CORRECTION, min(MAX_CORRECTION, error)))
+        if driving:
+            limit, error = DRIVING_MAX_CORRECTION, DRIVING_GAIN * error
+        else:
+            limit = MAX_CORRECTION
+        return self.period_s * (1.0 - max(-limit, min(limit, error)))
 
     def _in_steps(self, time_s: float) -> float:
         return ((time_s - self._origin_s) / self.period_s) % 1.0
