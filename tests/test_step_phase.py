@@ -74,6 +74,19 @@ def test_while_a_run_is_driven_the_ticks_move_a_little_at_a_time():
     assert all(abs(phase - 0.5) <= DEAD_BAND for phase in after), after
 
 
+def test_late_poses_and_late_ticks_do_not_pull_the_lock_off_mid_step():
+    noise = random.Random(7)
+    delays = {k: noise.uniform(0.0, 0.003) + (0.04 if k % 50 == 0 else 0.0)
+              for k in range(400)}  # a few ms each, and a stall every 50th
+    calls: list[float] = []
+    _run(0.2, 6.0, delay=delays.__getitem__, late=lambda n: noise.uniform(0.0, 0.002),
+         calls=calls)
+    settled = _after_poses(calls[-100:], 0.2)
+    # the step is where the least delayed poses arrive (a tenth of them are delayed less than
+    # 0.3 ms), not their mean (1.5 ms late, which would put the calls 0.09 step later)
+    assert sum(settled) / len(settled) == pytest.approx(0.5 + 0.0003 / STEP_S, abs=0.04)
+
+
 def test_ticks_run_late_by_chance_leave_the_schedule_in_mid_step():
     # a loaded executor runs each callback up to 6 ms late: the timer's calls, which the
     # lateness does not move, stay in mid-step (locking the times the callbacks ran instead
