@@ -10,8 +10,8 @@ and hedges: slower drawings), or stays on one side until a stall flips it at a c
 deadbeat approach then draws one step past it). A tick half a step after the poses arrive puts
 the command's arrival as far from both edges as it can be: only a delay of half a step moves it.
 
-Each pose is published as the robot steps, so the poses' arrival times give the step's phase
-(on this node's clock, whatever the robot's clock says). The timer's schedule is what is locked,
+Each pose is published as the robot steps, so the least delayed poses' arrival times give the
+step's phase (on this node's clock, whatever the robot's clock says). The timer's schedule is what is locked,
 not the times its callbacks ran (a loaded executor runs them late, by chance): a timer's next call
 is fixed as it fires, so `next_period`, given that call's time, returns the period that brings the
 call after it towards mid-step; a dead band leaves a locked timer at its period. Between runs the
