@@ -11,14 +11,15 @@ deadbeat approach then draws one step past it). A tick half a step after the pos
 the command's arrival as far from both edges as it can be: only a delay of half a step moves it.
 
 Each pose is published as the robot steps, so the least delayed poses' arrival times give the
-step's phase (on this node's clock, whatever the robot's clock says). The timer's schedule is what is locked,
-not the times its callbacks ran (a loaded executor runs them late, by chance): a timer's next call
-is fixed as it fires, so `next_period`, given that call's time, returns the period that brings the
-call after it towards mid-step; a dead band leaves a locked timer at its period. Between runs the
-whole error is corrected at once, so the lock settles in the first tenths of a second of poses,
-before the first run. While a run is driven, a quarter of it, at most an eighth of a step a tick:
-the poses' phase moves by a millisecond or two once the turtle is driven, and a tick that moves
-towards mid-step moves away from both edges, so no command acts a step more or less than predicted.
+step's phase (on this node's clock, whatever the robot's clock says). The timer's schedule is what
+is locked, not the times its callbacks ran (a loaded executor runs them late, by chance): a timer's
+next call is fixed as it fires, so `next_period`, given that call's time, returns the period that
+brings the call after it towards mid-step; a dead band leaves a locked timer at its period. Between
+runs the whole error is corrected at once, so the lock settles in the first tenths of a second of
+poses, before the first run. While a run is driven, a quarter of it, at most an eighth of a step a
+tick: the poses' phase moves by a millisecond or two once the turtle is driven, and a tick that
+moves towards mid-step moves away from both edges, so no command acts a step more or less than
+predicted.
 """
 
 from __future__ import annotations
