@@ -240,6 +240,25 @@ def test_another_threads_garbage_collection_does_not_excuse_a_slow_controller():
     assert _reported_late_s(run.run.ending[1]) >= 0.05
 
 
+def test_a_cpu_wait_as_the_answer_is_timed_is_not_taken_off_the_controllers_time(monkeypatch):
+    """The slow controller's 50 ms still read as 50 ms when the thread waits 30 ms for a CPU
+    as its answer is timed, inside the excuse's own reading (a loaded full run reported a 1 s
+    sleep as 0.996 s: a wait after the clock was read, then excused from the time)."""
+    from turtle_traj.core.control import strokes
+    reads, waited = [], [0.0]
+
+    def busy_machine() -> float:  # each answer's second reading waits 30 ms for a CPU
+        reads.append(None)
+        if len(reads) % 2 == 0:
+            time.sleep(0.03)
+            waited[0] += 0.03
+        return waited[0]
+    monkeypatch.setattr(strokes, '_not_the_controllers_s', busy_machine)
+    points, start, plan = _step_course(90)
+    run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, controller=Chosen('bad', _Slow))
+    assert _reported_late_s(run.run.ending[1]) >= 0.05
+
+
 def test_commands_beyond_the_limits_are_clamped_and_counted():
     points, start, plan = _step_course(45)
     run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, max_s=5.0,
