@@ -59,7 +59,7 @@ class TrajectoryNode(Node):
         self.stop_service = self._commands.stop_service
 
         self._control = ControlTimer(self, 1.0 / self.get_parameter('control_rate').value,
-                                     runs.on_control_timer, lambda: runs.run is not None)
+                                     runs.on_control_timer, lambda: self.busy)
         runs.watch_arrivals(self._control.pose_arrived)
         self.create_timer(WATCHDOG_PERIOD_S, runs.on_watchdog,
                           clock=Clock(clock_type=ClockType.STEADY_TIME))
