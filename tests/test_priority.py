@@ -1,6 +1,7 @@
-"""The node's program asks for a scheduling priority ahead of ordinary work, for every thread,
-and says why not when it may not have it (`turtle_traj.rosutils.priority`). Each case runs in a
-Python of its own: the test process keeps its own priority."""
+"""The node's and the simulator's programs ask for a scheduling priority ahead of ordinary work,
+with a short slice, for every thread, and say why not when they may not have it
+(`turtle_traj.rosutils.priority`). Each case runs in a Python of its own: the test process keeps
+its own priority."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import sys
 
 import pytest
 
-from turtle_traj.rosutils.priority import NICE
+from turtle_traj.rosutils.priority import NICE, SLICE_S
 from turtle_traj.testing.processes import program_nice
 
 _PROBE = '''
@@ -29,10 +30,19 @@ if sys.argv[1] == 'refused':
 else:
     said = priority.raise_priority(int(sys.argv[1]))
 late = []
-after = threading.Thread(target=lambda: late.append(os.getpriority(os.PRIO_PROCESS, 0)))
-after.start(); after.join()
+after = threading.Thread(target=lambda: (late.append(os.getpriority(os.PRIO_PROCESS, 0)),
+                                         time.sleep(1)))
+after.start()
 nice = program_nice(os.getpid())
-print(json.dumps([said.nice, said.granted, str(said), sorted(nice), late[0]]))
+slices = set()
+for thread in os.listdir('/proc/self/task'):  # the scheduler's own account (CONFIG_SCHED_DEBUG)
+    try:
+        with open(f'/proc/self/task/{thread}/sched') as sched:
+            slices |= {int(line.split(':')[1]) for line in sched if line.startswith('se.slice')}
+    except OSError:
+        pass
+after.join()
+print(json.dumps([said.nice, said.granted, str(said), sorted(nice), late[0], sorted(slices)]))
 '''
 
 
@@ -44,26 +54,32 @@ def _probe(asked: str) -> list:
 
 @pytest.mark.skipif(os.geteuid() != 0, reason='a negative nice value needs root here')
 def test_every_thread_and_those_started_later_run_at_the_nice_value_asked_for():
-    nice, granted, said, threads, later = _probe('-7')
+    nice, granted, said, threads, later, slices = _probe('-7')
     assert (nice, granted, threads, later) == (-7, True, [-7], -7)
-    assert said == 'scheduling priority: nice -7'
+    if slices:  # the scheduler shows its slices: every thread has the one asked for
+        assert slices == [round(SLICE_S * 1e9)]
+        assert said == f'scheduling priority: nice -7, slice {SLICE_S * 1e3:g} ms'
+    else:
+        assert said.startswith('scheduling priority: nice -7')
 
 
 def test_a_priority_refused_is_said_with_the_way_to_allow_it():
-    nice, granted, said, threads, _ = _probe('refused')
+    nice, granted, said, threads, _, _ = _probe('refused')
     assert not granted and nice == threads[0] == os.getpriority(os.PRIO_PROCESS, 0)
     assert 'nice -10 refused: Not permitted' in said and 'CAP_SYS_NICE' in said
     assert '--nice 0' in said
 
 
 def test_a_priority_already_as_high_is_kept():
-    nice, granted, _, threads, _ = _probe('19')
+    nice, granted, _, threads, _, _ = _probe('19')
     assert granted and nice == threads[0] == os.getpriority(os.PRIO_PROCESS, 0)
 
 
 @pytest.mark.system
-def test_the_node_alone_runs_ahead_of_ordinary_work_and_says_so(tmp_path):
-    node = subprocess.Popen([sys.executable, '-m', 'turtle_traj', '--ros-args', '-r',
+@pytest.mark.parametrize('program', ['turtle_traj', 'turtle_traj.sim'])
+def test_the_node_alone_and_the_simulator_run_ahead_of_ordinary_work_and_say_so(
+        tmp_path, program):
+    node = subprocess.Popen([sys.executable, '-m', program, '--ros-args', '-r',
                              '__ns:=/priority_test'], cwd=tmp_path, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, text=True)
     try:
@@ -77,6 +93,6 @@ def test_the_node_alone_runs_ahead_of_ordinary_work_and_says_so(tmp_path):
         node.kill()
         node.communicate(timeout=15)
     if os.geteuid() == 0:
-        assert nice == {NICE} and f'scheduling priority: nice {NICE}\n' in said[-1], said
+        assert nice == {NICE} and f'scheduling priority: nice {NICE}' in said[-1], said
     else:
         assert 'refused' in said[-1] and 'CAP_SYS_NICE' in said[-1], said

@@ -11,6 +11,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.utilities import remove_ros_args
 
+from turtle_traj.rosutils.priority import NICE, add_priority_option, raise_priority
 from turtle_traj.rosutils.runtime import fail, run_nodes
 from turtle_traj.sim.gui import GuiUnavailable, Window
 from turtle_traj.sim.node import SimNode
@@ -29,6 +30,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help='start with the holonomic parameter set')
     parser.add_argument('--output-dir', type=Path, metavar='DIR',
                         help='folder the save_image service writes into (default: ./output)')
+    add_priority_option(parser, 'in real time (its steps are the robot\'s: a command a step '
+                                'late acts a step late); as started with --time-scale, which '
+                                'can take a whole core')
     return parser
 
 
@@ -85,13 +89,19 @@ def save_snapshot(node: SimNode, path: Path | None) -> None:
 
 def main(args: Sequence[str] | None = None) -> int:
     argv = list(sys.argv if args is None else ['turtle_traj.sim', *args])
-    options = options_from(build_parser().parse_args(remove_ros_args(argv)[1:]))
+    parsed = build_parser().parse_args(remove_ros_args(argv)[1:])
+    options = options_from(parsed)
     if (problem := options.problem()) is not None:
         return fail(problem)
+    nice = parsed.nice if parsed.nice is not None else NICE if options.time_scale is None else 0
+    priority = raise_priority(nice) if nice < 0 else None  # before ROS starts its threads
     nodes: list[Node] = []
 
     def create_nodes(stop: Callable[[], None]) -> list[Node]:
         nodes.extend(create_sim(options, stop))
+        if priority is not None:
+            logger = nodes[0].get_logger()
+            (logger.info if priority.granted else logger.warning)(str(priority))
         return nodes
 
     try:
