@@ -13,10 +13,11 @@ steps run in the node's thread, and a time-scaled physics base can take a whole 
 A nice value buys a larger share of the CPU, not a prompt wake-up: Linux's EEVDF scheduler
 (6.6+) lets a running thread finish its slice (1.4 ms here) before a woken one runs, and a
 woken thread may wait out several. So each thread also asks for a short slice
-(`sched_setattr`, honoured for ordinary threads since Linux 6.12): a thread with a shorter
-slice than the running one's preempts it as it wakes. Measured in the two-host recipe's loop
-(three copies beside two busy loops), commands that acted a step late fell from 3.4% (nice
--10) to 1.7% with the slice, and to 0.8% with the simulator's program raised as well.
+(`sched_setattr`; Linux 6.12 and later keep it for ordinary threads, older ones ignore it): a
+thread with a shorter slice than the running one's preempts it as it wakes. Measured in the
+two-host recipe's loop (three copies beside two busy loops), commands that acted a step late
+fell from 3.4% (nice -10) to 1.7% with the slice, and to 0.6% with the simulator's program
+raised as well (docs/concepts/robot-model.md).
 """
 
 from __future__ import annotations
@@ -42,7 +43,7 @@ class Priority:
     nice: int
     granted: bool
     reason: str = ''  # why not, when not granted
-    slice_s: float | None = None  # the scheduler slice, where this system took the one asked for
+    slice_s: float | None = None  # the scheduler slice, where the system call took it
 
     def __str__(self) -> str:
         if not self.granted:
