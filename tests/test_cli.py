@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from turtle_traj.cli import main as cli
-from turtle_traj.client.traj_client import TrajClient
+from turtle_traj.client.traj_client import TrajClient, seen_in_graph
 from turtle_traj.testing.processes import program_nice
 
 pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
@@ -173,3 +173,33 @@ def test_a_session_answers_each_call_as_a_process_of_its_own_would(running_syste
     finally:
         session.process.stdin.close()
         assert session.process.wait(timeout=30) == 0  # it ends with its input
+
+
+class _Graph:
+    """The ROS graph as a client's node sees it: nodes (name, namespace), and servers by node."""
+
+    def __init__(self, nodes: list[tuple[str, str]], servers: dict | None = None) -> None:
+        self.nodes, self.servers = nodes, servers or {}
+
+    def get_name(self) -> str:
+        return 'turtle_traj_cli_7_0'
+
+    def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        return [('turtle_traj_cli_7_0', '/'), *self.nodes]
+
+    def get_service_names_and_types_by_node(self, name: str, namespace: str) -> list:
+        return [(service, ['std_srvs/srv/Trigger'])
+                for service in self.servers.get((name, namespace), [])]
+
+
+@pytest.mark.parametrize(('graph', 'said'), [
+    (_Graph([]), '; no other node seen'),
+    (_Graph([('turtlesim', '/sim1'), ('turtle_traj', '/sim1')]),
+     '; nodes seen: /sim1/turtle_traj, /sim1/turtlesim'),
+    (_Graph([('turtle_traj', '/')], {('turtle_traj', '/'): ['/turtle_traj/stop']}),
+     '; /turtle_traj is seen, without /turtle_traj/reset'),
+    (_Graph([('turtle_traj', '/')], {('turtle_traj', '/'): ['/turtle_traj/reset']}),
+     '; /turtle_traj is seen serving /turtle_traj/reset, but never matched this client'),
+])
+def test_a_node_not_found_is_told_with_what_the_client_sees(graph, said):
+    assert seen_in_graph(graph, '/turtle_traj', '/turtle_traj/reset') == said

@@ -81,10 +81,24 @@ def run_page(page: Path, folder: Path) -> None:
                 assert done.returncode == 0, f'{shown} failed:\n{printed}'
             missing = _matches(expected, printed)
             assert missing is None, f'{shown}: no line like {missing!r} in\n{printed}'
+    except AssertionError as failure:  # what the programs left running said, and whether
+        raise AssertionError(f'{failure}{_stopped(background)}') from None  # they still ran
     finally:
-        for process in background:
+        _stopped(background)
+
+
+def _stopped(background: list[subprocess.Popen]) -> str:
+    """Stop the programs left running (once); what each said, and how it had ended if it had."""
+    said = ''
+    for process in background:
+        ended = process.poll()
+        if ended is None:
             os.killpg(process.pid, signal.SIGINT)
-            process.communicate(timeout=30)
+        output, _ = process.communicate(timeout=30)
+        state = 'still running' if ended is None else f'had ended with {ended}'
+        said += f'\n--- {process.args} ({state}) said:\n{output}'
+    background.clear()
+    return said
 
 
 def _started(argv: list[str], folder: Path, environment: dict) -> subprocess.Popen:

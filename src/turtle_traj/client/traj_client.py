@@ -15,6 +15,7 @@ import rclpy
 from action_msgs.msg import GoalStatus
 from rclpy.action import ActionClient
 from rclpy.context import Context
+from rclpy.node import Node
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.task import Future
 from rclpy.wait_for_message import wait_for_message
@@ -60,6 +61,23 @@ _CLIENT_NUMBERS = itertools.count()
 # busy, or draw twice.
 _SAFE_TO_REPEAT = frozenset(COMMAND_SERVICES)
 _ENDED = (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_CANCELED, GoalStatus.STATUS_ABORTED)
+
+
+def seen_in_graph(graph: Node, node_name: str, service: str) -> str:
+    """What `graph` (a node) sees of the node `node_name` it waited for: the node and its
+    `service` (they then never matched), or the other nodes (a wrong name, namespace or domain
+    shows there)."""
+    namespace, _, name = node_name.rpartition('/')
+    namespace = namespace or '/'
+    others = [(other, where) for other, where in graph.get_node_names_and_namespaces()
+              if other != graph.get_name()]
+    if (name, namespace) in others:
+        servers = graph.get_service_names_and_types_by_node(name, namespace)
+        if any(server == service for server, _ in servers):
+            return f'; {node_name} is seen serving {service}, but never matched this client'
+        return f'; {node_name} is seen, without {service}'
+    names = sorted(f"{where.rstrip('/')}/{other}" for other, where in others)
+    return f'; nodes seen: {", ".join(names)}' if names else '; no other node seen'
 
 
 class TrajClient:
@@ -125,7 +143,8 @@ class TrajClient:
         client = self._node.create_client(service_type, name)
         try:
             if not self._discovered(client.service_is_ready):
-                raise TrajClientError(missing.format(name=name))
+                raise TrajClientError(missing.format(name=name)
+                                      + seen_in_graph(self._node, self.node_name, name))
             if repeatable:
                 return self._answer(lambda: client.call_async(request), name,
                                     timeout_s=timeout_s)
@@ -151,9 +170,11 @@ class TrajClient:
         except KeyboardInterrupt:
             raise Interrupted('interrupted before the goal was sent: nothing runs') from None
         if not found:
+            goals = f'{self.node_name}/{DRAW_ACTION}/_action/send_goal'
             raise TrajClientError(
                 f'no trajectory node answers on {self.node_name}/{DRAW_ACTION} (waited '
-                f'{self.connect_timeout_s:g} s): {_START_ONE}')
+                f'{self.connect_timeout_s:g} s): {_START_ONE}'
+                f'{seen_in_graph(self._node, self.node_name, goals)}')
         liveness = Liveness(self._node, self.node_name)
 
         def feedback(message) -> None:
