@@ -29,9 +29,9 @@ if sys.argv[1] == 'refused':
         said = priority.raise_priority(-10)
 else:
     said = priority.raise_priority(int(sys.argv[1]))
-late = []
+late, listed = [], threading.Event()
 after = threading.Thread(target=lambda: (late.append(os.getpriority(os.PRIO_PROCESS, 0)),
-                                         time.sleep(1)))
+                                         listed.wait(5)))
 after.start()
 nice = program_nice(os.getpid())
 slices = set()
@@ -41,6 +41,7 @@ for thread in os.listdir('/proc/self/task'):  # the scheduler's own account (CON
             slices |= {int(line.split(':')[1]) for line in sched if line.startswith('se.slice')}
     except OSError:
         pass
+listed.set()
 after.join()
 print(json.dumps([said.nice, said.granted, str(said), sorted(nice), late[0], sorted(slices)]))
 '''

@@ -15,7 +15,7 @@ from rclpy.utilities import remove_ros_args
 
 from turtle_traj.node.trajectory_node import TrajectoryNode
 from turtle_traj.rosutils.lockstep import LockstepExecutor
-from turtle_traj.rosutils.priority import NICE, add_priority_option, raise_priority
+from turtle_traj.rosutils.priority import add_priority_option, priority_for
 from turtle_traj.rosutils.runtime import events_executor, fail, run_nodes
 from turtle_traj.sim.options import SimOptions, SimUnavailable, add_sim_options, options_from
 
@@ -66,9 +66,8 @@ def run(options: Options) -> int:
     if (problem := options.problem()) is not None:
         return fail(problem)
     sim_time = options.sim is not None and options.sim.time_scale is not None
-    nice = options.nice if options.nice is not None else (
-        NICE if options.sim is None and not options.base else 0)
-    priority = raise_priority(nice) if nice < 0 else None  # before ROS starts its threads
+    # the node alone (the robot elsewhere) by default; before ROS starts its threads
+    priority = priority_for(options.nice, by_default=options.sim is None and not options.base)
     beside = None
     if options.sim is not None and not options.base:  # loaded only when asked for
         from turtle_traj.apps.sim_beside import SimBeside
@@ -96,8 +95,7 @@ def run(options: Options) -> int:
                 node.destroy_node()
             raise
         if priority is not None:
-            logger = controllers[0].get_logger()
-            (logger.info if priority.granted else logger.warning)(str(priority))
+            priority.report(controllers[0].get_logger())
         return [*nodes, *controllers]
 
     def on_exit() -> list[Future | None]:

@@ -11,7 +11,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.utilities import remove_ros_args
 
-from turtle_traj.rosutils.priority import NICE, add_priority_option, raise_priority
+from turtle_traj.rosutils.priority import add_priority_option, priority_for
 from turtle_traj.rosutils.runtime import fail, run_nodes
 from turtle_traj.sim.gui import GuiUnavailable, Window
 from turtle_traj.sim.node import SimNode
@@ -93,15 +93,13 @@ def main(args: Sequence[str] | None = None) -> int:
     options = options_from(parsed)
     if (problem := options.problem()) is not None:
         return fail(problem)
-    nice = parsed.nice if parsed.nice is not None else NICE if options.time_scale is None else 0
-    priority = raise_priority(nice) if nice < 0 else None  # before ROS starts its threads
+    priority = priority_for(parsed.nice, by_default=options.time_scale is None)
     nodes: list[Node] = []
 
     def create_nodes(stop: Callable[[], None]) -> list[Node]:
         nodes.extend(create_sim(options, stop))
         if priority is not None:
-            logger = nodes[0].get_logger()
-            (logger.info if priority.granted else logger.warning)(str(priority))
+            priority.report(nodes[0].get_logger())
         return nodes
 
     try:

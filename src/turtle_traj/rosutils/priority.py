@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import ctypes
+import errno
 import os
 import platform
 import struct
@@ -52,6 +53,17 @@ class Priority:
             return f'scheduling priority: nice {self.nice}'
         return f'scheduling priority: nice {self.nice}, slice {self.slice_s * 1e3:g} ms'
 
+    def report(self, logger) -> None:
+        """Say it once at start-up: info when granted, a warning with the reason when not."""
+        (logger.info if self.granted else logger.warning)(str(self))
+
+
+def priority_for(asked: int | None, by_default: bool) -> Priority | None:
+    """The program's priority: `--nice` as `asked`, else `NICE` when `by_default`; None when
+    it runs as started (a value of 0 or more). Call it before rclpy starts its threads."""
+    nice = asked if asked is not None else NICE if by_default else 0
+    return raise_priority(nice) if nice < 0 else None
+
 
 def raise_priority(nice: int = NICE) -> Priority:
     """Run this process's threads at `nice`, with a short scheduler slice (`SLICE_S`), and so
@@ -68,23 +80,24 @@ def raise_priority(nice: int = NICE) -> Priority:
             with contextlib.suppress(ProcessLookupError):  # one that ended meanwhile
                 os.setpriority(os.PRIO_PROCESS, thread, nice)
     nice = os.getpriority(os.PRIO_PROCESS, 0)
-    sliced = all(_ask_for_slice(thread, nice) for thread in [0, *_others()])
-    return Priority(nice, True, slice_s=SLICE_S if sliced else None)
+    return Priority(nice, True, slice_s=SLICE_S if _ask_for_slice(nice) else None)
 
 
-def _ask_for_slice(thread: int, nice: int) -> bool:
-    """Give a thread (0: this one) the slice `SLICE_S` at `nice`; whether the system took it
-    (one that ended meanwhile counts as taken)."""
+def _ask_for_slice(nice: int) -> bool:
+    """Give every thread of this process the slice `SLICE_S` at `nice`; whether the system
+    took it (a thread that ended meanwhile counts as served)."""
     number = _SCHED_SETATTR.get(platform.machine())
-    if number is None or not hasattr(ctypes, 'CDLL'):
+    if number is None:
         return False
     # struct sched_attr (48 bytes): size, policy (SCHED_OTHER), flags, nice, priority,
     # runtime (the slice, ns), deadline, period, util_min, util_max
-    attr = struct.pack('=IIQiIQQQII', 48, 0, 0, nice, 0, round(SLICE_S * 1e9), 0, 0, 0, 0)
+    attr = ctypes.create_string_buffer(struct.pack(
+        '=IIQiIQQQII', 48, 0, 0, nice, 0, round(SLICE_S * 1e9), 0, 0, 0, 0))
     libc = ctypes.CDLL(None, use_errno=True)
-    if libc.syscall(number, thread, ctypes.create_string_buffer(attr), 0) == 0:
-        return True
-    return ctypes.get_errno() == 3  # ESRCH
+    for thread in [0, *_others()]:  # 0: this one
+        if libc.syscall(number, thread, attr, 0) != 0 and ctypes.get_errno() != errno.ESRCH:
+            return False
+    return True
 
 
 def _others() -> list[int]:
