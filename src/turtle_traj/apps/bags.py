@@ -15,7 +15,8 @@ from rclpy.task import Future
 from turtle_traj.bags.reader import Bag
 from turtle_traj.bags.recorder import TopicRecorder, default_topics
 from turtle_traj.bags.writer import BagError
-from turtle_traj.rosutils.runtime import events_executor, fail, run_nodes, use_our_fastdds_profile
+from turtle_traj.rosutils.fastdds_profile import use_our_fastdds_profile
+from turtle_traj.rosutils.runtime import events_executor, fail, run_nodes
 
 DISCOVERY_S = 2.0  # how long the recorder looks for the topics before it starts
 BAGS = Path('bags')  # where bags go by default (and where --last looks)

@@ -211,7 +211,7 @@ def _main(args: Sequence[str] | None) -> int:
     # Our programs' Fast DDS settings (fastdds.xml), for the command line's requests too: by
     # UDP, a request lost at a busy node's full socket buffer waits for the sender's next
     # heartbeat, 3 s by Fast DDS's default, a few milliseconds by ours.
-    from turtle_traj.rosutils.runtime import use_our_fastdds_profile
+    from turtle_traj.rosutils.fastdds_profile import use_our_fastdds_profile
     use_our_fastdds_profile()
     trajectory = getattr(options, 'trajectory', None)
     for item in trajectory.fields if trajectory is not None else ():

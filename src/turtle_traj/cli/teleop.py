@@ -36,8 +36,9 @@ from turtle_traj.core.teleop_keys import (
     SCALE_LINEAR,
     velocity,
 )
+from turtle_traj.rosutils.fastdds_profile import use_our_fastdds_profile
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
-from turtle_traj.rosutils.runtime import events_executor, fail, spin_until, use_our_fastdds_profile
+from turtle_traj.rosutils.runtime import events_executor, fail, spin_until
 
 BANNER = """Reading from keyboard
 ---------------------------

@@ -5,12 +5,11 @@ from __future__ import annotations
 import contextlib
 import gc
 import io
-import os
 import signal
 import sys
 import threading
 import time
-from collections.abc import Callable, Iterable, MutableMapping, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
 import rclpy
@@ -21,25 +20,14 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 
+from turtle_traj.rosutils.fastdds_profile import use_our_fastdds_profile
+
 # How long the executor may wait before Python gets to run a pending signal handler.
 _SIGNAL_LATENCY_S = 0.1
 # How long a program asked to stop waits for the answers to its last calls (`run_nodes`):
 # the simulator answers set_pen within a step; one that vanished never does.
 EXIT_GRACE_S = 1.0
 _STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}  # SIGHUP: terminal closed
-_FASTDDS_PROFILE = Path(__file__).with_name('fastdds.xml')
-_PROFILE_VARIABLES = ('FASTRTPS_DEFAULT_PROFILES_FILE', 'FASTDDS_DEFAULT_PROFILES_FILE')
-
-
-def use_our_fastdds_profile(environ: MutableMapping[str, str] = os.environ) -> bool:
-    """Point Fast DDS at fastdds.xml (quick re-announcement, quick repair of lost samples)
-    unless the user chose a profile file or another middleware; call before rclpy.init.
-    Returns whether it did."""
-    middleware = environ.get('RMW_IMPLEMENTATION', 'rmw_fastrtps_cpp')
-    if middleware != 'rmw_fastrtps_cpp' or any(environ.get(v) for v in _PROFILE_VARIABLES):
-        return False
-    environ['FASTRTPS_DEFAULT_PROFILES_FILE'] = str(_FASTDDS_PROFILE)
-    return True
 
 
 def events_executor(context: Context | None = None) -> Executor:

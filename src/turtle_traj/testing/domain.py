@@ -8,6 +8,8 @@ import tempfile
 from pathlib import Path
 from typing import IO
 
+from turtle_traj.rosutils.fastdds_profile import keep_to_this_machine
+
 LOCK_DIR = Path(tempfile.gettempdir()) / 'turtle_traj_domains'
 # Domain ids 1..101 map onto ports every Linux machine leaves free (ROS 2 docs, "Domain ID").
 DOMAIN_IDS = range(1, 102)
@@ -16,8 +18,9 @@ _claimed: tuple[int, IO] | None = None
 
 def claim_domain_id() -> int:
     """Claim a free ROS_DOMAIN_ID for the life of this process (a lock file held open) and set
-    the environment every later rclpy context and child process reads: the domain, local
-    discovery, and logs kept out of $HOME. Calling it again returns the same id.
+    the environment every later rclpy context and child process reads: the domain, discovery
+    kept to this machine (`keep_to_this_machine`), and logs kept out of $HOME. Calling it
+    again returns the same id.
 
     Call it before rclpy is initialised: a context reads the domain when it is created.
 
@@ -27,7 +30,7 @@ def claim_domain_id() -> int:
     if _claimed is None:
         _claimed = _lock_a_free_id()
         os.environ['ROS_DOMAIN_ID'] = str(_claimed[0])
-        os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+        keep_to_this_machine(os.environ)
         os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='turtle_traj_ros_logs_'))
     return _claimed[0]
 

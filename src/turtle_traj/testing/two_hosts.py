@@ -21,6 +21,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from turtle_traj.rosutils.fastdds_profile import across_hosts
+
 SUBNET = '10.213.{}.{}'
 NFT_TABLE = 'turtle_traj_faults'
 
@@ -101,10 +103,9 @@ class TwoHosts:
         tag = os.getpid() % 100000
         self.names = {'a': f'tt{tag}a', 'b': f'tt{tag}b'}  # namespace and its link: <= 15
         self.address = {'a': SUBNET.format(tag % 250, 1), 'b': SUBNET.format(tag % 250, 2)}
-        self.env = {**os.environ, 'ROS_DOMAIN_ID': str(domain_id),
-                    # across hosts: discovery by multicast on the subnet, and UDP only (Fast
-                    # DDS's shared memory would carry the data past the link between them)
-                    'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SUBNET',
+        self.env = {**across_hosts(os.environ), 'ROS_DOMAIN_ID': str(domain_id),
+                    # UDP only, also where our profile is not taken (Fast DDS's shared memory
+                    # would carry the data past the link between the hosts)
                     'FASTDDS_BUILTIN_TRANSPORTS': 'UDPv4'}
         self._made: list[str] = []
         self._processes: list[subprocess.Popen] = []
