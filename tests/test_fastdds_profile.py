@@ -3,6 +3,7 @@ under LOCALHOST, its copy kept to this machine, which every participant of the t
 
 import subprocess
 import sys
+import tempfile
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
@@ -13,6 +14,7 @@ from turtle_traj.rosutils.fastdds_profile import (
     across_hosts,
     keep_to_this_machine,
     localhost_profile,
+    localhost_profile_text,
     use_our_fastdds_profile,
 )
 
@@ -130,3 +132,17 @@ def test_a_process_started_by_one_kept_to_this_machine_keeps_its_copy():
     keep_to_this_machine(theirs)  # their profile stays, kept to this machine by rmw_fastrtps
     assert theirs == {'FASTDDS_DEFAULT_PROFILES_FILE': '/theirs.xml',
                       'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST'}
+
+
+def test_a_file_in_the_copys_place_that_says_something_else_is_not_taken(tmp_path,
+                                                                          monkeypatch):
+    monkeypatch.setattr(tempfile, 'tempdir', str(tmp_path))
+    ours = localhost_profile()
+    assert ours.parent == tmp_path and ours.read_text() == localhost_profile_text()
+    ours.write_text('<profiles/>')  # someone else's, or a torn write
+    again = localhost_profile()
+    assert again.read_text() == localhost_profile_text()
+    ours.unlink()
+    ours.mkdir()  # what cannot be read nor replaced: a copy of this process's own
+    own = localhost_profile()
+    assert own != ours and own.read_text() == localhost_profile_text()

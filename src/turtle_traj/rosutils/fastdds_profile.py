@@ -11,6 +11,7 @@ rmw_fastrtps to leave the transports alone (`SYSTEM_DEFAULT`): one transport eve
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import tempfile
@@ -54,16 +55,23 @@ def keep_to_this_machine(environ: MutableMapping[str, str] = os.environ) -> None
 
 
 def localhost_profile() -> Path:
-    """fastdds.xml kept to this machine, written once to the temporary directory (by content,
-    so that processes of one version share it and a new version never reads an old one)."""
+    """fastdds.xml kept to this machine, written to the temporary directory once (named by its
+    content: processes of one version share it, a new version never reads an old one). A file
+    of that name saying anything else (another user's, in a shared /tmp) is not taken: this
+    process then writes a copy of its own."""
     text = localhost_profile_text()
     digest = hashlib.sha256(text.encode()).hexdigest()[:12]
     path = Path(tempfile.gettempdir()) / f'turtle_traj_fastdds_localhost_{digest}.xml'
-    if not path.exists():
-        with tempfile.NamedTemporaryFile('w', dir=path.parent, delete=False,
-                                         suffix='.xml') as draft:
-            draft.write(text)
+    with contextlib.suppress(OSError):
+        if path.read_text() == text:
+            return path
+    with tempfile.NamedTemporaryFile('w', dir=path.parent, prefix=path.stem, suffix='.xml',
+                                     delete=False) as draft:
+        draft.write(text)
+    try:
         os.replace(draft.name, path)  # atomic: a process starting meanwhile reads all or none
+    except OSError:  # not ours to replace
+        return Path(draft.name)
     return path
 
 
