@@ -90,6 +90,17 @@ class Hosts:
         assert not math.isnan(deviation), 'no plan or no pose reached host a'
         return done, deviation, reported_deviation_m(done.stdout)
 
+    def driving(self, call: _Answers, since: float) -> None:
+        """Wait until the turtle moves after `since`: `call`'s run has begun. A command-line
+        process takes seconds to start and find the node on a loaded machine: once in a loaded
+        full suite its goal came about 4.4 s after it started, so the simulator a test killed
+        2.5 s in had been silent 1.9 s by then, and the goal was refused, too late for a test
+        that times a running call's end."""
+        while self.last_move_s() <= since:
+            assert call.process.poll() is None, call.said()
+            assert time.monotonic() - since < CALL_TIMEOUT_S, 'the run never began'
+            time.sleep(0.05)
+
     def last_move_s(self) -> float:
         """When the turtle last moved (monotonic s), from the log on host a."""
         poses = PoseLog.read(self.log).poses
@@ -195,9 +206,11 @@ class _Answers:
 @pytest.mark.parametrize('cut_s', [0.5, 2.0, 10.0])
 def test_a_cut_link_ends_the_run_and_the_next_call_succeeds(hosts, cut_s):
     _succeeded(hosts.call('reset', '--wait', '30'))
+    began = time.monotonic()
     circle = _Answers(hosts.start('draw', 'circle', '--size', '1', '--wait', '30'))
     try:
-        time.sleep(2.5)
+        hosts.driving(circle, began)
+        time.sleep(0.5)  # well into the circle (6.3 s long)
         assert circle.process.poll() is None, circle.said()
         hosts.made.link(False)
         cut = time.monotonic()
@@ -237,8 +250,14 @@ def test_a_cut_link_ends_the_run_and_the_next_call_succeeds(hosts, cut_s):
 def test_a_simulator_restarted_on_its_host_is_driven_again(hosts):
     reset = hosts.call('reset', '--wait', '30')
     _succeeded(reset)
+    began = time.monotonic()
     circle = _Answers(hosts.start('draw', 'circle', '--size', '1', '--wait', '30'))
-    time.sleep(2.5)
+    try:
+        hosts.driving(circle, began)
+        time.sleep(0.5)  # well into the circle (6.3 s long)
+    except BaseException:
+        circle.kill()
+        raise
     hosts.sim.kill()
     hosts.sim.wait()
     killed = time.monotonic()
