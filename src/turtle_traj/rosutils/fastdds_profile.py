@@ -12,6 +12,7 @@ rmw_fastrtps to leave the transports alone (`SYSTEM_DEFAULT`): one transport eve
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import os
 import tempfile
@@ -75,6 +76,7 @@ def localhost_profile() -> Path:
     return path
 
 
+@functools.cache
 def localhost_profile_text() -> str:
     """fastdds.xml with its UDP transport on the loopback interface, discovery announced to
     127.0.0.1 (the first MAX_PARTICIPANTS participants' ports) and no multicast locator."""
@@ -104,7 +106,8 @@ def across_hosts(environ: MutableMapping[str, str]) -> dict[str, str]:
     """A copy of `environ` for programs that discover each other across hosts: the subnet's
     range, and fastdds.xml itself where `environ` names its localhost copy."""
     copy = {**environ, RANGE_VARIABLE: 'SUBNET'}
+    ours = str(localhost_profile())
     for variable in PROFILE_VARIABLES:
-        if copy.get(variable) == str(localhost_profile()):
+        if copy.get(variable) == ours:
             del copy[variable]
     return copy
