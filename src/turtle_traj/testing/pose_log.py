@@ -12,7 +12,6 @@ end (one monotonic clock for every namespace).
 from __future__ import annotations
 
 import math
-import signal
 import sys
 import time
 from dataclasses import dataclass, field
@@ -65,33 +64,40 @@ class PoseLog:
 def main(out: str) -> None:
     import rclpy
     from nav_msgs.msg import Path as PathMsg
+    from rclpy.executors import ExternalShutdownException
+    from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
     from rclpy.qos import DurabilityPolicy, QoSProfile
     from turtlesim.msg import Pose
 
     from turtle_traj.rosutils.qos import POSE_READER_QOS
 
-    rclpy.init()
-    node = rclpy.create_node('pose_log')
-    with open(out, 'w', buffering=1) as log:
-        def on_pose(msg: Pose) -> None:
-            log.write(f'pose {time.monotonic():.6f} {msg.x:.6f} {msg.y:.6f} {msg.theta:.6f}\n')
+    rclpy.init()  # SIGINT and SIGTERM shut its context down: spinning or starting, it stops
+    node = None
+    try:
+        node = rclpy.create_node('pose_log')
+        with open(out, 'w', buffering=1) as log:
+            def on_pose(msg: Pose) -> None:
+                log.write(f'pose {time.monotonic():.6f} {msg.x:.6f} {msg.y:.6f} '
+                          f'{msg.theta:.6f}\n')
 
-        def on_plan(msg: PathMsg) -> None:
-            points = ' '.join(f'{p.pose.position.x:.6f} {p.pose.position.y:.6f}'
-                              for p in msg.poses)
-            log.write(f'plan {time.monotonic():.6f} {points}\n')
+            def on_plan(msg: PathMsg) -> None:
+                points = ' '.join(f'{p.pose.position.x:.6f} {p.pose.position.y:.6f}'
+                                  for p in msg.poses)
+                log.write(f'plan {time.monotonic():.6f} {points}\n')
 
-        node.create_subscription(Pose, '/turtle1/pose', on_pose, POSE_READER_QOS)
-        node.create_subscription(PathMsg, PLAN_TOPIC, on_plan, QoSProfile(
-            depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
-        signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
-        try:
+            node.create_subscription(Pose, '/turtle1/pose', on_pose, POSE_READER_QOS)
+            node.create_subscription(PathMsg, PLAN_TOPIC, on_plan, QoSProfile(
+                depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
             rclpy.spin(node)
-        except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-            pass
-        finally:
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except _rclpy.RCLError:  # e.g. 'rcl node's context is invalid'
+        if rclpy.ok():  # not a signal's shutdown while the node was being made
+            raise
+    finally:
+        if node is not None:
             node.destroy_node()
-            rclpy.try_shutdown()
+        rclpy.try_shutdown()
 
 
 if __name__ == '__main__':
