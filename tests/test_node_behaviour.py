@@ -197,6 +197,39 @@ def test_sigterm_ends_simulator_and_node_together_cleanly(tmp_path):
     assert 'Traceback' not in stderr
 
 
+
+_STUCK_AT_EXIT = '''
+import sys, time
+from rclpy.node import Node
+from turtle_traj.rosutils import runtime
+
+runtime.SHUTDOWN_DEADLINE_S = 2.0
+def nodes(stop):
+    print('spinning', flush=True)
+    return [Node('stuck_at_exit')]
+sys.exit(runtime.run_nodes(nodes, on_exit=lambda: time.sleep(600)))
+'''
+
+
+@pytest.mark.system
+def test_a_shutdown_that_hangs_ends_at_its_deadline_with_the_stacks():
+    """A program whose shutdown never finishes (here its exit hook; in a loaded suite once, Fast
+    DDS destroying the participant) ends at the deadline, with every thread's stack, instead of
+    outliving whoever stopped it."""
+    process = subprocess.Popen([sys.executable, '-c', _STUCK_AT_EXIT], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    try:
+        assert process.stdout.readline() == 'spinning\n', process.communicate()[1]
+        process.terminate()
+        stderr = process.communicate(timeout=30)[1]
+    finally:
+        process.kill()
+        process.wait()
+    assert process.returncode == 1, stderr
+    assert 'Timeout (0:00:02)!' in stderr
+    assert 'in <lambda>' in stderr  # where it hung
+
+
 _SOLVER_PROBE = '''
 import sys, time
 import rclpy

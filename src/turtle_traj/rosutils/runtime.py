@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import faulthandler
 import gc
 import io
 import signal
@@ -28,6 +29,14 @@ _SIGNAL_LATENCY_S = 0.1
 # the simulator answers set_pen within a step; one that vanished never does.
 EXIT_GRACE_S = 1.0
 _STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}  # SIGHUP: terminal closed
+# How long a program's shutdown may take in all (the last calls, destroying the nodes and the
+# DDS participant; 1-2 s on a loaded machine) before it ends regardless, with every thread's
+# stack on stderr and exit code 1. Fast DDS 2.14 can hang destroying a participant while a
+# peer leaves at the same moment: its set_listener(nullptr) waits, spinning a core, for a
+# discovery callback that waits for the lock it keeps taking (seen once in a loaded suite: a
+# node terminated together with its simulator spun for over 6 minutes; eProsima/Fast-DDS#6513).
+# faulthandler's own thread ends it: it needs no GIL, which the hung call holds.
+SHUTDOWN_DEADLINE_S = 10.0
 
 
 def events_executor(context: Context | None = None) -> Executor:
@@ -106,6 +115,7 @@ def run_nodes(
     except ExternalShutdownException:
         exit_code = 1
     finally:
+        deadline = _shutdown_deadline()
         try:
             if nodes and on_exit is not None and rclpy.ok():
                 _wait_for(executor, on_exit() or ())
@@ -115,7 +125,18 @@ def run_nodes(
             for node in nodes:
                 node.destroy_node()
             rclpy.try_shutdown()
+            deadline.close()
     return exit_code
+
+
+def _shutdown_deadline() -> contextlib.ExitStack:
+    """End the process `SHUTDOWN_DEADLINE_S` from now, with every thread's stack on stderr,
+    unless the returned stack is closed first (not where stderr has no file descriptor)."""
+    deadline = contextlib.ExitStack()
+    with contextlib.suppress(AttributeError, ValueError, io.UnsupportedOperation):
+        faulthandler.dump_traceback_later(SHUTDOWN_DEADLINE_S, exit=True, file=sys.__stderr__)
+        deadline.callback(faulthandler.cancel_dump_traceback_later)
+    return deadline
 
 
 def _wait_for(executor: Executor | None, futures: Iterable[Future | None]) -> None:
