@@ -115,23 +115,23 @@ def run_nodes(
     except ExternalShutdownException:
         exit_code = 1
     finally:
-        deadline = _shutdown_deadline()
-        try:
-            if nodes and on_exit is not None and rclpy.ok():
-                _wait_for(executor, on_exit() or ())
-        finally:
-            if executor is not None:
-                executor.shutdown()
-            for node in nodes:
-                node.destroy_node()
-            rclpy.try_shutdown()
-            deadline.close()
+        with _shutdown_deadline():
+            try:
+                if nodes and on_exit is not None and rclpy.ok():
+                    _wait_for(executor, on_exit() or ())
+            finally:
+                if executor is not None:
+                    executor.shutdown()
+                for node in nodes:
+                    node.destroy_node()
+                rclpy.try_shutdown()
     return exit_code
 
 
 def _shutdown_deadline() -> contextlib.ExitStack:
     """End the process `SHUTDOWN_DEADLINE_S` from now, with every thread's stack on stderr,
-    unless the returned stack is closed first (not where stderr has no file descriptor)."""
+    unless the returned context has been left by then (not where stderr has no file
+    descriptor)."""
     deadline = contextlib.ExitStack()
     with contextlib.suppress(AttributeError, ValueError, io.UnsupportedOperation):
         faulthandler.dump_traceback_later(SHUTDOWN_DEADLINE_S, exit=True, file=sys.__stderr__)
