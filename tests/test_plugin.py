@@ -102,3 +102,16 @@ def test_the_pose_log_ends_on_sigterm_with_nothing_to_log(tmp_path, ros_domain_i
     finally:
         log.kill()
         log.wait()
+
+
+def test_a_pose_log_read_while_it_is_written_takes_only_complete_lines(tmp_path):
+    """The two-host tests read the log as the pose log appends to it (a half-written last
+    line made a pose of two numbers, and the read failed: once in a quiet full suite)."""
+    from turtle_traj.testing.pose_log import PoseLog
+
+    log = tmp_path / 'poses.log'
+    log.write_text('pose 1.0 5.5 5.5 0.0\nplan 1.5 5.5 5.5 6.0 5.5\npose 2.0 5.6 5.5 0.0\n'
+                   'pose 3.0 5.')
+    read = PoseLog.read(log)
+    assert read.poses.tolist() == [[1.0, 5.5, 5.5, 0.0], [2.0, 5.6, 5.5, 0.0]]
+    assert [(t, points.tolist()) for t, points in read.plans] == [(1.5, [[5.5, 5.5], [6.0, 5.5]])]

@@ -34,7 +34,9 @@ class PoseLog:
     @classmethod
     def read(cls, path: Path) -> PoseLog:
         poses, plans = [], []
-        for line in path.read_text().splitlines():
+        text = path.read_text()
+        # complete lines only: read while the log is written, the last may be half written
+        for line in text[:text.rfind('\n') + 1].splitlines():
             kind, *values = line.split()
             numbers = [float(value) for value in values]
             if kind == 'pose':
