@@ -44,9 +44,12 @@ class DrawActionServer:
 
     def _on_cancel(self, goal_handle: ServerGoalHandle) -> CancelResponse:
         """Stop this goal's run at once (not another's); the goal then ends CANCELED."""
-        run = self._goals.get(bytes(goal_handle.goal_id.uuid))
+        goal_id = bytes(goal_handle.goal_id.uuid)
+        run = self._goals.get(goal_id)
         if run is not None:
             self._runs.stop_run(run)
+        else:  # its plan may be being made
+            self._runs.stop_planning(goal_handle.request)
         return CancelResponse.ACCEPT
 
     async def _execute(self, goal_handle: ServerGoalHandle) -> Draw.Result:
@@ -60,9 +63,12 @@ class DrawActionServer:
             if kind is None:
                 raise runs.refuse(f'unknown trajectory {goal.trajectory!r}; known: '
                                   f'{", ".join(BY_NAME)}')
-            run, finished = runs.start_run(kind, goal)
-        except RunRefused as refusal:  # busy, bad numbers, no simulator
-            goal_handle.abort()
+            run, finished = await runs.start_run(kind, goal)
+        except RunRefused as refusal:  # busy, bad numbers, no simulator, cancelled meanwhile
+            if goal_handle.is_cancel_requested:
+                goal_handle.canceled()
+            else:
+                goal_handle.abort()
             return fill_response(Draw.Result(), Outcome(False, str(refusal), runs.pose))
         goal_id = bytes(goal_handle.goal_id.uuid)
         self._goals[goal_id] = run

@@ -32,14 +32,6 @@ class PoseSilence:
         self._pose_time, self._wall_s = self._clock.now(), 0.0
         self._last_beat_s = self._wall()  # wall silence counts from here
 
-    def was_busy(self) -> None:
-        """This process could not hear poses until now (it planned a run: a text with rounded
-        corners takes seconds): silence counts from now, when a pose had arrived before. Poses
-        that came meanwhile are still queued; a simulator that vanished is found a
-        pose_timeout later."""
-        if self._pose_time is not None:
-            self.heard()
-
     def forget(self) -> None:
         """As if no pose had ever arrived (a new turtle)."""
         self._pose_time = None

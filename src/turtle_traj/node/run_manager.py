@@ -8,8 +8,10 @@ services, the draw action and the commands reach it through `RunningNode` (`node
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
+from typing import Any
 
 from nav_msgs.msg import Path as PathMsg
 from rclpy.callback_groups import CallbackGroup
@@ -22,10 +24,11 @@ from std_msgs.msg import Header
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.controllers.catalogue import choose
 from turtle_traj.core.control.loop import ControlLoop
+from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import Settings
-from turtle_traj.core.planning import planner as planning
+from turtle_traj.core.planning import planner
 from turtle_traj.core.planning.planner import PlanError
 from turtle_traj.core.registry import TrajectoryKind
 from turtle_traj.core.turtlesim_contract import STEP_S
@@ -34,8 +37,21 @@ from turtle_traj.node.base_topics import BaseTopics
 from turtle_traj.node.pen_client import PenClient
 from turtle_traj.node.pose_silence import PoseSilence
 from turtle_traj.node.state_lock import StateLock, serialized
+from turtle_traj.node.waiting import completion
+from turtle_traj.rosutils.offload import Offloader
 
 WATCHDOG_PERIOD_S = 0.05
+
+
+@dataclass
+class _Planning:
+    """A request being planned: its trajectory, the request, the settings it is planned with,
+    the plan's future, and how it ended if that future was cancelled."""
+    name: str
+    request: Any
+    settings: Settings
+    plan: Future
+    ended: str = ''
 
 
 class RunManager:
@@ -51,6 +67,8 @@ class RunManager:
         self._settings = settings
         self._silence = PoseSilence(node.get_clock(), WATCHDOG_PERIOD_S)
         self._run_done: Future | None = None  # what the run's handler awaits
+        self._plans = Offloader(node, 'plan')  # made beside the executor
+        self._planning: _Planning | None = None  # a request being planned
         # Held by every change of the run's state: the handlers are reentrant, and on a
         # MultiThreadedExecutor run beside the timers and each other (a pose can end its run).
         self._state_lock = StateLock(node.get_logger())
@@ -159,7 +177,8 @@ class RunManager:
 
     @serialized
     def abort_run(self, why: str) -> None:
-        """End the run, if one runs, as failed: '<trajectory> aborted: <why>'."""
+        """End the run, or the plan being made, as failed: '<trajectory> aborted: <why>'."""
+        self._cancel_planning(f'aborted: {why}')
         if self.run is not None:
             self._finish(False, f'{self.run.name} aborted: {why}')
 
@@ -169,6 +188,9 @@ class RunManager:
         run = self.run
         self._publish(STOP)
         if run is None:
+            name = self._cancel_planning('stopped by request before it started')
+            if name is not None:
+                return f'stopped {name} while it was being planned'
             return 'nothing was running; turtle stopped'
         self.stop_run(run)
         return f'stopped {run.name}'
@@ -211,8 +233,11 @@ class RunManager:
 
     def refusal(self) -> str | None:
         """Why a request would be refused now (None: it would be accepted)."""
-        if self.run is not None:
-            return (f'busy: {self.run.name} is running; wait for it or call '
+        busy = (f'{self.run.name} is running' if self.run is not None else
+                f'{self._planning.name} is being planned' if self._planning is not None else
+                None)
+        if busy is not None:
+            return (f'busy: {busy}; wait for it or call '
                     f'{self._node.resolve_service_name("~/stop")} (std_srvs/srv/Trigger) to '
                     'stop it')
         silence = self._silence.seconds()
@@ -231,24 +256,49 @@ class RunManager:
         self._state_lock.warning(reason)
         return outcomes.RunRefused(reason)
 
-    @serialized
-    def start_run(self, kind: TrajectoryKind, request) -> tuple[RunSupervisor, Future]:
+    async def start_run(self, kind: TrajectoryKind, request) -> tuple[RunSupervisor, Future]:
         """Plan `request` and drive it: the run, and the future of its Outcome.
 
-        :raises RunRefused: busy, a request that cannot be planned, or no simulator (logged).
+        The plan is made beside the executor (a text with rounded corners takes seconds), which
+        meanwhile answers parameters and hears poses. The node is busy from the request on.
+
+        :raises RunRefused: busy, a request that cannot be planned, no simulator, or stopped
+            while it was being planned (logged).
         """
+        planning = self._begin_planning(kind, request)
+        try:
+            plan = await completion(self._node, planning.plan)
+        except PlanError as error:
+            raise self.refuse(f'{kind.name} refused: {error}') from None
+        finally:
+            self._end_planning(planning)
+        return self._start_planned(kind, planning, plan)
+
+    @serialized
+    def _begin_planning(self, kind: TrajectoryKind, request) -> _Planning:
         refusal = self.refusal()
         if refusal is not None:
             raise self.refuse(refusal)
         settings = self.settings
-        try:
-            plan = planning.plan(kind.name, request, self._loop.pose, settings)
-        except PlanError as error:
-            raise self.refuse(f'{kind.name} refused: {error}') from None
+        pose = self._loop.pose
+        self._planning = planning = _Planning(kind.name, request, settings, self._plans.submit(
+            partial(planner.plan, kind.name, request, pose, settings)))
+        return planning
+
+    @serialized
+    def _end_planning(self, planning: _Planning) -> None:
+        if self._planning is planning:
+            self._planning = None
+
+    @serialized
+    def _start_planned(self, kind: TrajectoryKind, planning: _Planning,
+                       plan: Plan | None) -> tuple[RunSupervisor, Future]:
+        if plan is None:  # its future was cancelled: stopped or aborted
+            raise self.refuse(f'{kind.name} {planning.ended}')
         if plan.pen is not None and not self._pen.ready:
             raise self.refuse(f'{kind.name} refused: it lifts the pen between strokes, and the '
                               f'simulator service {self._pen.service_name} is not available')
-        self._silence.was_busy()  # planning held the executor: the poses wait in its queue
+        settings = planning.settings
         run = self._loop.start(plan, arena=settings.arena, now_s=self.now_s(),
                                controller=self._controller)
         self._run_done = done = Future()
@@ -259,12 +309,28 @@ class RunManager:
         self._state_lock.info(f'{kind.name}: {outcomes.describe(plan, settings.control)}')
         return run, done
 
+    def _cancel_planning(self, ended: str) -> str | None:
+        """Drop the plan being made, if one is (its request ends: '<trajectory> <ended>');
+        the trajectory's name, or None."""
+        planning, self._planning = self._planning, None
+        if planning is None:
+            return None
+        planning.ended = ended
+        planning.plan.cancel()
+        return planning.name
+
     @serialized
     def stop_run(self, run: RunSupervisor) -> None:
         """End `run` at once as stopped by request, if it is still the one running."""
         if run is self.run:
             run.request_stop()
             self._finish_if_ended()
+
+    @serialized
+    def stop_planning(self, request: Any) -> None:
+        """End the plan being made for `request`, if it still is, as stopped by request."""
+        if self._planning is not None and self._planning.request is request:
+            self._cancel_planning('stopped by request before it started')
 
     @serialized
     def forget_turtle(self) -> None:

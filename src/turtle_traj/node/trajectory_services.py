@@ -30,7 +30,7 @@ class TrajectoryServices:
     async def _execute(self, kind: TrajectoryKind, request, response):
         runs = self._runs
         try:
-            _run, finished = runs.start_run(kind, request)
+            _run, finished = await runs.start_run(kind, request)
         except RunRefused as refusal:
             return fill_response(response, Outcome(False, str(refusal), runs.pose))
         return fill_response(response, await completion(self._node, finished))

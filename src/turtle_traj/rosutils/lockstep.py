@@ -35,6 +35,7 @@ from rclpy.task import Future
 from rclpy.time_source import TimeSource
 from rosgraph_msgs.msg import Clock
 
+from turtle_traj.rosutils import offload
 from turtle_traj.rosutils.runtime import events_executor
 
 _NO_WAIT = Duration()
@@ -70,11 +71,12 @@ class SteppedSimulator(Protocol):
 class LockstepExecutor:
     """An executor that steps `simulator` whenever nothing else in the process has work.
 
-    `spin_once` never blocks: it runs every ready callback, and what those trigger in turn, then
-    advances simulated time by one step. A coroutine callback still awaiting something (an async
-    service handler waiting for its trajectory to end) is resumed when what it awaits is done,
-    not before. While the simulator is not among the executor's nodes (removed, as if it had
-    vanished), nothing steps and `spin_once` waits like a plain executor.
+    `spin_once` runs every ready callback, and what those trigger in turn, then advances
+    simulated time by one step. It waits only while a node computes beside the executor
+    (`offload`), which counts as a callback still running. A coroutine callback still awaiting
+    something (an async service handler waiting for its trajectory to end) is resumed when what
+    it awaits is done, not before. While the simulator is not among the executor's nodes
+    (removed, as if it had vanished), nothing steps and `spin_once` waits like a plain executor.
 
     With `pace`, `spin_once` also waits (serving what comes meanwhile) until the wall clock
     has caught up with simulated time divided by `pace`, then steps.
@@ -137,13 +139,19 @@ class LockstepExecutor:
     def spin_once(self, timeout_sec: float | None = None) -> None:
         """Run everything ready, then step the simulator once every message is delivered.
 
-        :param timeout_sec: how long to wait for work while the simulator is not being spun;
-            ignored otherwise, as lock-step never waits for the wall clock.
+        :param timeout_sec: how long to wait for work while the simulator is not being spun
+            or a node computes beside the executor; otherwise lock-step never waits for the
+            wall clock, and ignores it.
         """
         if self._simulator not in self._nodes:
             self._events.spin_once(timeout_sec)
             return
         self.drain()
+        if any(offload.in_flight(node) for node in self._nodes):
+            # A node computes beside the executor (a plan): that belongs to this step, as a
+            # callback would. Serve what comes until its result is handed over, then step.
+            self._events.spin_once(timeout_sec)
+            return
         if self._pace is not None:
             self._paced_step(timeout_sec)
         elif self._delivered():
@@ -177,8 +185,8 @@ class LockstepExecutor:
     def spin_until_future_complete(self, future: Future,
                                    timeout_sec: float | None = None) -> None:
         """Spin (stepping) until `future` is done or `timeout_sec` of wall time passed, at
-        least once; for a paced executor, which waits for the wall clock (unpaced, `spin_once`
-        never waits)."""
+        least once; for a paced executor, which waits for the wall clock, and for work beside
+        the executor."""
         deadline = None if timeout_sec is None else time.monotonic() + timeout_sec
         left = timeout_sec
         while True:

@@ -75,7 +75,7 @@ class RunSupervisor:
         self._pose = start
         self._path_done_s: float | None = None  # when the follower reached the path's end
         # when the first command was asked for: the clock read as the run starts can be behind
-        # (a simulated clock whose messages waited in the executor's queue while planning)
+        # (a simulated clock whose messages waited in the executor's queue)
         self._first_command_s: float | None = None
         self._drawn = NearestOnPolyline(plan.drawn_points())
         self.distance = 0.0  # driven so far, pose to pose
