@@ -23,7 +23,8 @@ pytestmark = pytest.mark.system  # starts programs: `make check` leaves it out
 REQUESTS = 8  # within a service's request queue (rmw's default depth, 10)
 POLYGON = {'sides': 12, 'size': 0.15}
 # Planning is slowed to this (a drawing's plan takes longer), sleeping: the other handlers run
-# meanwhile, and without the node's lock each would find no run yet and start its own.
+# meanwhile, and unless a request being planned counts as busy, each would find no run yet and
+# start its own.
 PLANNING_S = 0.05
 
 
@@ -41,16 +42,16 @@ def composed(rclpy_context, monkeypatch, tmp_path):
     from rclpy.executors import MultiThreadedExecutor
     from rclpy.node import Node
 
-    from turtle_traj.node import run_manager
+    from turtle_traj.core.planning import planner
     from turtle_traj.node.trajectory_node import TrajectoryNode
     from turtle_traj.testing.processes import program
 
-    plan = run_manager.planning.plan
+    plan = planner.plan
 
     def slow_plan(*args, **kwargs):
         time.sleep(PLANNING_S)
         return plan(*args, **kwargs)
-    monkeypatch.setattr(run_manager.planning, 'plan', slow_plan)
+    monkeypatch.setattr(planner, 'plan', slow_plan)
     namespace = '/composed'
     with program('turtle_traj.sim', '--ros-args', '-r', f'__ns:={namespace}', cwd=tmp_path):
         node = TrajectoryNode(context=rclpy_context, namespace=namespace)
