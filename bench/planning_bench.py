@@ -86,7 +86,7 @@ def one_goal(node, action, parameters, draw_type, index: int) -> tuple[float, fl
         if first_feedback:
             break
         message = result.result().result.message
-        if 'no pose' not in message and 'nothing subscribes' not in message:
+        if not message.startswith(('no pose', 'nothing subscribes')):  # not a start-up refusal
             raise SystemExit(f'the goal was refused: {message}')
         time.sleep(0.5)
     else:
@@ -136,7 +136,7 @@ def main() -> int:
     loops = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
              for _ in range(args.busy)]
     try:
-        rows = {src: run_one(None if src == 'this' else src, args.goals) for src in sources}
+        rows = [(src, run_one(None if src == 'this' else src, args.goals)) for src in sources]
     finally:
         for loop in loops:
             loop.kill()
@@ -144,7 +144,7 @@ def main() -> int:
     print(f'text ROS, height 0.5 m, corners 0.02 m, up --base --time-scale 20, '
           f'{args.busy} busy loop(s); client gives up after {LIVENESS_S:g} s of silence')
     print(f'{"source":40} {"plan s (median, max)":>22} {"longest silence s (median, max)":>33}')
-    for src, results in rows.items():
+    for src, results in rows:
         plans, silences = zip(*results, strict=True)
         print(f'{src:40} {statistics.median(plans):10.2f} {max(plans):10.2f} '
               f'{statistics.median(silences):16.2f} {max(silences):16.2f}')

@@ -3,6 +3,7 @@ the simulator meanwhile, and a stop, a cancel or a shutdown during the plan ends
 
 import math
 import threading
+import time
 
 import pytest
 import rclpy
@@ -42,12 +43,22 @@ def _planning(turtle_system, begun, service_type, name, request):
     return future
 
 
+def _drained_until(turtle_system, condition, wall_s: float = 5.0) -> bool:
+    """Run the callbacks that come, never stepping, until `condition()` or `wall_s` passed."""
+    deadline = time.monotonic() + wall_s
+    while not condition() and time.monotonic() < deadline:
+        turtle_system.executor.drain()
+        time.sleep(0.01)
+    return condition()
+
+
 def test_the_node_answers_while_it_plans_and_the_simulator_waits_for_the_plan(
         turtle_system, held_plan):
     begun, release = held_plan
     square = _planning(turtle_system, begun, DrawShape, 'draw_square',
                        DrawShape.Request(size=1.0))
     planned_from = turtle_system.sim_time_s
+    held_until = time.monotonic() + 2 * turtle_system.node.settings.pose_timeout_s
     steps = turtle_system.executor.steps
     speed = turtle_system.call(GetParameters, 'get_parameters',
                                GetParameters.Request(names=['linear_speed']), timeout_s=1.0)
@@ -56,10 +67,17 @@ def test_the_node_answers_while_it_plans_and_the_simulator_waits_for_the_plan(
     assert not busy.success
     assert busy.message.startswith('busy: square is being planned; wait for it or call '
                                    '/turtle_traj/stop')
+    # a plan that takes longer than pose_timeout of wall time, while simulated time stands
+    spin_until(turtle_system.executor, lambda: time.monotonic() > held_until, timeout_s=5.0)
     assert not square.done()
     # lock-step: the plan belongs to the step it was asked in, whatever it took on the wall
     assert turtle_system.executor.steps == steps and turtle_system.sim_time_s == planned_from
     release.set()
+    # The run starts, and the watchdog beats before the next step (as a paced simulator
+    # leaves it time to): the plan's wall time is not the simulator's silence.
+    assert _drained_until(turtle_system, lambda: turtle_system.node.busy)
+    assert not _drained_until(turtle_system, lambda: not turtle_system.node.busy, wall_s=0.2)
+    assert turtle_system.executor.steps == steps
     assert turtle_system.spin_until(square.done, timeout_s=60.0)
     assert square.result().success, square.result().message
     corners = regular_polygon(SPAWN_XY_M, SPAWN_XY_M, 0.0, 4, 1.0, False)

@@ -32,6 +32,14 @@ class PoseSilence:
         self._pose_time, self._wall_s = self._clock.now(), 0.0
         self._last_beat_s = self._wall()  # wall silence counts from here
 
+    def was_busy(self) -> None:
+        """This node was busy until now with work the world may have waited for (a plan:
+        lock-step holds the simulator while a node computes, and only the wall clock runs):
+        silence counts from now, when a pose had arrived before. A simulator that vanished
+        meanwhile is found a pose_timeout later."""
+        if self._pose_time is not None:
+            self.heard()
+
     def forget(self) -> None:
         """As if no pose had ever arrived (a new turtle)."""
         self._pose_time = None

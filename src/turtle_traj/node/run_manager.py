@@ -299,6 +299,7 @@ class RunManager:
             raise self.refuse(f'{kind.name} refused: it lifts the pen between strokes, and the '
                               f'simulator service {self._pen.service_name} is not available')
         settings = planning.settings
+        self._silence.was_busy()  # the plan's wall time is not the simulator's silence
         run = self._loop.start(plan, arena=settings.arena, now_s=self.now_s(),
                                controller=self._controller)
         self._run_done = done = Future()

@@ -41,6 +41,7 @@ from turtle_traj.rosutils.runtime import events_executor
 _NO_WAIT = Duration()
 _ACK_POLL = Duration(nanoseconds=1_000_000)
 _DELIVERY_GRACE_S = 0.1
+_IN_FLIGHT_POLL_S = 0.01
 # Paced, a process held up longer than this (a machine busy elsewhere) does not catch up in a
 # burst: simulated time loses the lag instead, as a simulator on its own timer would.
 MAX_PACE_LAG_S = 0.2
@@ -149,8 +150,12 @@ class LockstepExecutor:
         self.drain()
         if any(offload.in_flight(node) for node in self._nodes):
             # A node computes beside the executor (a plan): that belongs to this step, as a
-            # callback would. Serve what comes until its result is handed over, then step.
-            self._events.spin_once(timeout_sec)
+            # callback would. Serve what comes meanwhile, looking again every few milliseconds
+            # (not spin_once: with a handler awaiting the work, it would never wait, and its
+            # loop would take Python's lock from the work).
+            wait = _IN_FLIGHT_POLL_S if timeout_sec is None else min(timeout_sec,
+                                                                      _IN_FLIGHT_POLL_S)
+            self._events.spin_until_future_complete(Future(), wait)
             return
         if self._pace is not None:
             self._paced_step(timeout_sec)
