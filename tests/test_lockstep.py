@@ -3,16 +3,20 @@
 import math
 import time
 
+import pytest
+from rclpy.node import Node
 from rclpy.parameter import Parameter
-from turtle_traj_interfaces.srv import DrawShape, GoTo
+from turtle_traj_interfaces.srv import DrawShape, GoTo, Move
 from turtlesim.msg import Pose
 from turtlesim.srv import Spawn
 
 from turtle_traj.apps.in_process import SIM_TIME, InProcessSystem
-from turtle_traj.core.turtlesim_contract import STEP_S
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, STEP_S
 from turtle_traj.node.trajectory_node import TrajectoryNode
-from turtle_traj.rosutils.lockstep import MAX_PACE_LAG_S
+from turtle_traj.rosutils.lockstep import MAX_PACE_LAG_S, LockstepExecutor
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+from turtle_traj.rosutils.runtime import spin_until
+from turtle_traj.sim.node import SimNode
 
 
 def _pose_stream(context, tmp_path, pace=None, **sim_parameters) -> list[tuple[float, ...]]:
@@ -100,3 +104,36 @@ def test_two_trajectory_nodes_drive_two_turtles_at_once(turtle_system):
         )
         < 1e-6
     )
+
+
+def test_a_request_that_came_before_the_first_step_is_judged_on_the_first_pose(
+        rclpy_context, tmp_path):
+    """`turtle-traj up` serves from its first spin: a command sent as it said it serves can be
+    waiting before simulated time has begun. It is served after the first step, on the pose
+    that step published, not refused as 'no pose (never)'."""
+    sim = SimNode(context=rclpy_context, lockstep=True,
+                  parameter_overrides=[Parameter('output_dir', value=str(tmp_path))])
+    node = TrajectoryNode(context=rclpy_context, parameter_overrides=[SIM_TIME])
+    client = Node('early_client', context=rclpy_context, parameter_overrides=[SIM_TIME],
+                  start_parameter_services=False)
+    executor = LockstepExecutor(sim, context=rclpy_context)
+    for each in (sim, node, client):
+        executor.add_node(each)
+    move = client.create_client(Move, '/turtle_traj/move')
+    try:
+        deadline = time.monotonic() + 30.0  # discovery runs on the middleware's threads
+        while not (move.service_is_ready() and client.count_subscribers('/turtle1/pose')
+                   and client.count_subscribers('/turtle1/cmd_vel')):
+            assert time.monotonic() < deadline, 'the nodes never discovered each other'
+            time.sleep(0.01)
+        time.sleep(0.2)  # each matched the others' endpoints too
+        assert executor.steps == 0
+        moved = move.call_async(Move.Request(distance=0.5))
+        time.sleep(0.2)  # the request waits for the executor
+        assert spin_until(executor, moved.done, timeout_s=30.0)
+        assert moved.result().success, moved.result().message
+        assert moved.result().final_x == pytest.approx(SPAWN_XY_M + 0.5, abs=1e-3)
+    finally:
+        executor.shutdown()
+        for each in (client, node, sim):
+            each.destroy_node()

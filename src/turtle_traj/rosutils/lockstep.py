@@ -147,6 +147,8 @@ class LockstepExecutor:
         if self._simulator not in self._nodes:
             self._events.spin_once(timeout_sec)
             return
+        if self.steps == 0:  # simulated time begins with a step: the world is out (a pose)
+            self._step()     # before anything is served, a request that came early included
         self.drain()
         if any(offload.in_flight(node) for node in self._nodes):
             # A node computes beside the executor (a plan): that belongs to this step, as a
