@@ -22,13 +22,12 @@ import statistics
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 from isolation import isolate
+from turtle_traj.client.liveness import FEEDBACK_SILENCE_S, PROBE_TIMEOUT_S
 
-REPO = Path(__file__).resolve().parents[1]
+LIVENESS_S = FEEDBACK_SILENCE_S + PROBE_TIMEOUT_S  # the command line's rule for a node gone
 NODE = '/turtle_traj'
-LIVENESS_S = 5.0  # the command line's rule (client/liveness.py)
 
 
 def measure(goals: int) -> list[tuple[float, float]]:
@@ -68,7 +67,8 @@ def one_goal(node, action, parameters, draw_type, index: int) -> tuple[float, fl
 
         def on_feedback(_message, signs=signs, first_feedback=first_feedback) -> None:
             signs.append(time.monotonic())
-            first_feedback[:] = first_feedback or signs[-1:]
+            if not first_feedback:
+                first_feedback.append(signs[-1])
 
         sent = time.monotonic()
         accepted = action.send_goal_async(goal, feedback_callback=on_feedback)

@@ -1,14 +1,14 @@
 """The trajectory node's runs: one driven at a time, from the request to its outcome.
 
-`RunManager` is not a Node: it owns the control loop, the lock over the run's state, the pose
-watchdog, the pen and the recording, and uses its node's topics, clock and logger. The
+`RunManager` is not a Node: it owns the control loop, the lock over the run's state, the plan
+being made (`PlanDesk`), the pose watchdog, the pen and the recording, and uses its node's
+topics, clock and logger. The
 services, the draw action and the commands reach it through `RunningNode` (`node.running`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -28,30 +28,19 @@ from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import Settings
-from turtle_traj.core.planning import planner
 from turtle_traj.core.planning.planner import PlanError
 from turtle_traj.core.registry import TrajectoryKind
 from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.node import outcomes
 from turtle_traj.node.base_topics import BaseTopics
 from turtle_traj.node.pen_client import PenClient
+from turtle_traj.node.plan_desk import PlanDesk, Planning
 from turtle_traj.node.pose_silence import PoseSilence
 from turtle_traj.node.state_lock import StateLock, serialized
 from turtle_traj.node.waiting import completion
-from turtle_traj.rosutils.offload import Offloader
 
 WATCHDOG_PERIOD_S = 0.05
-
-
-@dataclass
-class _Planning:
-    """A request being planned: its trajectory, the request, the settings it is planned with,
-    the plan's future, and how it ended if that future was cancelled."""
-    name: str
-    request: Any
-    settings: Settings
-    plan: Future
-    ended: str = ''
+_STOPPED_EARLY = 'stopped by request before it started'
 
 
 class RunManager:
@@ -67,8 +56,7 @@ class RunManager:
         self._settings = settings
         self._silence = PoseSilence(node.get_clock(), WATCHDOG_PERIOD_S)
         self._run_done: Future | None = None  # what the run's handler awaits
-        self._plans = Offloader(node, 'plan')  # made beside the executor
-        self._planning: _Planning | None = None  # a request being planned
+        self._plans = PlanDesk(node)  # made beside the executor
         # Held by every change of the run's state: the handlers are reentrant, and on a
         # MultiThreadedExecutor run beside the timers and each other (a pose can end its run).
         self._state_lock = StateLock(node.get_logger())
@@ -178,7 +166,7 @@ class RunManager:
     @serialized
     def abort_run(self, why: str) -> None:
         """End the run, or the plan being made, as failed: '<trajectory> aborted: <why>'."""
-        self._cancel_planning(f'aborted: {why}')
+        self._plans.drop(f'aborted: {why}')
         if self.run is not None:
             self._finish(False, f'{self.run.name} aborted: {why}')
 
@@ -188,7 +176,7 @@ class RunManager:
         run = self.run
         self._publish(STOP)
         if run is None:
-            name = self._cancel_planning('stopped by request before it started')
+            name = self._plans.drop(_STOPPED_EARLY)
             if name is not None:
                 return f'stopped {name} while it was being planned'
             return 'nothing was running; turtle stopped'
@@ -233,9 +221,11 @@ class RunManager:
 
     def refusal(self) -> str | None:
         """Why a request would be refused now (None: it would be accepted)."""
-        busy = (f'{self.run.name} is running' if self.run is not None else
-                f'{self._planning.name} is being planned' if self._planning is not None else
-                None)
+        busy = None
+        if self.run is not None:
+            busy = f'{self.run.name} is running'
+        elif self._plans.current is not None:
+            busy = f'{self._plans.current.name} is being planned'
         if busy is not None:
             return (f'busy: {busy}; wait for it or call '
                     f'{self._node.resolve_service_name("~/stop")} (std_srvs/srv/Trigger) to '
@@ -271,27 +261,22 @@ class RunManager:
         except PlanError as error:
             raise self.refuse(f'{kind.name} refused: {error}') from None
         finally:
-            self._end_planning(planning)
+            self._done_planning(planning)
         return self._start_planned(kind, planning, plan)
 
     @serialized
-    def _begin_planning(self, kind: TrajectoryKind, request) -> _Planning:
+    def _begin_planning(self, kind: TrajectoryKind, request) -> Planning:
         refusal = self.refusal()
         if refusal is not None:
             raise self.refuse(refusal)
-        settings = self.settings
-        pose = self._loop.pose
-        self._planning = planning = _Planning(kind.name, request, settings, self._plans.submit(
-            partial(planner.plan, kind.name, request, pose, settings)))
-        return planning
+        return self._plans.begin(kind.name, request, self._loop.pose, self.settings)
 
     @serialized
-    def _end_planning(self, planning: _Planning) -> None:
-        if self._planning is planning:
-            self._planning = None
+    def _done_planning(self, planning: Planning) -> None:
+        self._plans.done(planning)
 
     @serialized
-    def _start_planned(self, kind: TrajectoryKind, planning: _Planning,
+    def _start_planned(self, kind: TrajectoryKind, planning: Planning,
                        plan: Plan | None) -> tuple[RunSupervisor, Future]:
         if plan is None:  # its future was cancelled: stopped or aborted
             raise self.refuse(f'{kind.name} {planning.ended}')
@@ -310,16 +295,6 @@ class RunManager:
         self._state_lock.info(f'{kind.name}: {outcomes.describe(plan, settings.control)}')
         return run, done
 
-    def _cancel_planning(self, ended: str) -> str | None:
-        """Drop the plan being made, if one is (its request ends: '<trajectory> <ended>');
-        the trajectory's name, or None."""
-        planning, self._planning = self._planning, None
-        if planning is None:
-            return None
-        planning.ended = ended
-        planning.plan.cancel()
-        return planning.name
-
     @serialized
     def stop_run(self, run: RunSupervisor) -> None:
         """End `run` at once as stopped by request, if it is still the one running."""
@@ -330,8 +305,7 @@ class RunManager:
     @serialized
     def stop_planning(self, request: Any) -> None:
         """End the plan being made for `request`, if it still is, as stopped by request."""
-        if self._planning is not None and self._planning.request is request:
-            self._cancel_planning('stopped by request before it started')
+        self._plans.drop(_STOPPED_EARLY, request)
 
     @serialized
     def forget_turtle(self) -> None:

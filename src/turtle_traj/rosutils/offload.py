@@ -57,12 +57,9 @@ class Offloader:
             result, error = work(), None
         except Exception as failure:  # handed to whoever awaits it
             result, error = None, failure
-        executor = self._node.executor
         try:
-            if executor is None:
-                raise RuntimeError('the node left its executor')
-            executor.create_task(self._deliver, future, result, error)
-        except Exception:  # the node or its executor is gone: nobody awaits the result
+            self._node.executor.create_task(self._deliver, future, result, error)
+        except Exception:  # no executor (None), or one shut down: nobody awaits the result
             _count(self._node, -1)
 
     def _deliver(self, future: Future, result: Any, error: Exception | None) -> None:
