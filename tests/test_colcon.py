@@ -20,6 +20,7 @@ from pathlib import Path
 import pytest
 
 from turtle_traj.client.traj_client import TrajClient
+from turtle_traj.rosutils.fastdds_profile import PROFILE_VARIABLES, RANGE_VARIABLE
 
 pytestmark = [pytest.mark.system, pytest.mark.timeout(300)]
 ROOT = Path(__file__).resolve().parents[1]
@@ -77,6 +78,20 @@ def test_the_executables_package_xml_and_launch_file_are_installed(install):
     assert (share / 'launch' / 'turtle_traj.launch.py').is_file()
 
 
+def test_the_installed_package_carries_the_pip_packages_data(install):
+    """One list of package data (pyproject.toml's) for both builds: every file it names in
+    src/ is in the installed tree too (fastdds.xml was missing: a stale list in setup.py)."""
+    import tomllib
+
+    patterns = tomllib.loads((ROOT / 'pyproject.toml').read_text())['tool']['setuptools'][
+        'package-data']['turtle_traj']
+    source = ROOT / 'src' / 'turtle_traj'
+    wanted = {path.relative_to(source) for pattern in patterns for path in source.glob(pattern)}
+    assert Path('rosutils/fastdds.xml') in wanted
+    [installed] = install.glob('turtle_traj/lib/python3*/site-packages/turtle_traj')
+    assert {path for path in wanted if not (installed / path).is_file()} == set()
+
+
 def test_one_version_number_for_pip_and_colcon():
     pyproject = re.search(r'^version = "(.+)"', (ROOT / 'pyproject.toml').read_text(), re.M)
     package = re.search(r'<version>(.+)</version>',
@@ -118,12 +133,17 @@ def test_the_launch_files_simulator_arguments_parse():
 
 
 def test_the_installed_executables_draw_a_square(install, tmp_path):
-    """`ros2 run turtle_traj sim` and `ros2 run turtle_traj trajectory_node`, sourced."""
+    """`ros2 run turtle_traj sim` and `ros2 run turtle_traj trajectory_node`, sourced, in the
+    environment of a user who keeps ROS to this machine: LOCALHOST and no profile file of their
+    own, so the installed programs read the installed fastdds.xml."""
+    user = {name: value for name, value in os.environ.items() if name not in PROFILE_VARIABLES}
+    user[RANGE_VARIABLE] = 'LOCALHOST'
+
     def start(executable: str, *args: str) -> subprocess.Popen:
         command = (f'. "{install}/setup.sh" && exec '
                    f'"{install}/turtle_traj/lib/turtle_traj/{executable}" ' + ' '.join(args))
-        return subprocess.Popen(['sh', '-c', command], cwd=tmp_path, stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True)
+        return subprocess.Popen(['sh', '-c', command], cwd=tmp_path, env=user,
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
 
     # At real time, as `ros2 run` users run them (scaled time makes a starved node on a busy
     # machine miss more poses: it aborted twice under two busy loops at 2x).

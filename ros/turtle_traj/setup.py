@@ -2,24 +2,25 @@
 
 `colcon build` at the repository root builds this package and turtle_traj_interfaces; the
 executables go to lib/turtle_traj/ (for `ros2 run`), package.xml and the launch file to
-share/turtle_traj/. The version is the pip project's (pyproject.toml).
+share/turtle_traj/. The version, description, licence and package data are the pip project's,
+read from pyproject.toml: one list of the files the package carries, for both builds.
 """
 
-import re
 from pathlib import Path
 
 from setuptools import find_packages, setup
+from setuptools.config.pyprojecttoml import load_file
 
 HERE = Path(__file__).resolve().parent
-PYPROJECT = (HERE / '../../pyproject.toml').resolve().read_text()
-VERSION = re.search(r'^version = "([^"]+)"', PYPROJECT, re.MULTILINE).group(1)
+PYPROJECT = load_file((HERE / '../../pyproject.toml').resolve())
+PROJECT = PYPROJECT['project']
 
 setup(
     name='turtle_traj',
-    version=VERSION,
+    version=PROJECT['version'],
     packages=find_packages('src'),
     package_dir={'': 'src'},
-    package_data={'turtle_traj': ['drawings/*.svg', 'fastdds.xml', 'web/static/*']},
+    package_data=PYPROJECT['tool']['setuptools']['package-data'],
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/turtle_traj']),
         ('share/turtle_traj', ['package.xml']),
@@ -27,8 +28,8 @@ setup(
     ],
     install_requires=['setuptools'],
     zip_safe=False,
-    description='Closed-loop turtle trajectories for ROS 2 Jazzy, with a pure-Python turtlesim',
-    license='Apache-2.0',
+    description=PROJECT['description'],
+    license=PROJECT['license']['text'],
     entry_points={'console_scripts': [
         'trajectory_node = turtle_traj.apps.node:main',
         'sim = turtle_traj.apps.sim:main',
