@@ -81,10 +81,10 @@ def test_the_executables_package_xml_and_launch_file_are_installed(install):
 def test_the_installed_package_carries_the_pip_packages_data(install):
     """One list of package data (pyproject.toml's) for both builds: every file it names in
     src/ is in the installed tree too (fastdds.xml was missing: a stale list in setup.py)."""
-    import tomllib
+    from setuptools.config.pyprojecttoml import load_file  # as setup.py reads it
 
-    patterns = tomllib.loads((ROOT / 'pyproject.toml').read_text())['tool']['setuptools'][
-        'package-data']['turtle_traj']
+    patterns = load_file(ROOT / 'pyproject.toml')['tool']['setuptools']['package-data'][
+        'turtle_traj']
     source = ROOT / 'src' / 'turtle_traj'
     wanted = {path.relative_to(source) for pattern in patterns for path in source.glob(pattern)}
     assert Path('rosutils/fastdds.xml') in wanted
