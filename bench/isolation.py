@@ -9,7 +9,7 @@ import tempfile
 
 DOMAIN_IDS = {'sim': 230, 'accuracy': 231, 'latency': 232, 'soak': 229, 'cli': 228,
               'speed': 227, 'web': 226, 'lifecycle': 225, 'base': 224, 'physics': 223,
-              'network': 222, 'realtime': 221, 'planning': 220}
+              'network': 222, 'realtime': 221, 'planning': 220, 'corners': 219}
 
 
 def isolate(benchmark: str) -> None:

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from turtle_traj.core.control.commands import STOP, Command
-from turtle_traj.core.control.quantile import RunningQuantile
-from turtle_traj.core.control.robot_model import RATE, RobotModel
+from turtle_traj.core.control.quantile import RunningQuantile, WindowQuantile
+from turtle_traj.core.control.robot_model import BRAKING_WINDOW, RATE, RobotModel
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.sim.physics import World
@@ -204,6 +204,37 @@ def test_a_spike_seen_once_does_not_slow_what_follows():
     for tick in [*range(400), *range(420, 470)]:
         model.ticked(tick * STEP_S)
     assert model.predict(Pose2D(1.0, 1.0, 0.0), 470 * STEP_S).late_steps == 0
+
+
+def test_one_late_command_makes_a_braking_at_the_limit_allow_for_a_step():
+    """One command among 400 acts a step late (the ones after it wait a step: a queue of
+    one). Too rare for a turtle's approach, whose last command alone lands; a base's braking
+    is all of its approach, and allows for a step, until 6400 commands have acted on time."""
+    model = RobotModel(STEP_S)
+    commands = _distinct_commands(400)
+    _through_a_link(model, commands, [1] * 200 + [2] + [1] * 199)
+    prediction = model.predict(Pose2D(1.0, 1.0, 0.0), 400 * STEP_S)
+    assert prediction.late_steps == 0 and prediction.overrun == (0.0, 0.0)
+    assert prediction.braking_overrun == (pytest.approx(commands[-1].linear * STEP_S), 0.0)
+    assert prediction.overrun_when(limited=False) == prediction.overrun
+    assert prediction.overrun_when(limited=True) == prediction.braking_overrun
+    for after, hedged in ((BRAKING_WINDOW - 5, True), (BRAKING_WINDOW + 5, False)):
+        model = RobotModel(STEP_S)
+        count = 201 + after
+        _through_a_link(model, _distinct_commands(count, first=0.01),
+                        [1] * 200 + [2] + [1] * after)
+        overrun = model.predict(Pose2D(1.0, 1.0, 0.0), count * STEP_S).braking_overrun
+        assert (overrun[0] > 0.0) == hedged
+
+
+@pytest.mark.parametrize('window', [1, 5, 64])
+def test_a_window_quantile_is_the_largest_of_the_last_observations(window):
+    observed = np.random.default_rng(window).integers(-3, 4, 300).astype(float)
+    quantile = WindowQuantile(window)
+    assert quantile.value is None and quantile.whole(default=2) == 2
+    for count, value in enumerate(observed, start=1):
+        quantile.add(value)
+        assert quantile.value == observed[max(count - window, 0):count].max()
 
 
 def _lossy_link(model: RobotModel, steps: int, lossy_steps: int, lost_every: int) -> None:

@@ -16,6 +16,8 @@ from turtle_traj.core.control.commands import STOP, Command
 Echo = tuple[float, float]  # (|linear|, angular) as float32 values
 STANDING: Echo = (0.0, 0.0)  # a turtle that stands: a stop in effect, or no command yet
 HISTORY = 32  # commands remembered: far more than any latency we can steer through
+# Relative: more than `distinct` moves a command (4e-6); commands closer than this act alike.
+ALIKE = 1e-5
 
 
 def as_echoed(command: Command) -> Echo:
@@ -50,3 +52,10 @@ def distinct(command: Command, taken: set[Echo], previous: Command) -> Command:
         if value == 0.0:
             break
     return command
+
+
+def alike(command: Command, other: Command) -> bool:
+    """Whether one command acts as the other does, to the few float32 steps `distinct` moves
+    it: a step that holds `other` in place of `command` drives the robot the same."""
+    return all(abs(a - b) <= ALIKE * max(abs(a), abs(b))
+               for a, b in ((command.linear, other.linear), (command.angular, other.angular)))

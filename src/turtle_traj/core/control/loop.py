@@ -11,6 +11,7 @@ from __future__ import annotations
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.echo import alike
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.robot_model import RobotModel
 from turtle_traj.core.control.supervisor import RunSupervisor
@@ -63,18 +64,22 @@ class ControlLoop:
     def command(self, config: ControlConfig, arena: Arena, now_s: float) -> Command | None:
         """This period's command for the run (call it on every tick of the control timer, with
         a run or without); None when there is nothing to send: no run, no pose yet, commands
-        overdue at the robot (`RobotModel.excess`), or the run has just ended (whoever ends it
+        overdue at the robot (`RobotModel.excess`: more than one, or one where the command
+        held in place of this one drives alike), or the run has just ended (whoever ends it
         sends the stop)."""
         self.model.ticked(now_s)
         run = self.run
         if run is None or self.pose is None:
             return None
-        if self.model.excess:
+        excess = self.model.excess
+        if excess > 1:
             run.watch(self.pose, config, arena, now_s)  # a wall, or no progress, all the same
             return None
         prediction = self.model.predict(self.pose, now_s)
         command = run.command(self.pose, self.standing, config, arena, now_s, prediction)
-        return None if run.ending is not None else self.model.distinct(command)
+        if run.ending is not None or (excess and alike(command, self.model.last_sent)):
+            return None
+        return self.model.distinct(command)
 
     def sent(self, command: Command, now_s: float) -> None:
         """Record a command as it is published (every one, the stops included; node clock)."""

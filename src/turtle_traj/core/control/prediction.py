@@ -24,6 +24,14 @@ class Prediction:
     # turtlesim's step turns first and then moves along the new heading; a base reporting
     # odometry drives arcs
     turns_first: bool = True
+    # m, rad: as `overrun`, for a braking at the deceleration limit, whose every command is
+    # its approach (a base with inertia: `robot_model.BRAKING_WINDOW`)
+    braking_overrun: tuple[float, float] = (0.0, 0.0)
+
+    def overrun_when(self, limited: bool) -> tuple[float, float]:
+        """What an approach allows for: `braking_overrun` on a base with acceleration limits,
+        `overrun` on one that takes each command at once."""
+        return self.braking_overrun if limited else self.overrun
 
     @classmethod
     def immediate(cls, pose: Pose2D, velocity: Command = STOP) -> Prediction:

@@ -9,6 +9,8 @@ back: one stall among many never moves it by a whole step.
 
 from __future__ import annotations
 
+from collections import deque
+
 
 class RunningQuantile:
     """The `share` quantile of what was observed lately (None before any observation).
@@ -45,3 +47,33 @@ class RunningFloor(RunningQuantile):
             self.value = float(observed)
         else:
             super().add(observed)
+
+
+class WindowQuantile:
+    """A quantile too high for a running estimate: the largest of the last `window`
+    observations, the `1 - 1 / window` quantile of what was observed lately (one observation
+    in `window` lies above it). A running estimate of such a share steps up by almost its rate
+    at every observation above it and creeps down at every one below, so on whole numbers it
+    swings by its rate around the quantile; the window's largest holds still. Constant time
+    per observation (the window's decreasing candidates)."""
+
+    def __init__(self, window: int) -> None:
+        self.window = window
+        self._count = 0
+        self._candidates: deque[tuple[int, float]] = deque()  # (index, value), decreasing
+
+    def add(self, observed: float) -> None:
+        while self._candidates and self._candidates[-1][1] <= observed:
+            self._candidates.pop()
+        self._candidates.append((self._count, float(observed)))
+        self._count += 1
+        if self._candidates[0][0] < self._count - self.window:
+            self._candidates.popleft()
+
+    @property
+    def value(self) -> float | None:
+        return self._candidates[0][1] if self._candidates else None
+
+    def whole(self, default: int = 0) -> int:
+        """The largest rounded to a whole number (`default` before any observation)."""
+        return default if self.value is None else round(self.value)

@@ -33,15 +33,23 @@ The model, in one page:
   observations take back (for the 99th, within about 1.5 s of driving), so approaches stay
   brisk; jitter that lasts, as loss on a link does, is hedged: such an approach stops inside
   the end's tolerance, and one more command lands on the end once the turtle stands there.
+  On a base with inertia the approach is the whole braking, at its limit, and a command of it
+  acting a step late leaves the base a step further on for good: there the quantile is per
+  braking, not per command (`braking_overrun`): one late command among the last 6400 makes
+  the braking allow for a step.
 * **Faults are observations.** A stalled link holds commands back, and its repair lets them
   through together, to queue at turtlesim's 7-deep subscription: either way commands are
   overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
   control loop sends nothing meanwhile (the command before acts on, as predicted); the queue
-  drains (a hold still ends a run that makes no progress). A command in flight past its 0.2 s
-  lifespan was dropped by the writer (a loss repaired too late): it is in flight no longer. A
-  cut link loses poses too: the step count falls behind, and the floor with it, at the second
-  command seen. An executor that dispatches late: the stamps say how long each command acted;
-  poses it delivers late still count the steps.
+  drains (a hold still ends a run that makes no progress). One command waiting (a busy robot
+  stepped before it arrived) is drained only where holding the last command a step longer
+  drives the robot as the next would (a straight line, a steady turn, a stop); elsewhere, a
+  braking above all, the hold would shift the rest of the motion by a step, so it stays: the
+  floor takes it in, as predicted, and it buffers the next late arrival. A command in flight
+  past its 0.2 s lifespan was dropped by the writer (a loss repaired too late): it is in flight
+  no longer. A cut link loses poses too: the step count falls behind, and the floor with it, at
+  the second command seen. An executor that dispatches late: the stamps say how long each
+  command acted; poses it delivers late still count the steps.
 """
 
 from __future__ import annotations
@@ -54,7 +62,7 @@ from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, STOP, Command
 from turtle_traj.core.control.delay_fit import DelayFit
 from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed, distinct
 from turtle_traj.core.control.prediction import Prediction
-from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile
+from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile, WindowQuantile
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
 
@@ -62,6 +70,13 @@ CONFIDENCE = 0.95  # the share of commands that act no later than predicted
 # The share a leg's approach allows for: a command there that acts a step late is drawn, one
 # step at full speed past the end (a lost packet repaired, at 5% loss one command in twenty)
 APPROACH_CONFIDENCE = 0.99
+# On a base with inertia the approach is the whole braking, at the deceleration limit: any one
+# of its commands that acts a step late shifts the rest of it, and the base, already braking as
+# hard as it can, stops that step past the end. Braking from top speed takes about a second of
+# commands; for the approach's confidence each of them must act on time with this one: the
+# most of the last 1 / (1 - confidence) commands (6400, 100 s of driving; `WindowQuantile`).
+BRAKING_COMMANDS = 64
+BRAKING_WINDOW = round(BRAKING_COMMANDS / (1.0 - APPROACH_CONFIDENCE))
 RATE = 0.25  # steps: the most one observation moves a running quantile
 # A base whose odometry measures less than this (m/s, rad/s) stands: a few encoder ticks a
 # period (an XL430's 4096 a turn on 33 mm wheels 0.16 m apart, at 62.5 Hz: 3 mm/s, 0.04 rad/s).
@@ -99,6 +114,7 @@ class RobotModel:
         # steps later than the one before; the timer's steps from one tick to the next
         self._jitter = RunningQuantile(CONFIDENCE, RATE, prior=0.0)
         self._jitter_tail = RunningQuantile(APPROACH_CONFIDENCE, RATE, prior=0.0)
+        self._jitter_braking = WindowQuantile(BRAKING_WINDOW)
         self._last_tick: float | None = None
         self._follows = RunningQuantile(CONFIDENCE, RATE, prior=1.0)
 
@@ -207,6 +223,7 @@ class RobotModel:
             later = latency - self._latencies[-1]
             self._jitter.add(later)
             self._jitter_tail.add(later)
+            self._jitter_braking.add(later)
         self._latencies.append(latency)
         if len(self._latencies) == self._latencies.maxlen:
             self._latency.add(sorted(self._latencies)[1])
@@ -246,12 +263,17 @@ class RobotModel:
                 theta += command.angular * self.step_s
                 x += command.linear * math.cos(theta) * self.step_s
                 y += command.linear * math.sin(theta) * self.step_s
-        late = self._late_steps()
+        late = self._late_steps(self._jitter_tail)
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
-        overrun = (abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s)
         still = self._standing and all(sent.command == STOP for sent in pending)
-        return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, overrun, still,
-                          turns_first=self.echoes)
+        return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, self._overrun(last, late),
+                          still, turns_first=self.echoes,
+                          braking_overrun=self._overrun(
+                              last, self._late_steps(self._jitter_braking)))
+
+    def _overrun(self, last: Command, late: int) -> tuple[float, float]:
+        """How far `last` carries the robot when it acts `late` steps longer (m, rad)."""
+        return abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s
 
     def _pending(self) -> list[_Sent]:
         """The commands in flight, oldest first."""
@@ -281,8 +303,8 @@ class RobotModel:
         return [(command, end - begin)
                 for command, begin, end in zip(acting, begins, starts, strict=True)]
 
-    def _late_steps(self) -> int:
-        return max(self._jitter_tail.whole(), 0) + max(self._follows.whole(1) - 1, 0)
+    def _late_steps(self, tail: RunningQuantile | WindowQuantile) -> int:
+        return max(tail.whole(), 0) + max(self._follows.whole(1) - 1, 0)
 
     def _in_steps(self, stamp_s: float) -> float:
         return (stamp_s - self._origin_s) / self.step_s

@@ -114,10 +114,10 @@ class TurnTracker:
                 return _finished(abs(remaining) < config.heading_tolerance, prediction, config,
                                  self.landed)
             self.landed = landing = True
+        overrun = prediction.overrun_when(config.limited)[1]
         rate = min(config.angular_speed,
-                   _braking_speed(max(abs(error) - prediction.overrun[1], 0.0),
-                                  config.angular_braking, config.period_s, prediction,
-                                  config.limited, landing))
+                   _braking_speed(max(abs(error) - overrun, 0.0), config.angular_braking,
+                                  config.period_s, prediction, config.limited, landing))
         return Command(0.0, math.copysign(rate, error))
 
 
@@ -248,7 +248,8 @@ class PolylineTracker:
         elif abs(curvature) > 1e-9:
             speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
         if remaining != math.inf:
-            speed = min(speed, _braking_speed(max(abs(remaining) - prediction.overrun[0], 0.0),
+            overrun = prediction.overrun_when(config.limited)[0]
+            speed = min(speed, _braking_speed(max(abs(remaining) - overrun, 0.0),
                                               config.linear_braking, config.period_s,
                                               prediction, config.limited, landing))
             speed = math.copysign(speed, remaining)
