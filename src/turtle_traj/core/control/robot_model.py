@@ -36,7 +36,8 @@ The model, in one page:
   On a base with inertia the approach is the whole braking, at its limit, and a command of it
   acting a step late leaves the base a step further on for good: there the quantile is per
   braking, not per command (`braking_overrun`): one late command among the last 6400 makes
-  the braking allow for a step.
+  the braking allow for a step (seen by the echo: a latency fitted to odometry wavers by a
+  step as a fit does, and is left out).
 * **Faults are observations.** A stalled link holds commands back, and its repair lets them
   through together, to queue at turtlesim's 7-deep subscription: either way commands are
   overdue (in flight longer than the floor), `excess` says how many beyond the jitter, and the
@@ -223,7 +224,8 @@ class RobotModel:
             later = latency - self._latencies[-1]
             self._jitter.add(later)
             self._jitter_tail.add(later)
-            self._jitter_braking.add(later)
+            if self.echoes:  # a fitted latency's step either way is the fit's, not a command's
+                self._jitter_braking.add(later)
         self._latencies.append(latency)
         if len(self._latencies) == self._latencies.maxlen:
             self._latency.add(sorted(self._latencies)[1])

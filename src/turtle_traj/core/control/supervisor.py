@@ -13,8 +13,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controller import PlanController
@@ -23,13 +21,13 @@ from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.strokes import ControllerFault, StrokeDriver
 from turtle_traj.core.geometry.angles import wrap_angle
-from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.geometry.projection import PathDeviation
 from turtle_traj.core.geometry.shapes import Arena
 
 SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
 # Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.
 MAX_POSE_JUMP_M = 0.5
-_MEASURE_BATCH = 16  # poses measured against the path together, at most
 PROGRESS_STEP = 1e-3  # of a leg: less is no progress (a hunt back and forth makes none)
 
 
@@ -77,13 +75,8 @@ class RunSupervisor:
         # when the first command was asked for: the clock read as the run starts can be behind
         # (a simulated clock whose messages waited in the executor's queue)
         self._first_command_s: float | None = None
-        self._drawn = NearestOnPolyline(plan.drawn_points())
+        self._deviation = PathDeviation(plan.drawn_points())  # every pose's, as it comes
         self.distance = 0.0  # driven so far, pose to pose
-        # Poses not yet measured against the path: measured together, when asked or in batches
-        # (one numpy pass for many poses costs about what one pose costs).
-        self._unmeasured: list[tuple[float, float]] = []
-        self._deviation = 0.0
-        self._max_deviation = 0.0
         self._config: tuple[ControlConfig, ControlConfig] | None = None  # node's, this run's
         self._best_mark = (0, 0.0)  # the furthest the follower got, and when
         self._best_mark_s = started_s
@@ -127,26 +120,17 @@ class RunSupervisor:
 
     def distance_from_path(self, pose: Pose2D) -> float:
         """Distance from the planned path as drawn (every leg; a turn is its point)."""
-        return self._drawn.distance(pose.x, pose.y)
+        return self._deviation.distance(pose.x, pose.y)
 
     @property
     def deviation(self) -> float:
         """Distance from the path as drawn, at the last pose."""
-        self._measure()
-        return self._deviation
+        return self._deviation.last
 
     @property
     def max_deviation(self) -> float:
         """The largest distance from the path as drawn, over every pose so far."""
-        self._measure()
-        return self._max_deviation
-
-    def _measure(self) -> None:
-        if self._unmeasured:
-            distances = self._drawn.distances(np.array(self._unmeasured))
-            self._unmeasured.clear()
-            self._deviation = float(distances[-1])
-            self._max_deviation = max(self._max_deviation, float(distances.max()))
+        return self._deviation.largest
 
     def observe(self, pose: Pose2D) -> None:
         """A new pose: measured against the path; a jump from the last one aborts the run."""
@@ -154,9 +138,7 @@ class RunSupervisor:
         self._pose = pose
         if jump <= MAX_POSE_JUMP_M:
             self.distance += jump
-            self._unmeasured.append((pose.x, pose.y))
-            if len(self._unmeasured) >= _MEASURE_BATCH:
-                self._measure()
+            self._deviation.add(pose.x, pose.y)
         else:
             self.end(False, f'{self.name} aborted: the turtle jumped {jump:.2f} m between two '
                             'poses (teleported, reset, respawned, a second simulator in this '

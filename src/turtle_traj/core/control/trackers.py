@@ -24,6 +24,7 @@ from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile, profile_for
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
+from turtle_traj.core.geometry.projection import PolylineSegments
 
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
@@ -132,12 +133,11 @@ class PolylineTracker:
         self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
         self._profile = profile  # with acceleration limits: None on a straight line
         self.landed = False  # the one landing command is sent (`_lands`)
-        # Plain floats: a projection looks at a few segments, too few for numpy to pay.
-        self._xs, self._ys = polyline.points[:, 0].tolist(), polyline.points[:, 1].tolist()
+        self._segments = PolylineSegments(polyline.points)
 
     def _candidates(self) -> list[int] | range:
         """The segments searched: a window around the last match (wrapping on a loop)."""
-        count = len(self._xs) - 1
+        count = self._segments.count
         first, last = self.segment - _WINDOW_BEHIND, self.segment + _WINDOW_AHEAD
         if self.polyline.repeat:
             return [index % count for index in range(first, last + 1)]
@@ -145,21 +145,7 @@ class PolylineTracker:
 
     def _project(self, pose: Pose2D) -> tuple[int, float, float]:
         """Nearest segment near the last one: index, fraction along it, signed offset."""
-        xs, ys, px, py = self._xs, self._ys, pose.x, pose.y
-        best = None
-        for index in self._candidates():
-            ax, ay = xs[index], ys[index]
-            dx, dy = xs[index + 1] - ax, ys[index + 1] - ay
-            rx, ry = px - ax, py - ay
-            squared = dx * dx + dy * dy
-            squared = 1e-18 if squared < 1e-18 else squared
-            fraction = (rx * dx + ry * dy) / squared
-            fraction = 0.0 if fraction < 0.0 else 1.0 if fraction > 1.0 else fraction
-            distance = math.hypot(px - (ax + dx * fraction), py - (ay + dy * fraction))
-            if best is None or distance < best[0]:
-                best = (distance, index, fraction, (dx * ry - dy * rx) / math.sqrt(squared))
-        _, index, fraction, offset = best
-        return index, fraction, offset
+        return self._segments.project(pose.x, pose.y, self._candidates())
 
     def _remaining(self, pose: Pose2D, segment: int, fraction: float) -> float:
         """Distance left to the end (inf on a repeating polyline), signed: negative past it."""

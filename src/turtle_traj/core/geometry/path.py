@@ -212,13 +212,15 @@ class NearestOnPolyline:
                               for a, b in self._blocks])
         self._high = np.array([vertices[a:b + 1].max(axis=0) for a, b in self._blocks])
 
-    def _within(self, x: float, y: float, first: int, stop: int) -> float:
+    def _within(self, x: float, y: float, first: int, stop: int) -> tuple[float, int]:
         offsets = np.array([x, y]) - self._starts[first:stop]
         edges = self._edges[first:stop]
         along = np.clip(np.einsum('kj,kj->k', offsets, edges) / self._squared[first:stop],
                         0.0, 1.0)
         gaps = offsets - along[:, None] * edges
-        return float(np.sqrt(np.min(np.einsum('kj,kj->k', gaps, gaps))))
+        squared = np.einsum('kj,kj->k', gaps, gaps)
+        index = int(np.argmin(squared))
+        return float(np.sqrt(squared[index])), first + index
 
     def distances(self, points: np.ndarray) -> np.ndarray:
         """Distance of each point (N, 2) to the nearest segment: all at once for a polyline
@@ -233,14 +235,18 @@ class NearestOnPolyline:
 
     def distance(self, x: float, y: float) -> float:
         """Distance of (x, y) to the nearest segment."""
+        return self.nearest(x, y)[0]
+
+    def nearest(self, x: float, y: float) -> tuple[float, int]:
+        """Distance of (x, y) to the nearest segment, and that segment's index."""
         if len(self._blocks) == 1:
             return self._within(x, y, 0, len(self._starts))
         point = np.array([x, y])
         outside = np.maximum(np.maximum(self._low - point, point - self._high), 0.0)
         bounds = np.hypot(outside[:, 0], outside[:, 1])
-        nearest = math.inf
+        nearest = (math.inf, 0)
         for block in np.argsort(bounds, kind='stable').tolist():
-            if not bounds[block] < nearest:
+            if not bounds[block] < nearest[0]:
                 break  # this box, and every later one, is no nearer than what was found
             nearest = min(nearest, self._within(x, y, *self._blocks[block]))
         return nearest

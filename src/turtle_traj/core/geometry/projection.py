@@ -1,0 +1,104 @@
+"""The nearest point of a polyline to a point that moves along it. Pure Python.
+
+A robot moves a few millimetres a control period, so the segment nearest to it is the last one
+or one nearby: each search here looks at a few segments around the last match, with plain
+floats (too few for numpy to pay) and each segment's constants computed once.
+`PolylineSegments.project` searches a given window; `PathDeviation` walks to the nearest
+segment nearby, and asks the whole polyline (`NearestOnPolyline`) only when a pose could be
+the farthest yet, so a run's largest deviation stays exact wherever the path crosses itself.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import numpy as np
+
+from turtle_traj.core.geometry.path import NearestOnPolyline
+
+_LEAST_SQUARED = 1e-18  # m²: a segment of no length is projected on as a point
+
+
+class PolylineSegments:
+    """A polyline's segments as plain floats: start, direction, squared length, length."""
+
+    def __init__(self, points: np.ndarray) -> None:
+        xs, ys = points[:, 0].tolist(), points[:, 1].tolist()
+        self.count = len(xs) - 1
+        self._segments = []
+        for index in range(self.count):
+            dx, dy = xs[index + 1] - xs[index], ys[index + 1] - ys[index]
+            squared = dx * dx + dy * dy
+            squared = _LEAST_SQUARED if squared < _LEAST_SQUARED else squared
+            self._segments.append((xs[index], ys[index], dx, dy, squared, math.sqrt(squared)))
+
+    def distance(self, index: int, px: float, py: float) -> float:
+        """Distance from (px, py) to segment `index`."""
+        ax, ay, dx, dy, squared, _ = self._segments[index]
+        fraction = ((px - ax) * dx + (py - ay) * dy) / squared
+        fraction = 0.0 if fraction < 0.0 else 1.0 if fraction > 1.0 else fraction
+        return math.hypot(px - (ax + dx * fraction), py - (ay + dy * fraction))
+
+    def project(self, px: float, py: float,
+                candidates: Iterable[int]) -> tuple[int, float, float]:
+        """The nearest of the `candidates` segments (the first of equals): its index, the
+        fraction along it (0 to 1) and the signed offset (left of it positive)."""
+        best_distance, best = math.inf, None
+        for index in candidates:
+            ax, ay, dx, dy, squared, length = self._segments[index]
+            rx, ry = px - ax, py - ay
+            fraction = (rx * dx + ry * dy) / squared
+            fraction = 0.0 if fraction < 0.0 else 1.0 if fraction > 1.0 else fraction
+            distance = math.hypot(px - (ax + dx * fraction), py - (ay + dy * fraction))
+            if best is None or distance < best_distance:
+                best_distance, best = distance, (index, fraction, (dx * ry - dy * rx) / length)
+        return best
+
+
+class PathDeviation:
+    """Distances of successive poses from a fixed polyline, and the largest: exact.
+
+    Each pose is first measured against the segment nearest to the last pose and its
+    neighbours, walking on while the next one is nearer: a distance to some of the segments,
+    never less than the true one. Only a pose whose walk finds it farther than the largest so
+    far is measured against the whole polyline, which also gives the walk its new start.
+    """
+
+    def __init__(self, vertices: np.ndarray) -> None:
+        vertices = np.asarray(vertices, dtype=float)
+        if len(vertices) == 1:
+            vertices = np.repeat(vertices, 2, axis=0)  # one point: a segment of no length
+        self._whole = NearestOnPolyline(vertices)
+        self._segments = PolylineSegments(vertices)
+        self._segment = 0
+        self._last: tuple[float, float] | None = None
+        self.largest = 0.0
+
+    def add(self, x: float, y: float) -> None:
+        """A pose's position: measured, and the largest distance kept."""
+        self._last = (x, y)
+        if self._walk(x, y) > self.largest:
+            distance, self._segment = self._whole.nearest(x, y)
+            self.largest = max(self.largest, distance)
+
+    @property
+    def last(self) -> float:
+        """The last pose's distance from the polyline (0 before any)."""
+        return 0.0 if self._last is None else self.distance(*self._last)
+
+    def distance(self, x: float, y: float) -> float:
+        """Distance of any point from the polyline."""
+        return self._whole.nearest(x, y)[0]
+
+    def _walk(self, x: float, y: float) -> float:
+        segments, index = self._segments, self._segment
+        nearest = segments.distance(index, x, y)
+        for step in (1, -1):
+            while 0 <= index + step < segments.count:
+                distance = segments.distance(index + step, x, y)
+                if distance > nearest:
+                    break
+                index, nearest = index + step, distance
+        self._segment = index
+        return nearest

@@ -1,0 +1,64 @@
+"""The polyline projection (pure): windowed searches against the independent distance of
+`testing.geometry`, and the run's largest deviation exact on paths that cross themselves."""
+
+import math
+
+import numpy as np
+import pytest
+
+from turtle_traj.core.geometry.projection import PathDeviation, PolylineSegments
+from turtle_traj.testing.geometry import distance_to_polyline
+
+
+def _figure_eight(count: int) -> np.ndarray:
+    """A lemniscate sampled at `count` points: it crosses itself at its centre."""
+    t = np.linspace(0.0, 2.0 * math.pi, count)
+    return np.stack([5.0 + 3.0 * np.sin(t), 5.0 + 1.5 * np.sin(2.0 * t)], axis=1)
+
+
+def _poses_along(path: np.ndarray, seed: int, noise: float) -> np.ndarray:
+    """Points along the path, a few millimetres apart, off it by up to `noise`."""
+    lengths = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(path, axis=0).T))))
+    along = np.arange(0.0, lengths[-1], 0.008)
+    points = np.stack([np.interp(along, lengths, path[:, 0]),
+                       np.interp(along, lengths, path[:, 1])], axis=1)
+    return points + np.random.default_rng(seed).uniform(-noise, noise, points.shape)
+
+
+@pytest.mark.parametrize('count', [2, 5, 300, 3000])
+@pytest.mark.parametrize('seed', [1, 2])
+def test_the_largest_deviation_is_the_exact_one(count, seed):
+    path = _figure_eight(count)
+    poses = _poses_along(path, seed, noise=0.02)
+    poses[len(poses) // 3] += (0.0, 0.35)  # one far off, near another part of the path
+    deviation = PathDeviation(path)
+    exact = distance_to_polyline(poses, path)
+    for index, (x, y) in enumerate(poses):
+        deviation.add(x, y)
+        assert deviation.largest == pytest.approx(exact[:index + 1].max(), abs=1e-12)
+        assert deviation.last == pytest.approx(exact[index], abs=1e-12)
+
+
+def test_a_pose_that_jumps_to_another_part_of_the_path_is_measured_against_all_of_it():
+    """Where the walk from the last segment finds a far distance, the whole path answers:
+    a pose at the other end of a U is on the path, not a U's width from it."""
+    path = np.array([(0.0, 0.0), (4.0, 0.0), (4.0, 1.0), (0.0, 1.0)])
+    deviation = PathDeviation(path)
+    deviation.add(0.5, 0.0)
+    deviation.add(0.5, 1.002)  # beside the last leg, 1 m from the first
+    assert deviation.largest == pytest.approx(0.002)
+    assert deviation.distance(2.0, 0.5) == pytest.approx(0.5)
+
+
+def test_a_window_finds_its_nearest_segment_as_a_search_of_all_of_them_does():
+    path = _figure_eight(200)
+    segments = PolylineSegments(path)
+    for x, y in _poses_along(path, 3, noise=0.05)[::7]:
+        index, fraction, offset = segments.project(x, y, range(segments.count))
+        start, end = path[index], path[index + 1]
+        nearest = start + fraction * (end - start)
+        assert math.dist((x, y), nearest) == pytest.approx(
+            distance_to_polyline(np.array([(x, y)]), path)[0], abs=1e-12)
+        # the offset is from the segment's line, positive on its left
+        (dx, dy), (rx, ry) = end - start, (x - start[0], y - start[1])
+        assert offset == pytest.approx((dx * ry - dy * rx) / math.hypot(dx, dy), abs=1e-12)
