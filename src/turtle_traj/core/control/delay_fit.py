@@ -15,6 +15,8 @@ import math
 from collections import deque
 from collections.abc import Sequence
 
+import numpy as np
+
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
@@ -30,40 +32,47 @@ class DelayFit:
 
     def __init__(self, step_s: float) -> None:
         self.step_s = step_s
-        self._poses: deque[tuple[int, Pose2D]] = deque(maxlen=WINDOW + 1)
+        self._last: Pose2D | None = None
+        # each step's turn and distance, from the pose before (by the later pose's step)
+        self._motions: deque[tuple[int, float, float]] = deque(maxlen=WINDOW)
 
     def add(self, step: int, pose: Pose2D) -> None:
         """The pose of robot step `step` (steps counted by poses, one a step)."""
-        self._poses.append((step, pose))
+        if self._last is not None:
+            self._motions.append((step, wrap_angle(pose.theta - self._last.theta),
+                                  math.hypot(pose.x - self._last.x, pose.y - self._last.y)))
+        self._last = pose
 
     def best(self, commands: Sequence[tuple[float, Command]], lowest: int) -> int | None:
         """The latency (steps from a command's stamp to the step it acts first, in the
         poses' count) in `lowest`, `lowest + 1`, ... that explains the window's motion, or None
         when none does clearly. `commands`: (stamp in steps, command), oldest first."""
-        if len(self._poses) <= WINDOW:
+        if len(self._motions) < WINDOW:
             return None
-        errors = sorted((self._error(commands, latency), latency)
-                        for latency in range(lowest, lowest + SPAN))
+        errors = sorted(zip(self._errors(commands, lowest).tolist(),
+                            range(lowest, lowest + SPAN), strict=True))
         (best, latency), (second, _) = errors[0], errors[1]
         if not math.isfinite(best) or best > 0.5 * second:
             return None
         return latency
 
-    def _error(self, commands: Sequence[tuple[float, Command]], latency: int) -> float:
-        """How badly the window's motion fits commands arriving `latency` steps after their
-        stamps (inf: the window reaches before the commands remembered)."""
-        arrivals = [round(stamp + latency) for stamp, _ in commands]
-        error, index = 0.0, -1
-        previous = self._poses[0][1]
-        for step, pose in list(self._poses)[1:]:
-            while index + 1 < len(arrivals) and arrivals[index + 1] <= step:
-                index += 1
-            if index < 0:
-                return math.inf
-            command = commands[index][1]
-            turned = wrap_angle(pose.theta - previous.theta)
-            moved = math.hypot(pose.x - previous.x, pose.y - previous.y)
-            error += ((turned - command.angular * self.step_s) / TURN_NOISE) ** 2
-            error += ((moved - abs(command.linear) * self.step_s) / DISTANCE_NOISE) ** 2
-            previous = pose
-        return error
+    def _errors(self, commands: Sequence[tuple[float, Command]], lowest: int) -> np.ndarray:
+        """For each latency from `lowest` (SPAN of them), how badly the window's motion fits
+        commands arriving that many steps after their stamps: the sum of each step's squared
+        misfits of turn and distance, in noise units, added in step order (inf: the window
+        reaches before the commands remembered). All latencies at once."""
+        stamps = np.array([stamp for stamp, _ in commands])
+        angular = np.array([command.angular for _, command in commands]) * self.step_s
+        linear = np.abs(np.array([command.linear for _, command in commands])) * self.step_s
+        steps, turned, moved = (np.array(values) for values in zip(*self._motions, strict=True))
+        arrivals = np.round(stamps[None, :] + np.arange(lowest, lowest + SPAN)[:, None])
+        # the command in effect at each step: the last of those, in order, arrived by then
+        # (-1: none yet; one arriving before another sent earlier waits for it)
+        arrivals = np.maximum.accumulate(arrivals, axis=1)
+        acting = (arrivals[:, None, :] <= steps[None, :, None]).sum(axis=2) - 1
+        misfits = np.empty((SPAN, 2 * len(steps)))
+        misfits[:, 0::2] = ((turned - angular[acting]) / TURN_NOISE) ** 2
+        misfits[:, 1::2] = ((moved - linear[acting]) / DISTANCE_NOISE) ** 2
+        errors = np.cumsum(misfits, axis=1)[:, -1]  # one by one, as they come
+        errors[(acting < 0).any(axis=1)] = math.inf
+        return errors

@@ -206,9 +206,10 @@ class RobotModel:
     def _due(self) -> int:
         """The newest command due by now: sent the latency's floor ago (a measured velocity
         names no command: this is the one taken to act)."""
-        due = [self._first + index for index, sent in enumerate(self._sent)
-               if round(sent.stamp + self._latency.value) <= self._poses]
-        return due[-1] if due else self._first - 1
+        floor, first = self._latency.value, self._first
+        due = [first + index for index, sent in enumerate(self._sent)
+               if round(sent.stamp + floor) <= self._poses]
+        return due[-1] if due else first - 1
 
     @property
     def _standing(self) -> bool:
