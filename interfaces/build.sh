@@ -45,12 +45,13 @@ build_package() {
          tail -n 40 "$log" >&2; return 1; }
 }
 
-# The two packages are independent: build them side by side (most of the time goes into
-# rosidl's single-threaded Python generators, so two builds fill two cores better than one).
+# The packages are independent: build them side by side (most of the time goes into rosidl's
+# single-threaded Python generators, so parallel builds fill the cores better than one).
+# turtlesim and nav2_msgs are subsets of ROS packages: a sourced ROS install's own are used.
 pids=()
-for package in turtlesim turtle_traj_interfaces; do
-  if [ "$package" = turtlesim ] && installed_elsewhere turtlesim; then
-    echo "interfaces: using the installed turtlesim package, not building ours"
+for package in turtlesim nav2_msgs turtle_traj_interfaces; do
+  if [ "$package" != turtle_traj_interfaces ] && installed_elsewhere "$package"; then
+    echo "interfaces: using the installed $package package, not building ours"
     continue
   fi
   echo "interfaces: building $package"

@@ -51,6 +51,7 @@ class BaseTopics:
         else:
             topic, message, reader = f'{turtle}/pose', Pose, self._on_turtlesim_pose
         self._reader = reader
+        self.frame_id = ''  # of the odometry read (turtlesim's pose names none)
         self.on_arrival: Callable[[], None] = lambda: None  # as the executor delivers a pose
         self._poses = node.create_subscription(message, topic, self._delivered, POSE_READER_QOS)
         self.pose_topic = node.resolve_topic_name(topic)
@@ -76,6 +77,7 @@ class BaseTopics:
 
     def _on_odometry(self, msg) -> None:
         position, twist = msg.pose.pose.position, msg.twist.twist
+        self.frame_id = msg.header.frame_id
         self._on_pose(Pose2D(position.x, position.y, yaw_of(msg.pose.pose.orientation)),
                       abs(twist.linear.x), twist.angular.z)
 

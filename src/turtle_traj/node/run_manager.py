@@ -22,7 +22,7 @@ from rclpy.task import Future
 from std_msgs.msg import Header
 
 from turtle_traj.core.control.commands import STOP, Command
-from turtle_traj.core.control.controllers.catalogue import choose
+from turtle_traj.core.control.controllers.catalogue import Chosen, choose
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import RunSupervisor
@@ -94,6 +94,16 @@ class RunManager:
     @property
     def run(self) -> RunSupervisor | None:
         return self._loop.run
+
+    @property
+    def last_command(self) -> Command:
+        """The command in effect once those sent have arrived: the last one sent."""
+        return self._loop.model.last_sent
+
+    @property
+    def frame_id(self) -> str:
+        """The frame of the poses read: the odometry's, or turtlesim's world."""
+        return self._base.frame_id or outcomes.PLAN_FRAME_ID
 
     @property
     def pen_ready(self) -> bool:
@@ -246,8 +256,10 @@ class RunManager:
         self._state_lock.warning(reason)
         return outcomes.RunRefused(reason)
 
-    async def start_run(self, kind: TrajectoryKind, request) -> tuple[RunSupervisor, Future]:
-        """Plan `request` and drive it: the run, and the future of its Outcome.
+    async def start_run(self, kind: TrajectoryKind, request, *,
+                        controller: Chosen | None = None) -> tuple[RunSupervisor, Future]:
+        """Plan `request` and drive it (with `controller`, or the node's): the run, and the
+        future of its Outcome.
 
         The plan is made beside the executor (a text with rounded corners takes seconds), which
         meanwhile answers parameters and hears poses. The node is busy from the request on.
@@ -262,7 +274,7 @@ class RunManager:
             raise self.refuse(f'{kind.name} refused: {error}') from None
         finally:
             self._done_planning(planning)
-        return self._start_planned(kind, planning, plan)
+        return self._start_planned(kind, planning, plan, controller or self._controller)
 
     @serialized
     def _begin_planning(self, kind: TrajectoryKind, request) -> Planning:
@@ -276,8 +288,8 @@ class RunManager:
         self._plans.done(planning)
 
     @serialized
-    def _start_planned(self, kind: TrajectoryKind, planning: Planning,
-                       plan: Plan | None) -> tuple[RunSupervisor, Future]:
+    def _start_planned(self, kind: TrajectoryKind, planning: Planning, plan: Plan | None,
+                       controller: Chosen) -> tuple[RunSupervisor, Future]:
         if plan is None:  # its future was cancelled: stopped or aborted
             raise self.refuse(f'{kind.name} {planning.ended}')
         if plan.pen is not None and not self._pen.ready:
@@ -286,7 +298,7 @@ class RunManager:
         settings = planning.settings
         self._silence.was_busy()  # the plan's wall time is not the simulator's silence
         run = self._loop.start(plan, arena=settings.arena, now_s=self.now_s(),
-                               controller=self._controller)
+                               controller=controller)
         self._run_done = done = Future()
         if self._recording is not None:
             self._recording.start(kind.name, settings.control)

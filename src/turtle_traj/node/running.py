@@ -7,6 +7,8 @@ from typing import Any, Protocol
 
 from rclpy.task import Future
 
+from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.supervisor import RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import Settings
@@ -32,8 +34,14 @@ class RunningNode(Protocol):
 
     def refuse(self, reason: str) -> RunRefused: ...
 
-    async def start_run(self, kind: TrajectoryKind,
-                        request: Any) -> tuple[RunSupervisor, Future]: ...
+    @property
+    def last_command(self) -> Command: ...
+
+    @property
+    def frame_id(self) -> str: ...
+
+    async def start_run(self, kind: TrajectoryKind, request: Any, *,
+                        controller: Chosen | None = None) -> tuple[RunSupervisor, Future]: ...
 
     def stop_run(self, run: RunSupervisor) -> None: ...
 

@@ -55,6 +55,7 @@ class TrajectoryNode(Node):
         self.pose_topic = runs.pose_topic
         TrajectoryServices(self, runs, group)  # ~/draw_square, ...: one per registry entry
         self._draw_action = DrawActionServer(self, runs, group)
+        self._nav2 = _nav2_follow_path(self, runs, group)
         self._commands = CommandServices(self, runs, group)  # ~/stop and ~/reset
         self.stop_service = self._commands.stop_service
 
@@ -117,6 +118,17 @@ class TrajectoryNode(Node):
         return self._runs.now_s()
 
     def destroy_node(self) -> None:
-        if (draw_action := getattr(self, '_draw_action', None)) is not None:
-            draw_action.destroy()
+        for server in (getattr(self, '_draw_action', None), getattr(self, '_nav2', None)):
+            if server is not None:
+                server.destroy()
         super().destroy_node()
+
+
+def _nav2_follow_path(node: Node, runs: RunManager, group) -> object | None:
+    """Nav2's FollowPath action, where nav2_msgs is installed (ours or Nav2's)."""
+    try:
+        from turtle_traj.node.nav2_follow_path import Nav2FollowPath
+    except ImportError as error:  # a colcon build without Nav2 or our interfaces/nav2_msgs
+        node.get_logger().info(f'no Nav2 FollowPath action: {error}')
+        return None
+    return Nav2FollowPath(node, runs, group)

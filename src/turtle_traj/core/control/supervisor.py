@@ -17,6 +17,7 @@ from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controller import PlanController
 from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.strokes import ControllerFault, StrokeDriver
@@ -45,6 +46,7 @@ class Outcome:
     final_heading_error: float = 0.0
     pen_up_length: float = 0.0
     pen_up_unordered: float = 0.0
+    reason: Ending = Ending.ABORTED
 
 
 def wall_clearance(arena: Arena, pose: Pose2D) -> float:
@@ -56,8 +58,9 @@ def wall_clearance(arena: Arena, pose: Pose2D) -> float:
 class RunSupervisor:
     """One plan being driven: its follower, and the verdict once the run is over.
 
-    `ending` is None while the run goes on, then (success, message); after that `command`
-    returns STOP only. Single-threaded by design: the node calls it from one executor thread.
+    `ending` is None while the run goes on, then (success, message), with `reason` why; after
+    that `command` returns STOP only. Single-threaded by design: the node calls it from one
+    executor thread.
     """
 
     def __init__(self, plan: Plan, *, start: Pose2D, arena: Arena, started_s: float,
@@ -67,6 +70,7 @@ class RunSupervisor:
         self.plan = plan
         self.started_s = started_s
         self.ending: tuple[bool, str] | None = None
+        self.reason: Ending | None = None
         self.follower = self._driver(controller)
         self._start_clearance = wall_clearance(arena, start)
         self._settled_periods = 0
@@ -89,21 +93,23 @@ class RunSupervisor:
             return chosen.driver(self.plan, manage_pen=manage_pen)
         except Exception as error:  # the controller's constructor
             self.end(False, f"{self.name} aborted: controller '{chosen.name}' could not be "
-                            f'made: {type(error).__name__}: {error}')
+                            f'made: {type(error).__name__}: {error}', Ending.CONTROLLER_FAULT)
         return Chosen().driver(self.plan, manage_pen=manage_pen)
 
     @property
     def name(self) -> str:
         return self.plan.trajectory
 
-    def end(self, success: bool, message: str) -> None:
-        """Decide the verdict (the first decision stands)."""
+    def end(self, success: bool, message: str, reason: Ending | None = None) -> None:
+        """Decide the verdict (the first decision stands); `reason` by default: succeeded,
+        or aborted."""
         if self.ending is None:
             self.ending = (success, message)
+            self.reason = reason or (Ending.SUCCEEDED if success else Ending.ABORTED)
 
     def request_stop(self) -> None:
         """A stop request: success for an endless trajectory (it ends only this way)."""
-        self.end(self.plan.path.endless, f'{self.name} stopped by request')
+        self.end(self.plan.path.endless, f'{self.name} stopped by request', Ending.STOPPED)
 
     @property
     def pen_wanted(self) -> bool | None:
@@ -142,7 +148,8 @@ class RunSupervisor:
         else:
             self.end(False, f'{self.name} aborted: the turtle jumped {jump:.2f} m between two '
                             'poses (teleported, reset, respawned, a second simulator in this '
-                            'ROS domain, or this node fell behind the simulator)')
+                            'ROS domain, or this node fell behind the simulator)',
+                     Ending.POSE_JUMPED)
 
     def command(self, pose: Pose2D, standing: bool, config: ControlConfig, arena: Arena,
                 now_s: float, prediction: Prediction | None = None) -> Command:
@@ -161,23 +168,23 @@ class RunSupervisor:
             return self._settle(standing, now_s)
         if self._config is None or self._config[0] is not config:
             self._config = (config, self.plan.control(config))  # once per settings change
-        why = self._hazard(pose, config, arena, now_s)
-        if why is not None:
-            self.end(False, why)
+        hazard = self._hazard(pose, config, arena, now_s)
+        if hazard is not None:
+            self.end(False, *hazard)
             return STOP
         try:
             return self.follower.update(pose, self._config[1], prediction)
         except ControllerFault as fault:
-            self.end(False, f'{self.name} aborted: {fault}')
+            self.end(False, f'{self.name} aborted: {fault}', Ending.CONTROLLER_FAULT)
             return STOP
 
     def watch(self, pose: Pose2D, config: ControlConfig, arena: Arena, now_s: float) -> None:
         """A period with no command sent (commands wait at the robot): end the run if it must
         end all the same (a wall ahead, no progress for too long)."""
         if self.ending is None and not self.follower.done:
-            why = self._hazard(pose, config, arena, now_s)
-            if why is not None:
-                self.end(False, why)
+            hazard = self._hazard(pose, config, arena, now_s)
+            if hazard is not None:
+                self.end(False, *hazard)
 
     def _settle(self, standing: bool, now_s: float) -> Command:
         """The path is done: wait for the turtle to report standing still (or enough periods)."""
@@ -192,12 +199,12 @@ class RunSupervisor:
         return STOP
 
     def _hazard(self, pose: Pose2D, config: ControlConfig, arena: Arena,
-                now_s: float) -> str | None:
+                now_s: float) -> tuple[str, Ending] | None:
         """Why the run must end now (a wall ahead, no progress), or None."""
         clearance = wall_clearance(arena, pose)
         if clearance < arena.margin / 2 and clearance < self._start_clearance:
             return (f'{self.name} stopped: the turtle came within {clearance:.3f} m of the wall '
-                    f'at ({pose.x:.2f}, {pose.y:.2f})')
+                    f'at ({pose.x:.2f}, {pose.y:.2f})', Ending.WALL)
         if not self._stalled(now_s, config.progress_timeout_s):
             return None
         why = ('the base does not follow the commands as fast as max_linear_accel and '
@@ -206,7 +213,7 @@ class RunSupervisor:
                'max_angular_accel set')
         return (f'{self.name} aborted: no progress along the path for '
                 f'{config.progress_timeout_s:g} s, {self.distance_from_path(pose):.3f} m from '
-                f'it: {why}, or something holds it')
+                f'it: {why}, or something holds it', Ending.NO_PROGRESS)
 
     def _stalled(self, now_s: float, timeout_s: float) -> bool:
         """No progress since `timeout_s` ago. A new leg, a new lap of an endless loop or a
@@ -233,7 +240,8 @@ class RunSupervisor:
             success, message, pose, elapsed_s=max(ended_s - began_s, 0.0),
             path_length=self.distance if path.endless else path.length,
             max_deviation=self.max_deviation, final_error=math.nan,
-            pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered)
+            pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered,
+            reason=self.reason or Ending.ABORTED)
         if pose is None:
             return outcome
         if self.follower.done:

@@ -102,3 +102,22 @@ class PathDeviation:
                 index, nearest = index + step, distance
         self._segment = index
         return nearest
+
+
+class LengthLeft:
+    """The length of a fixed polyline left from the point nearest to a given one to its end."""
+
+    def __init__(self, vertices: np.ndarray) -> None:
+        vertices = np.asarray(vertices, dtype=float)
+        if len(vertices) == 1:
+            vertices = np.repeat(vertices, 2, axis=0)
+        self._whole = NearestOnPolyline(vertices)
+        self._segments = PolylineSegments(vertices)
+        self._lengths = np.hypot(*np.diff(vertices, axis=0).T).tolist()
+        # after each segment's end
+        self._after = (np.cumsum(self._lengths[::-1])[::-1] - self._lengths).tolist()
+
+    def __call__(self, x: float, y: float) -> float:
+        _, index = self._whole.nearest(x, y)
+        _, fraction, _ = self._segments.project(x, y, (index,))
+        return self._after[index] + (1.0 - fraction) * self._lengths[index]

@@ -1,0 +1,137 @@
+"""Nav2's FollowPath action on the trajectory node, as Nav2's controller server serves it.
+
+`follow_path` in the node's namespace, of type nav2_msgs/action/FollowPath (Nav2 Jazzy's, or the
+subset interfaces/nav2_msgs builds where Nav2 is not installed: the same type hash). A goal's
+path is followed exactly (turns in place at its corners, as `follow_path` does), in the frame of
+the poses the node reads; `controller_id` picks a controller for the goal (empty: the node's
+`controller`). Feedback at 10 Hz: the path length left from the nearest point and the speed
+commanded. A new goal while one runs replaces it: the old one ends aborted, as in Nav2, and the
+new one is driven from where the robot is. A goal that arrives while one of the node's own
+trajectories runs is refused. Failures carry Nav2's error codes with `error_msg`.
+"""
+
+from __future__ import annotations
+
+import math
+
+from geometry_msgs.msg import Point
+from nav2_msgs.action import FollowPath
+from rclpy.action import ActionServer, CancelResponse
+from rclpy.action.server import ServerGoalHandle
+from rclpy.callback_groups import CallbackGroup
+from rclpy.node import Node
+from turtle_traj_interfaces.srv import FollowPath as FollowPathRequest
+
+from turtle_traj.core.control.controllers.catalogue import Chosen, UnknownController, choose
+from turtle_traj.core.control.ending import Ending
+from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
+from turtle_traj.core.geometry.projection import LengthLeft
+from turtle_traj.core.registry import BY_NAME
+from turtle_traj.node.outcomes import RunRefused
+from turtle_traj.node.running import RunningNode
+from turtle_traj.node.waiting import completion
+
+ACTION = 'follow_path'
+FEEDBACK_PERIOD_S = 0.1  # node clock: 10 Hz
+Result = FollowPath.Result
+# Nav2's code for each way a run ends unsuccessfully (a cancel ends CANCELED, with none)
+ERROR_CODES = {Ending.NO_PROGRESS: Result.FAILED_TO_MAKE_PROGRESS,
+               Ending.CONTROLLER_FAULT: Result.NO_VALID_CONTROL}
+
+
+class GoalFailed(Exception):
+    """A goal that cannot be driven: Nav2's error code and the message."""
+
+    def __init__(self, code: int, message: str) -> None:
+        super().__init__(message)
+        self.code = code
+
+
+class Nav2FollowPath:
+    """`follow_path` on `node`: each goal's path driven through `runs`."""
+
+    def __init__(self, node: Node, runs: RunningNode, callback_group: CallbackGroup) -> None:
+        self._runs, self._ros = runs, node
+        self._running: tuple[ServerGoalHandle, RunSupervisor] | None = None
+        self._server = ActionServer(node, FollowPath, ACTION, self._execute,
+                                    cancel_callback=self._on_cancel,
+                                    callback_group=callback_group)
+
+    def destroy(self) -> None:
+        self._server.destroy()
+
+    def _on_cancel(self, goal_handle: ServerGoalHandle) -> CancelResponse:
+        """Stop this goal's run at once; the goal then ends CANCELED."""
+        if self._running is not None and self._running[0] is goal_handle:
+            self._runs.stop_run(self._running[1])
+        else:  # its plan may be being made
+            self._runs.stop_planning(goal_handle.request)
+        return CancelResponse.ACCEPT
+
+    async def _execute(self, goal_handle: ServerGoalHandle) -> FollowPath.Result:
+        try:
+            controller, request = self._checked(goal_handle.request)
+            if self._running is not None:  # a new path: the goal it replaces ends aborted
+                self._runs.stop_run(self._running[1])
+            run, finished = await self._start(goal_handle, request, controller)
+        except GoalFailed as failure:
+            return self._end(goal_handle, failure.code, str(failure))
+        self._running = (goal_handle, run)
+        left = LengthLeft(run.plan.path.points())
+        feedback = self._ros.create_timer(
+            FEEDBACK_PERIOD_S, lambda: goal_handle.publish_feedback(self._feedback(left)))
+        try:
+            outcome: Outcome = await completion(self._ros, finished)
+        finally:
+            self._ros.destroy_timer(feedback)
+            if self._running is not None and self._running[1] is run:
+                self._running = None
+        if goal_handle.is_cancel_requested:
+            goal_handle.canceled()
+            return Result(error_code=Result.NONE, error_msg=outcome.message)
+        if outcome.success:
+            goal_handle.succeed()
+            return Result(error_code=Result.NONE)
+        return self._end(goal_handle, ERROR_CODES.get(outcome.reason, Result.UNKNOWN),
+                         outcome.message)
+
+    async def _start(self, goal_handle: ServerGoalHandle, request, controller: Chosen | None):
+        try:
+            return await self._runs.start_run(BY_NAME['follow_path'], request,
+                                              controller=controller)
+        except RunRefused as refusal:  # busy with another request, no robot, stopped meanwhile
+            raise GoalFailed(Result.UNKNOWN, str(refusal)) from None
+
+    def _checked(self, goal: FollowPath.Goal) -> tuple[Chosen | None, object]:
+        """The goal's controller and the request it makes; GoalFailed if it cannot run."""
+        poses = goal.path.poses
+        if not poses:
+            raise GoalFailed(Result.INVALID_PATH, 'the path has no poses')
+        points = [(stamped.pose.position.x, stamped.pose.position.y) for stamped in poses]
+        if not all(math.isfinite(value) for point in points for value in point):
+            raise GoalFailed(Result.INVALID_PATH, 'the path has a pose that is not finite')
+        expected = self._runs.frame_id
+        frames = {goal.path.header.frame_id, *(stamped.header.frame_id for stamped in poses)}
+        if frames - {'', expected}:
+            raise GoalFailed(Result.TF_ERROR, f"the path is in frame(s) {sorted(frames - {''})}; "
+                             f"this node follows paths in '{expected}' (the frame of the poses "
+                             "it reads), or with an empty frame_id")
+        controller = None
+        if goal.controller_id:
+            try:
+                controller = choose(goal.controller_id)
+            except UnknownController as error:
+                raise GoalFailed(Result.INVALID_CONTROLLER, str(error)) from None
+        request = FollowPathRequest.Request(points=[Point(x=x, y=y) for x, y in points])
+        return controller, request
+
+    def _feedback(self, left: LengthLeft) -> FollowPath.Feedback:
+        pose = self._runs.pose
+        distance = left(pose.x, pose.y) if pose is not None else math.nan
+        return FollowPath.Feedback(distance_to_goal=distance,
+                                   speed=abs(self._runs.last_command.linear))
+
+    def _end(self, goal_handle: ServerGoalHandle, code: int, message: str) -> Result:
+        self._ros.get_logger().warning(f'{ACTION}: {message}')
+        goal_handle.abort()
+        return Result(error_code=code, error_msg=message)

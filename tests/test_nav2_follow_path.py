@@ -1,0 +1,181 @@
+"""Nav2's FollowPath action on the trajectory node (`/follow_path`), lock-step in-process: the
+type Nav2 Jazzy has, a planner's dense path followed with Nav2's feedback, Nav2's error codes,
+a goal replaced by the next, a cancel, and a refusal while a drawing runs."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from action_msgs.msg import GoalStatus
+from ament_index_python.packages import get_package_share_directory
+from geometry_msgs.msg import PoseStamped
+from nav2_msgs.action import FollowPath
+from nav_msgs.msg import Path as PathMsg
+from turtle_traj_interfaces.action import Draw
+
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
+from turtle_traj.testing.geometry import distance_to_polyline, xy
+
+# RIHS01 hashes of Nav2 Jazzy's nav2_msgs/action/FollowPath, computed with rosidl's type
+# description generator from navigation2's jazzy branch (commit f4108e5b1,
+# nav2_msgs/action/FollowPath.action), against the Jazzy messages it uses.
+JAZZY_HASHES = {
+    'nav2_msgs/action/FollowPath':
+        'RIHS01_9d95513552fb578cfb933d7e0160273911269cbdf4b348f1acb87d8a903b13cf',
+    'nav2_msgs/action/FollowPath_FeedbackMessage':
+        'RIHS01_3f4008700ba56ac4c82b01ef2b7fdd3fc18dc194399c48e5c43ebf8008b891d5',
+}
+ACTION = '/follow_path'
+Result = FollowPath.Result
+
+
+@pytest.fixture
+def follow(turtle_system):
+    client = turtle_system.action_client(FollowPath, ACTION)
+    assert turtle_system.spin_until(client.server_is_ready, timeout_s=60.0)
+    return client
+
+
+def _path(points, frame_id: str = '') -> PathMsg:
+    path = PathMsg()
+    path.header.frame_id = frame_id
+    for x, y in points:
+        stamped = PoseStamped()
+        stamped.pose.position.x, stamped.pose.position.y = float(x), float(y)
+        stamped.pose.orientation.w = 1.0
+        path.poses.append(stamped)
+    return path
+
+
+def _planner_like(radius: float = 1.0, spacing: float = 0.02) -> np.ndarray:
+    """A quarter circle from the spawn pose, turning left, a pose every `spacing` metres (as a
+    planner's path comes: dense poses)."""
+    angles = np.linspace(0.0, math.pi / 2, round(radius * math.pi / 2 / spacing) + 1)
+    return np.stack([SPAWN_XY_M + radius * np.sin(angles),
+                     SPAWN_XY_M + radius * (1.0 - np.cos(angles))], axis=1)
+
+
+def _length_left(points: np.ndarray, position) -> float:
+    """The path's length from the point on it nearest to `position` to its end."""
+    starts, along = points[:-1], np.diff(points, axis=0)
+    t = np.clip(((np.asarray(position) - starts) * along).sum(axis=1) / (along ** 2).sum(axis=1),
+                0.0, 1.0)
+    gaps = np.hypot(*(starts + t[:, None] * along - position).T)
+    nearest = int(np.argmin(gaps))
+    lengths = np.hypot(*along.T)
+    return float((1.0 - t[nearest]) * lengths[nearest] + lengths[nearest + 1:].sum())
+
+
+def _send(turtle_system, follow, points, feedback=None, **fields):
+    future = follow.send_goal_async(FollowPath.Goal(path=_path(points, fields.pop(
+        'frame_id', '')), **fields), feedback_callback=feedback)
+    assert turtle_system.spin_until(future.done, timeout_s=10.0)
+    handle = future.result()
+    assert handle.accepted
+    return handle
+
+
+def _result(turtle_system, handle, timeout_s: float = 120.0):
+    future = handle.get_result_async()
+    assert turtle_system.spin_until(future.done, timeout_s=timeout_s)
+    return future.result()
+
+
+def test_the_action_is_nav2_jazzys_type(turtle_system, follow):
+    share = Path(get_package_share_directory('nav2_msgs'))
+    description = json.loads((share / 'action' / 'FollowPath.json').read_text())
+    installed = {entry['type_name']: entry['hash_string'] for entry in description['type_hashes']}
+    assert {name: installed[name] for name in JAZZY_HASHES} == JAZZY_HASHES
+    # and on the wire: the feedback topic the node publishes carries Nav2's type
+    client = turtle_system.client
+    publishers = client.get_publishers_info_by_topic(f'{ACTION}/_action/feedback')
+    assert [str(info.topic_type_hash) for info in publishers] == [
+        JAZZY_HASHES['nav2_msgs/action/FollowPath_FeedbackMessage']]
+
+
+def test_a_planners_path_is_followed_with_feedback_counting_down(turtle_system, follow):
+    points = _planner_like()
+    length = float(np.hypot(*np.diff(points, axis=0).T).sum())
+    feedback = []
+    turtle_system.poses.clear()
+
+    def on_feedback(message) -> None:
+        pose = turtle_system.poses[-1]
+        feedback.append((turtle_system.sim_time_s, message.feedback, (pose.x, pose.y)))
+    handle = _send(turtle_system, follow, points, on_feedback)
+    outcome = _result(turtle_system, handle)
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED
+    assert outcome.result.error_code == Result.NONE
+    driven = xy(turtle_system.poses)
+    assert distance_to_polyline(driven, points).max() < 3e-3
+    assert math.dist(driven[-1], points[-1]) < 0.01
+    # the length left from the turtle's nearest point on the path, as measured here from the
+    # pose it reported (within a step of driving of the node's)
+    settings = turtle_system.node.settings.control
+    step_m = settings.linear_speed * 0.016
+    for _, message, position in feedback:
+        assert message.distance_to_goal == pytest.approx(_length_left(points, position),
+                                                         abs=step_m + 1e-3)
+    left = [message.distance_to_goal for _, message, _ in feedback]
+    assert left[0] > length - 0.2 and left[-1] < 0.05
+    assert all(later <= earlier + 1e-3 for earlier, later in zip(left, left[1:], strict=False))
+    speeds = [message.speed for _, message, _ in feedback]
+    assert settings.linear_speed / 2 < max(speeds) <= settings.linear_speed + 1e-6
+    elapsed = feedback[-1][0] - feedback[0][0]
+    assert len(feedback) >= 10 * elapsed - 1  # 10 Hz, node clock
+
+
+@pytest.mark.parametrize(('fields', 'code', 'said'), [
+    ({'points': []}, Result.INVALID_PATH, 'no poses'),
+    ({'points': [(6.0, 5.5), (math.nan, 5.5)]}, Result.INVALID_PATH, 'not finite'),
+    ({'frame_id': 'map'}, Result.TF_ERROR, "'world'"),
+    ({'controller_id': 'no_such_controller'}, Result.INVALID_CONTROLLER, 'no_such_controller'),
+])
+def test_a_bad_goal_fails_with_nav2s_code_and_the_next_one_runs(turtle_system, follow, fields,
+                                                                 code, said):
+    points = fields.pop('points', _planner_like(radius=0.5))
+    outcome = _result(turtle_system, _send(turtle_system, follow, points, **fields))
+    assert outcome.status == GoalStatus.STATUS_ABORTED
+    assert outcome.result.error_code == code and said in outcome.result.error_msg
+    # the node serves the next goal, with the controller it names
+    good = _planner_like(radius=0.5)
+    outcome = _result(turtle_system, _send(turtle_system, follow, good, controller_id='dwpp'))
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED, outcome.result.error_msg
+
+
+def test_a_new_goal_replaces_the_one_running_and_a_cancel_stops_the_robot(turtle_system,
+                                                                         follow):
+    first = _send(turtle_system, follow, _planner_like(radius=2.0))
+    turtle_system.spin_sim_seconds(1.0)
+    pose = turtle_system.poses[-1]
+    second_path = [(pose.x, pose.y), (pose.x, pose.y - 1.0)]
+    second = _send(turtle_system, follow, second_path)
+    assert _result(turtle_system, first).status == GoalStatus.STATUS_ABORTED
+    outcome = _result(turtle_system, second)
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED
+    assert math.dist(xy(turtle_system.poses)[-1], second_path[-1]) < 0.01
+    # a cancel stops the robot within a few steps
+    third = _send(turtle_system, follow, _planner_like(radius=2.0) - (0.0, 1.5))
+    turtle_system.spin_sim_seconds(1.0)
+    cancel = third.cancel_goal_async()
+    cancelled_at = turtle_system.sim_time_s
+    assert turtle_system.spin_until(cancel.done)
+    assert _result(turtle_system, third).status == GoalStatus.STATUS_CANCELED
+    assert turtle_system.spin_until(
+        lambda: turtle_system.poses[-1].linear_velocity == 0.0, timeout_s=1.0)
+    assert turtle_system.sim_time_s - cancelled_at < 0.1
+
+
+def test_a_goal_while_a_drawing_runs_is_refused_with_the_reason(turtle_system, follow):
+    draw = turtle_system.action_client(Draw, '/turtle_traj/draw')
+    assert turtle_system.spin_until(draw.server_is_ready, timeout_s=60.0)
+    future = draw.send_goal_async(Draw.Goal(trajectory='circle', size=1.0, forever=True))
+    assert turtle_system.spin_until(future.done)
+    turtle_system.spin_sim_seconds(0.5)
+    outcome = _result(turtle_system, _send(turtle_system, follow, _planner_like()))
+    assert outcome.status == GoalStatus.STATUS_ABORTED
+    assert outcome.result.error_code == Result.UNKNOWN
+    assert 'busy: circle is running' in outcome.result.error_msg
+    assert turtle_system.node.busy  # the drawing goes on
