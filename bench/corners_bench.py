@@ -25,15 +25,14 @@ import os
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
 from isolation import isolate
+from worktree import ROOT, old_tree
 
-ROOT = Path(__file__).resolve().parents[1]
 LIMITS = {'max_linear_accel': 0.5, 'max_angular_accel': 1.0}
 NODE = {'linear_speed': 0.5, 'angular_speed': 1.0, 'use_sim_time': True, 'arena_min_x': -100.0,
         'arena_min_y': -100.0, 'arena_max_x': 100.0, 'arena_max_y': 100.0}
@@ -190,24 +189,18 @@ def main() -> None:
     if options.measure:
         print(json.dumps(measure(options.time_scale, options.tolerance)))
         return
-    old = Path(tempfile.mkdtemp(prefix='turtle_traj_bench_')) / 'old'
-    subprocess.run(['git', '-C', str(ROOT), 'worktree', 'add', '--detach', str(old),
-                    options.against], check=True, capture_output=True)
-    try:
-        results: dict[str, list] = {'old': [], 'new': []}
+    results: dict[str, list] = {'old': [], 'new': []}
+    with old_tree(options.against) as old:
         for _ in range(options.runs):
             results['old'].append(_run(old, options))
             results['new'].append(_run(ROOT, options))
-        mode = (f'rounded by up to {options.tolerance * 1e3:g} mm' if options.tolerance
-                else 'exact')
-        print(f'follow_path {mode}, x{options.time_scale:g}, simulator with inertia and node as '
-              f'two programs, load: {options.load}; {options.runs} runs per tree, alternating; '
-              'distances measured from every pose')
-        _report(f'{options.against} (old)', results['old'], options.tolerance)
-        _report('this checkout (new)', results['new'], options.tolerance)
-    finally:
-        subprocess.run(['git', '-C', str(ROOT), 'worktree', 'remove', '--force', str(old)],
-                       capture_output=True)
+    mode = (f'rounded by up to {options.tolerance * 1e3:g} mm' if options.tolerance
+            else 'exact')
+    print(f'follow_path {mode}, x{options.time_scale:g}, simulator with inertia and node as '
+          f'two programs, load: {options.load}; {options.runs} runs per tree, alternating; '
+          'distances measured from every pose')
+    _report(f'{options.against} (old)', results['old'], options.tolerance)
+    _report('this checkout (new)', results['new'], options.tolerance)
 
 
 if __name__ == '__main__':

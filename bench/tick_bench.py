@@ -25,11 +25,11 @@ import os
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from worktree import ROOT, old_tree
+
 CONTROLLERS = ('exact', 'dwpp', 'pure_pursuit')
 ROBOTS = ('turtlesim', 'inertia', 'odometry')
 PHASES = ('observe', 'predict', 'command', 'supervise')
@@ -134,17 +134,11 @@ def main() -> None:
     if options.measure:
         print(json.dumps(measure()))
         return
-    old = Path(tempfile.mkdtemp(prefix='turtle_traj_bench_')) / 'old'
-    subprocess.run(['git', '-C', str(ROOT), 'worktree', 'add', '--detach', str(old),
-                    options.against], check=True, capture_output=True)
-    try:
-        rounds: dict[str, list[dict]] = {'old': [], 'new': []}
+    rounds: dict[str, list[dict]] = {'old': [], 'new': []}
+    with old_tree(options.against) as old:
         for _ in range(options.rounds):
             rounds['old'].append(_run(old))
             rounds['new'].append(_run(ROOT))
-    finally:
-        subprocess.run(['git', '-C', str(ROOT), 'worktree', 'remove', '--force', str(old)],
-                       capture_output=True)
     print(f'The control tick, us: median and 99th percentile per tick over the score\'s '
           f'courses; {options.against} (old) against this checkout (new), median of '
           f'{options.rounds} rounds each')
