@@ -6,8 +6,9 @@ path is followed exactly (turns in place at its corners, as `follow_path` does),
 the poses the node reads; `controller_id` picks a controller for the goal (empty: the node's
 `controller`). Feedback at 10 Hz: the path length left from the nearest point and the speed
 commanded. A new goal while one runs replaces it: the old one ends aborted, as in Nav2, and the
-new one is driven from where the robot is (it stops while that is planned). A goal that arrives while one of the node's own
-trajectories runs is refused. Failures carry Nav2's error codes with `error_msg`.
+new one is driven from where the robot is (it stops while that is planned). A goal that
+arrives while one of the node's own trajectories runs is refused. Failures carry Nav2's error
+codes with `error_msg`.
 """
 
 from __future__ import annotations
