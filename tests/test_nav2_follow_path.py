@@ -127,6 +127,32 @@ def test_a_planners_path_is_followed_with_feedback_counting_down(turtle_system, 
     assert len(feedback) >= 10 * elapsed - 1  # 10 Hz, node clock
 
 
+def test_a_path_planned_from_where_the_robot_stood_is_driven_on_from_where_it_stands(
+        turtle_system, follow):
+    """A planner's path begins at the robot's pose when it was planned: a hair behind it, or
+    some way back along the path. The robot goes on from where it stands, with no turn back to
+    the path's first pose; a path that comes back past the robot is driven all the same."""
+    points = _planner_like() - (6e-4, 0.0)  # its first pose 0.6 mm behind the turtle
+    turtle_system.poses.clear()
+    outcome = _result(turtle_system, _send(turtle_system, follow, points))
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED
+    headings = [pose.theta for pose in turtle_system.poses]
+    assert min(headings) > -0.01 and max(headings) < math.pi / 2 + 0.01  # never turned back
+    assert distance_to_polyline(xy(turtle_system.poses), points).max() < 3e-3
+    # a loop that starts 0.2 m back along its first side and returns past the turtle
+    pose = turtle_system.poses[-1]
+    x, y = pose.x, pose.y
+    loop = np.array([(x, y - 0.2), (x, y + 1.0), (x - 1.0, y + 1.0), (x - 1.0, y), (x, y),
+                     (x, y + 0.5)])
+    turtle_system.poses.clear()
+    outcome = _result(turtle_system, _send(turtle_system, follow, loop))
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED
+    driven = xy(turtle_system.poses)
+    assert min(math.dist(position, (x - 1.0, y + 1.0)) for position in driven) < 0.01
+    assert math.dist(driven[-1], loop[-1]) < 0.01
+    assert driven[:, 1].min() > y - 0.01  # the part behind it was not driven
+
+
 @pytest.mark.parametrize(('fields', 'code', 'said'), [
     ({'points': []}, Result.INVALID_PATH, 'no poses'),
     ({'points': [(6.0, 5.5), (math.nan, 5.5)]}, Result.INVALID_PATH, 'not finite'),

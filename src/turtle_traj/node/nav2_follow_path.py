@@ -3,18 +3,21 @@
 `follow_path` in the node's namespace, of type nav2_msgs/action/FollowPath (Nav2 Jazzy's, or the
 subset interfaces/nav2_msgs builds where Nav2 is not installed: the same type hash). A goal's
 path is followed exactly (turns in place at its corners, as `follow_path` does), in the frame of
-the poses the node reads; `controller_id` picks a controller for the goal (empty: the node's
-`controller`). Feedback at 10 Hz: the path length left from the nearest point and the speed
-commanded. A new goal while one runs replaces it: the old one ends aborted, as in Nav2, and the
-new one is driven from where the robot is (it stops while that is planned). A goal that
-arrives while one of the node's own trajectories runs is refused. Failures carry Nav2's error
-codes with `error_msg`.
+the poses the node reads, from the robot: a planner's path begins where the robot stood when it
+was planned, so the poses up to the end of the segment nearest the robot (walking from the
+path's start) are behind it, and the robot drives from where it stands to the next one.
+`controller_id` picks a controller for the goal (empty: the node's `controller`). Feedback at
+10 Hz: the path length left from the nearest point and the speed commanded. A new goal while
+one runs replaces it: the old one ends aborted, as in Nav2, and the new one is driven from where
+the robot is (it stops while that is planned). A goal that arrives while one of the node's own
+trajectories runs is refused. Failures carry Nav2's error codes with `error_msg`.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from geometry_msgs.msg import Point
 from nav2_msgs.action import FollowPath
 from rclpy.action import ActionServer, CancelResponse
@@ -26,7 +29,7 @@ from turtle_traj_interfaces.srv import FollowPath as FollowPathRequest
 from turtle_traj.core.control.controllers.catalogue import Chosen, UnknownController, choose
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
-from turtle_traj.core.geometry.projection import LengthLeft
+from turtle_traj.core.geometry.projection import LengthLeft, PolylineSegments
 from turtle_traj.core.registry import BY_NAME
 from turtle_traj.node.outcomes import RunRefused
 from turtle_traj.node.running import RunningNode
@@ -123,8 +126,17 @@ class Nav2FollowPath:
                 controller = choose(goal.controller_id)
             except UnknownController as error:
                 raise GoalFailed(Result.INVALID_CONTROLLER, str(error)) from None
-        request = FollowPathRequest.Request(points=[Point(x=x, y=y) for x, y in points])
+        request = FollowPathRequest.Request(
+            points=[Point(x=x, y=y) for x, y in self._ahead(points)])
         return controller, request
+
+    def _ahead(self, points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        """The path's poses after the segment nearest the robot (its last, if none)."""
+        pose = self._runs.pose
+        if pose is None or len(points) < 2:
+            return points
+        behind = PolylineSegments(np.array(points)).nearest_from_start(pose.x, pose.y)
+        return points[behind + 1:]
 
     def _feedback(self, left: LengthLeft) -> FollowPath.Feedback:
         pose = self._runs.pose

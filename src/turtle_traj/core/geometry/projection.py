@@ -40,6 +40,18 @@ class PolylineSegments:
         fraction = 0.0 if fraction < 0.0 else 1.0 if fraction > 1.0 else fraction
         return math.hypot(px - (ax + dx * fraction), py - (ay + dy * fraction))
 
+    def nearest_from_start(self, px: float, py: float) -> int:
+        """The segment nearest to (px, py) found walking from the first while the next is no
+        farther: where a robot on (or near) the polyline's beginning stands along it, never a
+        later part that passes by (a loop back to the start)."""
+        index, nearest = 0, self.distance(0, px, py)
+        while index + 1 < self.count:
+            distance = self.distance(index + 1, px, py)
+            if distance > nearest:
+                break
+            index, nearest = index + 1, distance
+        return index
+
     def project(self, px: float, py: float,
                 candidates: Iterable[int]) -> tuple[int, float, float]:
         """The nearest of the `candidates` segments (the first of equals): its index, the
