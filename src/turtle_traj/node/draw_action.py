@@ -79,6 +79,9 @@ class DrawActionServer:
         finally:
             self._ros.destroy_timer(feedback)
             del self._goals[goal_id]
+        # the last feedback is the run as it ended (a timer's last one may come up to its
+        # period before the end, or a step's pose behind on a loaded machine)
+        goal_handle.publish_feedback(self._feedback(run))
         if goal_handle.is_cancel_requested:
             goal_handle.canceled()
         elif outcome.success:

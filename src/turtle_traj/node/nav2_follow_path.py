@@ -90,6 +90,7 @@ class Nav2FollowPath:
             self._ros.destroy_timer(feedback)
             if self._running is not None and self._running[1] is run:
                 self._running = None
+        goal_handle.publish_feedback(self._feedback(left))  # the run as it ended
         if goal_handle.is_cancel_requested:
             goal_handle.canceled()
             return Result(error_code=Result.NONE, error_msg=outcome.message)
