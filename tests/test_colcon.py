@@ -80,7 +80,7 @@ def test_the_executables_package_xml_and_launch_file_are_installed(install):
 
 def test_the_installed_package_carries_the_pip_packages_data(install):
     """One list of package data (pyproject.toml's) for both builds: every file it names in
-    src/ is in the installed tree too (fastdds.xml was missing: a stale list in setup.py)."""
+    src/ is in the installed tree too (the programs read rosutils/fastdds.xml at start)."""
     from setuptools.config.pyprojecttoml import load_file  # as setup.py reads it
 
     patterns = load_file(ROOT / 'pyproject.toml')['tool']['setuptools']['package-data'][

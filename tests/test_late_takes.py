@@ -3,10 +3,9 @@
 A busy simulator steps before a command that was on its way arrives, and takes it at the next
 step: the command before acts a step longer. On a base braking for a corner at its deceleration
 limit, that shifts the rest of the braking by a step, and the base stops that step past the
-corner (real time at 5x, two programs and a quarter of a core busy: 5 to 20 mm past it at
-5cb29f8, where the node then also held back the next command to drain a queue of one, a second
-step late). The node drains such a queue only where holding the last command costs nothing, and
-its braking allows for a late step once it has seen one.
+corner; holding back the next command to drain the one left waiting would shift it by another.
+The node drains such a command only where holding the last one costs nothing, and its braking
+allows for a late step once it has seen one.
 """
 
 from collections import deque

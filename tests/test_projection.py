@@ -59,20 +59,22 @@ def test_a_window_finds_its_nearest_segment_as_a_search_of_all_of_them_does():
         nearest = start + fraction * (end - start)
         assert math.dist((x, y), nearest) == pytest.approx(
             distance_to_polyline(np.array([(x, y)]), path)[0], abs=1e-12)
-        # the offset is from the segment's line, positive on its left
-        (dx, dy), (rx, ry) = end - start, (x - start[0], y - start[1])
-        assert offset == pytest.approx((dx * ry - dy * rx) / math.hypot(dx, dy), abs=1e-12)
+        # the offset is the point's y in the segment's own frame (x along it): its distance
+        # from the segment's line, positive on its left
+        heading = math.atan2(end[1] - start[1], end[0] - start[0])
+        across = -math.sin(heading) * (x - start[0]) + math.cos(heading) * (y - start[1])
+        assert offset == pytest.approx(across, abs=1e-12)
 
 
-def test_the_nearest_segment_from_the_start_is_where_the_robot_stands_along_it():
+def test_a_walk_from_the_start_finds_where_the_robot_stands_along_the_path():
     """Walking from the first segment: a robot some way along the path finds its segment, and
     a path that comes back past the robot later is not taken for where it stands."""
     loop = np.array([(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.1, 1.0), (1.1, 0.001),
                      (1.1, -1.0)])
     segments = PolylineSegments(loop)
-    assert segments.nearest_from_start(0.0, 0.0) == 0
-    assert segments.nearest_from_start(1.5, 0.01) == 1
+    assert segments.walk(0, 0.0, 0.0)[0] == 0
+    assert segments.walk(0, 1.5, 0.01)[0] == 1
     # beside the loop's return (0.001 m off it) but 0.01 m off the path's first sides
-    assert segments.nearest_from_start(1.1, 0.01) == 1
+    assert segments.walk(0, 1.1, 0.01)[0] == 1
     # far off: the walk goes on while the path comes no farther (to (2, 1), shared by 2 and 3)
-    assert segments.nearest_from_start(5.0, 5.0) == 3
+    assert segments.walk(0, 5.0, 5.0)[0] == 3

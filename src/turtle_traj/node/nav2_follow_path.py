@@ -31,12 +31,12 @@ from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.core.geometry.projection import LengthLeft, PolylineSegments
 from turtle_traj.core.registry import BY_NAME
+from turtle_traj.node.draw_action import FEEDBACK_PERIOD_S
 from turtle_traj.node.outcomes import RunRefused
 from turtle_traj.node.running import RunningNode
 from turtle_traj.node.waiting import completion
 
 ACTION = 'follow_path'
-FEEDBACK_PERIOD_S = 0.1  # node clock: 10 Hz
 Result = FollowPath.Result
 # Nav2's code for each way a run ends unsuccessfully (a cancel ends CANCELED, with none)
 ERROR_CODES = {Ending.NO_PROGRESS: Result.FAILED_TO_MAKE_PROGRESS,
@@ -136,7 +136,7 @@ class Nav2FollowPath:
         pose = self._runs.pose
         if pose is None or len(points) < 2:
             return points
-        behind = PolylineSegments(np.array(points)).nearest_from_start(pose.x, pose.y)
+        behind, _ = PolylineSegments(np.array(points)).walk(0, pose.x, pose.y)
         return points[behind + 1:]
 
     def _feedback(self, left: LengthLeft) -> FollowPath.Feedback:

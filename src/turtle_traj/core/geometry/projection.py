@@ -3,9 +3,10 @@
 A robot moves a few millimetres a control period, so the segment nearest to it is the last one
 or one nearby: each search here looks at a few segments around the last match, with plain
 floats (too few for numpy to pay) and each segment's constants computed once.
-`PolylineSegments.project` searches a given window; `PathDeviation` walks to the nearest
-segment nearby, and asks the whole polyline (`NearestOnPolyline`) only when a pose could be
-the farthest yet, so a run's largest deviation stays exact wherever the path crosses itself.
+`PolylineSegments.project` searches a given window, `PolylineSegments.walk` walks to the
+nearest segment nearby; `PathDeviation` walks so, and asks the whole polyline
+(`NearestOnPolyline`) only when a pose could be the farthest yet, so a run's largest deviation
+stays exact wherever the path crosses itself.
 """
 
 from __future__ import annotations
@@ -40,17 +41,19 @@ class PolylineSegments:
         fraction = 0.0 if fraction < 0.0 else 1.0 if fraction > 1.0 else fraction
         return math.hypot(px - (ax + dx * fraction), py - (ay + dy * fraction))
 
-    def nearest_from_start(self, px: float, py: float) -> int:
-        """The segment nearest to (px, py) found walking from the first while the next is no
-        farther: where a robot on (or near) the polyline's beginning stands along it, never a
-        later part that passes by (a loop back to the start)."""
-        index, nearest = 0, self.distance(0, px, py)
-        while index + 1 < self.count:
-            distance = self.distance(index + 1, px, py)
-            if distance > nearest:
-                break
-            index, nearest = index + 1, distance
-        return index
+    def walk(self, start: int, px: float, py: float) -> tuple[int, float]:
+        """The segment nearest to (px, py) found walking from segment `start`: on while the
+        next one is no farther, then back while the one before is nearer; its index and
+        distance. Where a point near the polyline stands along it, from where it stood (never
+        a later part that passes by, as a loop back to the start does)."""
+        index, nearest = start, self.distance(start, px, py)
+        for step in (1, -1):
+            while 0 <= index + step < self.count:
+                distance = self.distance(index + step, px, py)
+                if distance > nearest or (step < 0 and distance == nearest):
+                    break
+                index, nearest = index + step, distance
+        return index, nearest
 
     def project(self, px: float, py: float,
                 candidates: Iterable[int]) -> tuple[int, float, float]:
@@ -104,15 +107,7 @@ class PathDeviation:
         return self._whole.nearest(x, y)[0]
 
     def _walk(self, x: float, y: float) -> float:
-        segments, index = self._segments, self._segment
-        nearest = segments.distance(index, x, y)
-        for step in (1, -1):
-            while 0 <= index + step < segments.count:
-                distance = segments.distance(index + step, x, y)
-                if distance > nearest:
-                    break
-                index, nearest = index + step, distance
-        self._segment = index
+        self._segment, nearest = self._segments.walk(self._segment, x, y)
         return nearest
 
 
