@@ -5,6 +5,7 @@ import math
 import pytest
 from action_msgs.msg import GoalStatus
 from turtle_traj_interfaces.action import Draw
+from turtle_traj_interfaces.msg import Ending
 from turtle_traj_interfaces.srv import DrawShape, GoTo
 
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
@@ -65,7 +66,7 @@ def test_cancel_stops_an_endless_circle_at_once(turtle_system, draw):
     assert len(cancel.result().goals_canceling) == 1
     outcome = result_of(turtle_system, handle, timeout_s=5.0)
     assert outcome.status == GoalStatus.STATUS_CANCELED
-    assert outcome.result.success and 'stopped by request' in outcome.result.message
+    assert outcome.result.success and outcome.result.ending.code == Ending.CANCELLED
     assert turtle_system.spin_until(
         lambda: turtle_system.poses[-1].linear_velocity == 0.0, timeout_s=1.0
     )
@@ -81,7 +82,8 @@ def test_one_run_at_a_time_across_the_action_and_the_services(turtle_system, dra
     assert handle.accepted
     turtle_system.spin_sim_seconds(0.5)
     busy = turtle_system.call(GoTo, 'go_to', GoTo.Request(x=2.0, y=2.0))
-    assert not busy.success and 'busy: circle is running' in busy.message
+    assert not busy.success and busy.ending.code == Ending.BUSY
+    assert 'busy: circle is running' in busy.message
     handle.cancel_goal_async()
     assert result_of(turtle_system, handle).status == GoalStatus.STATUS_CANCELED
 
@@ -89,6 +91,7 @@ def test_one_run_at_a_time_across_the_action_and_the_services(turtle_system, dra
     assert turtle_system.spin_until(lambda: turtle_system.node.busy)
     refused = result_of(turtle_system, send(turtle_system, draw, trajectory='rotate', angle=1.0))
     assert refused.status == GoalStatus.STATUS_ABORTED
+    assert refused.result.ending.code == Ending.BUSY
     assert refused.result.message.startswith('busy: square is running')
     assert turtle_system.spin_until(running.done) and running.result().success
 
@@ -117,7 +120,8 @@ def test_a_goal_that_cannot_run_ends_aborted_with_the_reason_in_its_result(
     assert handle.accepted
     refused = result_of(turtle_system, handle, timeout_s=5.0)
     assert refused.status == GoalStatus.STATUS_ABORTED
-    assert not refused.result.success and reason in refused.result.message
+    assert not refused.result.success and refused.result.ending.code == Ending.INVALID_REQUEST
+    assert reason in refused.result.message
     again = send(turtle_system, draw, trajectory='rotate', angle=0.5)
     assert again.accepted
     assert result_of(turtle_system, again).status == GoalStatus.STATUS_SUCCEEDED

@@ -8,6 +8,7 @@ import pytest
 from geometry_msgs.msg import Twist
 from rclpy.exceptions import InvalidParameterValueException
 from rclpy.parameter import Parameter
+from turtle_traj_interfaces.msg import Ending
 from turtle_traj_interfaces.srv import DrawShape
 
 from turtle_traj.apps.in_process import InProcessSystem
@@ -48,7 +49,7 @@ def test_a_misbehaving_controller_is_stopped_and_the_node_serves_on(system_with,
     system = system_with(f'{MODULE}:{controller}')
     commands = _commands(system)
     first = system.call(DrawShape, 'draw_square', DrawShape.Request(size=1.0))
-    assert not first.success
+    assert not first.success and first.ending.code == Ending.CONTROLLER_FAULT
     assert first.message.startswith('square aborted: ')
     assert f"controller '{MODULE}:{controller}' {said}" in first.message
     system.spin_sim_seconds(0.2)

@@ -9,6 +9,7 @@ from rcl_interfaces.msg import Parameter as ParameterMsg
 from rcl_interfaces.msg import ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
 from std_srvs.srv import Empty, Trigger
+from turtle_traj_interfaces.msg import Ending
 from turtle_traj_interfaces.srv import DrawShape, GoTo, Move
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
 
@@ -27,7 +28,7 @@ def test_turtle_killed_mid_run_aborts_then_a_new_turtle1_is_driven(turtle_system
     turtle_system.call(Kill, '/kill', Kill.Request(name='turtle1'))
     # pose_timeout (0.5 s) of simulated time, then the next control tick: whatever the wall rate
     assert turtle_system.spin_until(drawing.done, timeout_s=0.6)
-    assert not drawing.result().success
+    assert not drawing.result().success and drawing.result().ending.code == Ending.POSE_LOST
     assert 'no pose on /turtle1/pose' in drawing.result().message
     spawned = turtle_system.call(Spawn, '/spawn', Spawn.Request(x=3.0, y=3.0, name='turtle1'))
     assert spawned.name == 'turtle1'
@@ -40,7 +41,7 @@ def test_simulator_reset_mid_run_aborts_as_a_jump(turtle_system):
     turtle_system.spin_sim_seconds(1.5)
     turtle_system.call(Empty, '/reset')
     assert turtle_system.spin_until(drawing.done, timeout_s=5.0)
-    assert not drawing.result().success
+    assert not drawing.result().success and drawing.result().ending.code == Ending.POSE_JUMPED
     assert 'jumped' in drawing.result().message
     assert turtle_system.call(Move, 'move', Move.Request(distance=1.0)).success
 
@@ -51,7 +52,7 @@ def test_two_clients_racing_get_one_run_and_one_busy_refusal(turtle_system):
     assert turtle_system.spin_until(lambda: first.done() and second.done(), timeout_s=30.0)
     results = sorted([first.result(), second.result()], key=lambda r: r.success)
     assert [r.success for r in results] == [False, True]
-    assert results[0].message.startswith('busy:')
+    assert results[0].ending.code == Ending.BUSY
 
 
 def test_parameter_change_mid_run_takes_effect_and_the_run_succeeds(turtle_system):
@@ -95,7 +96,7 @@ def test_hostile_shape_requests_are_answered_and_refused(
         DrawShape.Request(size=size, linear_speed=speed, sides=sides, turns=size, growth=size),
     )
     assert not response.success, response.message
-    assert 'refused' in response.message
+    assert response.ending.code == Ending.INVALID_REQUEST, response.message
     assert not turtle_system.node.busy
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 from ament_index_python.packages import get_package_share_directory, get_packages_with_prefixes
 
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.supervisor import Outcome
 from turtle_traj.core.fields import BOOL, FLOAT, INT, POINTS, STRING
 from turtle_traj.core.geometry.path import Pose2D
@@ -139,11 +140,15 @@ def test_the_node_fills_every_field_of_every_response(ros_type):
     no response field is left at its default."""
     from turtle_traj.node.outcomes import fill_response
 
-    outcome = Outcome(True, 'done', Pose2D(1.0, 2.0, 3.0), *(float(v) for v in range(4, 11)))
+    outcome = Outcome(True, 'done', Ending.NO_PROGRESS, Pose2D(1.0, 2.0, 3.0),
+                      *(float(v) for v in range(4, 11)))
     built = interface(ros_type)
     response = fill_response(built.Result() if hasattr(built, 'Result') else built.Response(),
                              outcome)
-    expected = {'success': True, 'message': 'done', 'final_x': 1.0, 'final_y': 2.0,
+    ending = interface('turtle_traj_interfaces/msg/Ending')
+    expected = {'success': True, 'message': 'done',
+                'ending': ending(code=ending.NO_PROGRESS, label='no progress'),
+                'final_x': 1.0, 'final_y': 2.0,
                 'final_theta': 3.0, 'elapsed': 4.0, 'path_length': 5.0, 'max_deviation': 6.0,
                 'final_error': 7.0, 'final_heading_error': 8.0, 'pen_up_length': 9.0,
                 'pen_up_unordered': 10.0}
@@ -178,3 +183,18 @@ def test_our_turtlesim_interfaces_are_the_real_ones(ros_type):
                                           'action': ('Goal', 'Result', 'Feedback')}[kind]]
     assert [list(part.get_fields_and_field_types().items()) for part in parts] == \
         [list(fields.items()) for fields in TURTLESIM[ros_type]]
+
+
+def test_every_ending_is_a_constant_of_the_message_and_back():
+    """Each reason a run ends has its constant in turtle_traj_interfaces/msg/Ending under its
+    name, with distinct codes, and the message has no constant the node never sends."""
+    from turtle_traj.node.outcomes import ending_message
+
+    built = interface('turtle_traj_interfaces/msg/Ending')
+    constants = {name: value for name, value in vars(built).items()
+                 if name.isupper() and isinstance(value, int)}
+    assert set(constants) == {reason.name for reason in Ending}
+    assert len(set(constants.values())) == len(constants)
+    for reason in Ending:
+        sent = ending_message(reason)
+        assert (sent.code, sent.label) == (constants[reason.name], reason.value)

@@ -12,6 +12,7 @@ from rcl_interfaces.srv import SetParameters
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from std_srvs.srv import Trigger
+from turtle_traj_interfaces.msg import Ending
 from turtle_traj_interfaces.srv import DrawShape, FollowPath, GoTo, Move
 
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, WORLD_SIZE_M
@@ -45,7 +46,7 @@ def _set(turtle_system, **values):
 def test_bad_requests_are_refused_and_the_node_still_works(turtle_system, service, service_type,
                                                             fields, reason):
     response = turtle_system.call(service_type, service, service_type.Request(**fields))
-    assert not response.success
+    assert not response.success and response.ending.code == Ending.INVALID_REQUEST
     assert reason in response.message
     assert not turtle_system.node.busy
     turtle_system.spin_sim_seconds(0.1)
@@ -61,14 +62,14 @@ def test_busy_refusal_names_the_runner_and_stop_ends_it(turtle_system):
     assert turtle_system.spin_until(lambda: turtle_system.node.busy)
     turtle_system.spin_sim_seconds(2.0)
     busy = turtle_system.call(GoTo, 'go_to', GoTo.Request(x=2.0, y=2.0))
-    assert not busy.success
+    assert not busy.success and busy.ending.code == Ending.BUSY
     assert 'busy: circle is running' in busy.message and '/turtle_traj/stop' in busy.message
     stopped = turtle_system.call(Trigger, '/turtle_traj/stop')
     assert stopped.success and stopped.message == 'stopped circle'
     assert turtle_system.spin_until(circling.done)
     result = circling.result()
     assert result.success  # an endless circle ends only by stop, which is its normal end
-    assert 'stopped by request' in result.message
+    assert result.ending.code == Ending.STOPPED
     assert turtle_system.spin_until(lambda: turtle_system.poses[-1].linear_velocity == 0.0)
 
 
@@ -78,7 +79,7 @@ def test_stop_aborts_a_finite_trajectory(turtle_system):
     turtle_system.spin_sim_seconds(1.0)
     turtle_system.call(Trigger, '/turtle_traj/stop')
     assert turtle_system.spin_until(drawing.done)
-    assert not drawing.result().success
+    assert not drawing.result().success and drawing.result().ending.code == Ending.STOPPED
     assert drawing.result().message == 'square stopped by request'
     assert turtle_system.call(Move, 'move', Move.Request(distance=0.5)).success
 
@@ -108,6 +109,7 @@ def test_live_parameters_change_speed_and_bad_values_are_refused(turtle_system):
 def test_wall_margin_change_applies_to_the_next_plan(turtle_system):
     assert _set(turtle_system, wall_margin=_double(2.0))[0].successful
     refused = turtle_system.call(Move, 'move', Move.Request(distance=4.0))
+    assert refused.ending.code == Ending.INVALID_REQUEST
     assert f'the largest that fits from here is {ROOM - 1.7:.2f}' in refused.message
 
 
@@ -127,10 +129,11 @@ def test_vanishing_simulator_aborts_the_trajectory_and_node_keeps_serving(turtle
     )  # the simulator stops: no more poses, no /clock
     assert turtle_system.spin_until(drawing.done, timeout_s=5.0)
     result = drawing.result()
-    assert not result.success
+    assert not result.success and result.ending.code == Ending.POSE_LOST
     assert 'no pose on /turtle1/pose' in result.message
     refused = turtle_system.call(Move, 'move', Move.Request(distance=1.0), timeout_s=5.0)
-    assert not refused.success and 'is the simulator running' in refused.message
+    assert not refused.success and refused.ending.code == Ending.POSE_LOST
+    assert 'is the simulator running' in refused.message
     turtle_system.executor.add_node(turtle_system.sim)  # it comes back
     assert turtle_system.spin_until(lambda: turtle_system.node.ready)
     assert turtle_system.call(Move, 'move', Move.Request(distance=0.5)).success
@@ -180,7 +183,7 @@ def test_node_without_simulator_refuses_at_once(rclpy_context):
         assert spin_until(executor, client.service_is_ready, timeout_s=10.0)
         future = client.call_async(DrawShape.Request())
         assert spin_until(executor, future.done, timeout_s=5.0)
-        assert not future.result().success
+        assert not future.result().success and future.result().ending.code == Ending.POSE_LOST
         assert 'no pose on /turtle1/pose (never)' in future.result().message
     finally:
         executor.shutdown()

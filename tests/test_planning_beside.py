@@ -12,6 +12,7 @@ from rcl_interfaces.srv import GetParameters
 from rclpy.executors import SingleThreadedExecutor
 from std_srvs.srv import Trigger
 from turtle_traj_interfaces.action import Draw
+from turtle_traj_interfaces.msg import Ending
 from turtle_traj_interfaces.srv import DrawShape, Move
 
 from turtle_traj.core.planning import planner
@@ -64,7 +65,7 @@ def test_the_node_answers_while_it_plans_and_the_simulator_waits_for_the_plan(
                                GetParameters.Request(names=['linear_speed']), timeout_s=1.0)
     assert speed.values[0].double_value > 0.0
     busy = turtle_system.call(Move, 'move', Move.Request(distance=1.0), timeout_s=1.0)
-    assert not busy.success
+    assert not busy.success and busy.ending.code == Ending.BUSY
     assert busy.message.startswith('busy: square is being planned; wait for it or call '
                                    '/turtle_traj/stop')
     # a plan that takes longer than pose_timeout of wall time, while simulated time stands
@@ -92,7 +93,7 @@ def test_a_stop_while_planning_ends_the_request_and_the_turtle_never_moves(
     stopped = turtle_system.call(Trigger, 'stop', timeout_s=1.0)
     assert stopped.message == 'stopped square while it was being planned'
     assert turtle_system.spin_until(square.done, timeout_s=1.0)
-    assert not square.result().success
+    assert not square.result().success and square.result().ending.code == Ending.STOPPED
     assert square.result().message == 'square stopped by request before it started'
     release.set()  # the plan ends on its thread; its result is dropped
     assert turtle_system.spin_until(lambda: offload.in_flight(turtle_system.node) == 0,
@@ -116,6 +117,7 @@ def test_a_goal_cancelled_while_planning_ends_cancelled(turtle_system, held_plan
     result = sent.result().get_result_async()
     assert turtle_system.spin_until(result.done, timeout_s=1.0)
     assert result.result().status == GoalStatus.STATUS_CANCELED
+    assert result.result().result.ending.code == Ending.CANCELLED
     assert result.result().result.message == 'text stopped by request before it started'
 
 
@@ -125,6 +127,7 @@ def test_a_shutdown_while_planning_answers_the_request(turtle_system, held_plan)
                        DrawShape.Request(size=1.0))
     assert turtle_system.node.shutdown_turtle() is None  # no run to wait for
     assert turtle_system.spin_until(square.done, timeout_s=1.0)
+    assert square.result().ending.code == Ending.SHUTTING_DOWN
     assert square.result().message == 'square aborted: the node is shutting down'
 
 

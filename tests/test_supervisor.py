@@ -10,6 +10,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import SETTLE_PERIODS
 from turtle_traj.core.geometry.path import Pose2D
@@ -98,11 +99,14 @@ def test_elapsed_time_runs_from_the_first_command():
 
 
 @pytest.mark.parametrize(('forever', 'success'), [(True, True), (False, False)])
-def test_a_stop_request_ends_only_an_endless_trajectory_successfully(forever, success):
+@pytest.mark.parametrize('reason', [Ending.STOPPED, Ending.CANCELLED])
+def test_a_stop_request_ends_only_an_endless_trajectory_successfully(forever, success, reason):
     run = Loop('circle', shape(size=1.0, forever=forever)).run
-    run.request_stop()
-    run.end(True, 'later verdicts are ignored')
+    run.request_stop(reason)
+    run.end(True, 'later verdicts are ignored', Ending.SUCCEEDED)
     assert run.ending == (success, 'circle stopped by request')
+    outcome = run.outcome(None, now_s=1.0)
+    assert (outcome.success, outcome.reason) == (success, reason)
 
 
 def test_the_plans_speeds_override_the_nodes_live_ones():

@@ -180,7 +180,7 @@ def test_a_trajectory_from_the_panel_runs_with_progress_and_its_figures(page):
     figures = dict(row.text.split(' ', 1) for row in
                    page.find_elements('css selector', '#result tr'))
     assert float(figures['path_length']) == pytest.approx(2.0)
-    assert figures['success'] == 'true'
+    assert figures['success'] == 'true' and figures['ending'] == 'succeeded'
 
 
 def test_cancel_stops_an_endless_circle(page, observer):

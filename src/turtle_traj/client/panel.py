@@ -108,6 +108,7 @@ class TrajectoryPanel(QueuedPart, Node):
             result = future.result().result
             figures = {name: getattr(result, name)
                        for name in result.get_fields_and_field_types()}
+            figures['ending'] = result.ending.label  # why it ended, in words
             self._server.send(None, text('run', state='ended', result=figures, **run))
         self._draw.send_goal_async(goal, feedback_callback=feedback).add_done_callback(answered)
 

@@ -7,6 +7,7 @@ from rclpy.callback_groups import CallbackGroup
 from rclpy.node import Node
 from std_srvs.srv import Empty, Trigger
 
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.node.async_service import create_async_service
 from turtle_traj.node.running import RunningNode
 from turtle_traj.node.waiting import wait_until
@@ -30,7 +31,7 @@ class CommandServices:
 
     async def _handle_reset(self, request: Trigger.Request, response: Trigger.Response):
         node, runs = self._node, self._runs
-        runs.abort_run('reset requested')
+        runs.abort_run('reset requested', Ending.STOPPED)
         if not self._sim_reset.service_is_ready():
             response.message = (f'the simulator service {self._sim_reset.srv_name} is not '
                                  'available')

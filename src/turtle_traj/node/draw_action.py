@@ -17,6 +17,7 @@ from rclpy.node import Node
 from turtle_traj_interfaces.action import Draw
 
 from turtle_traj.api.ros_interface import DRAW_ACTION
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.registry import BY_NAME
@@ -47,29 +48,29 @@ class DrawActionServer:
         goal_id = bytes(goal_handle.goal_id.uuid)
         run = self._goals.get(goal_id)
         if run is not None:
-            self._runs.stop_run(run)
+            self._runs.stop_run(run, Ending.CANCELLED)
         else:  # its plan may be being made
-            self._runs.stop_planning(goal_handle.request)
+            self._runs.stop_planning(goal_handle.request, Ending.CANCELLED)
         return CancelResponse.ACCEPT
 
     async def _execute(self, goal_handle: ServerGoalHandle) -> Draw.Result:
         runs, goal = self._runs, goal_handle.request
         if goal_handle.is_cancel_requested:  # cancelled before it started
             goal_handle.canceled()
-            return fill_response(Draw.Result(),
-                                 Outcome(False, 'cancelled before it started', runs.pose))
+            return fill_response(Draw.Result(), Outcome(
+                False, 'cancelled before it started', Ending.CANCELLED, runs.pose))
         try:
             kind = BY_NAME.get(goal.trajectory)
             if kind is None:
                 raise runs.refuse(f'unknown trajectory {goal.trajectory!r}; known: '
-                                  f'{", ".join(BY_NAME)}')
+                                  f'{", ".join(BY_NAME)}', Ending.INVALID_REQUEST)
             run, finished = await runs.start_run(kind, goal)
         except RunRefused as refusal:  # busy, bad numbers, no simulator, cancelled meanwhile
             if goal_handle.is_cancel_requested:
                 goal_handle.canceled()
             else:
                 goal_handle.abort()
-            return fill_response(Draw.Result(), Outcome(False, str(refusal), runs.pose))
+            return fill_response(Draw.Result(), refusal.outcome(runs.pose))
         goal_id = bytes(goal_handle.goal_id.uuid)
         self._goals[goal_id] = run
         feedback = self._ros.create_timer(

@@ -38,8 +38,11 @@ from turtle_traj.node.waiting import completion
 
 ACTION = 'follow_path'
 Result = FollowPath.Result
-# Nav2's code for each way a run ends unsuccessfully (a cancel ends CANCELED, with none)
-ERROR_CODES = {Ending.NO_PROGRESS: Result.FAILED_TO_MAKE_PROGRESS,
+# Nav2's code for each way a run ends unsuccessfully or is refused (a cancel ends CANCELED,
+# with none); UNKNOWN for the rest (busy, no robot, a wall, a jump)
+ERROR_CODES = {Ending.INVALID_REQUEST: Result.INVALID_PATH,
+               Ending.NO_PROGRESS: Result.FAILED_TO_MAKE_PROGRESS,
+               Ending.TIMED_OUT: Result.PATIENCE_EXCEEDED,
                Ending.CONTROLLER_FAULT: Result.NO_VALID_CONTROL}
 
 
@@ -67,9 +70,9 @@ class Nav2FollowPath:
     def _on_cancel(self, goal_handle: ServerGoalHandle) -> CancelResponse:
         """Stop this goal's run at once; the goal then ends CANCELED."""
         if self._running is not None and self._running[0] is goal_handle:
-            self._runs.stop_run(self._running[1])
+            self._runs.stop_run(self._running[1], Ending.CANCELLED)
         else:  # its plan may be being made
-            self._runs.stop_planning(goal_handle.request)
+            self._runs.stop_planning(goal_handle.request, Ending.CANCELLED)
         return CancelResponse.ACCEPT
 
     async def _execute(self, goal_handle: ServerGoalHandle) -> FollowPath.Result:
@@ -104,8 +107,9 @@ class Nav2FollowPath:
         try:
             return await self._runs.start_run(BY_NAME['follow_path'], request,
                                               controller=controller)
-        except RunRefused as refusal:  # busy with another request, no robot, stopped meanwhile
-            raise GoalFailed(Result.UNKNOWN, str(refusal)) from None
+        except RunRefused as refusal:  # busy, no robot, a path too big, stopped meanwhile
+            raise GoalFailed(ERROR_CODES.get(refusal.reason, Result.UNKNOWN), str(refusal)) \
+                from None
 
     def _checked(self, goal: FollowPath.Goal) -> tuple[Chosen | None, object]:
         """The goal's controller and the request it makes; GoalFailed if it cannot run."""

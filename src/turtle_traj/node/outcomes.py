@@ -6,18 +6,34 @@ import math
 
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path as PathMsg
+from turtle_traj_interfaces.msg import Ending as EndingMsg
 
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import Outcome
-from turtle_traj.core.geometry.path import Path
+from turtle_traj.core.geometry.path import Path, Pose2D
 
 PLAN_FRAME_ID = 'world'
 PLAN_POINTS = 20_000  # most points published on ~/plan
 
 
 class RunRefused(Exception):
-    """A request that cannot run now; the message says why (busy, bad numbers, no simulator)."""
+    """A request that cannot run now: the message says why (busy, bad numbers, no simulator),
+    and `reason` is that why as an `Ending`."""
+
+    def __init__(self, message: str, reason: Ending) -> None:
+        super().__init__(message)
+        self.reason = reason
+
+    def outcome(self, pose: Pose2D | None) -> Outcome:
+        """The refusal as the outcome of a run that never started, the turtle at `pose`."""
+        return Outcome(False, str(self), self.reason, pose)
+
+
+def ending_message(reason: Ending) -> EndingMsg:
+    """`reason` as the responses carry it: the constant of the same name, and its label."""
+    return EndingMsg(code=getattr(EndingMsg, reason.name), label=reason.value)
 
 
 def fill_response(response, outcome: Outcome):
@@ -25,6 +41,7 @@ def fill_response(response, outcome: Outcome):
     fields)."""
     response.success = outcome.success
     response.message = outcome.message
+    response.ending = ending_message(outcome.reason)
     if outcome.pose is not None:
         response.final_x, response.final_y = outcome.pose.x, outcome.pose.y
         response.final_theta = outcome.pose.theta

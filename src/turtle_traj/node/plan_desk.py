@@ -10,6 +10,7 @@ from typing import Any
 from rclpy.node import Node
 from rclpy.task import Future
 
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import Settings
 from turtle_traj.core.planning import planner
@@ -19,12 +20,13 @@ from turtle_traj.rosutils.offload import Offloader
 @dataclass
 class Planning:
     """A request being planned: its trajectory, the request, the settings it is planned with,
-    the plan's future (cancelled if the request ended first), and how it ended then."""
+    the plan's future (cancelled if the request ended first), and how and why it ended then."""
     name: str
     request: Any
     settings: Settings
     plan: Future
     ended: str = ''
+    reason: Ending = Ending.STOPPED
 
 
 class PlanDesk:
@@ -46,13 +48,13 @@ class PlanDesk:
         if self.current is planning:
             self.current = None
 
-    def drop(self, ended: str, request: Any = None) -> str | None:
-        """End the current plan's request ('<trajectory> <ended>'), if one is being planned
-        (for `request` only, if given); its trajectory's name, or None."""
+    def drop(self, ended: str, reason: Ending, request: Any = None) -> str | None:
+        """End the current plan's request ('<trajectory> <ended>') for `reason`, if one is
+        being planned (for `request` only, if given); its trajectory's name, or None."""
         planning = self.current
         if planning is None or (request is not None and planning.request is not request):
             return None
         self.current = None
-        planning.ended = ended
+        planning.ended, planning.reason = ended, reason
         planning.plan.cancel()
         return planning.name

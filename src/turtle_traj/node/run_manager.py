@@ -23,6 +23,7 @@ from std_msgs.msg import Header
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.controllers.catalogue import Chosen, choose
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import RunSupervisor
@@ -149,7 +150,8 @@ class RunManager:
         self._silence.beat()
         if self._pen.give_up_if_late():
             self.abort_run(f'{self._pen.service_name} did not answer within '
-                           f'{self._pen.timeout_s:g} s; is the simulator still running?')
+                           f'{self._pen.timeout_s:g} s; is the simulator still running?',
+                           Ending.NO_SIMULATOR)
         if self.run is not None:
             self._aborted_for_silence()
 
@@ -160,7 +162,7 @@ class RunManager:
         silence, timeout_s = self._silence.seconds(), self.settings.pose_timeout_s
         if silence > timeout_s:
             self.abort_run(f'no pose on {self.pose_topic} for {silence:.2f} s (pose_timeout '
-                           f'{timeout_s:g} s); is the simulator still running?')
+                           f'{timeout_s:g} s); is the simulator still running?', Ending.POSE_LOST)
         return silence > timeout_s
 
     @serialized
@@ -169,16 +171,18 @@ class RunManager:
         ran: it completes once a drawing's pen is down again (a call to the simulator), which
         a program must wait for before its node goes, or the call may never leave it."""
         done = self._run_done
-        self.abort_run('the node is shutting down')
+        self.abort_run('the node is shutting down', Ending.SHUTTING_DOWN)
         self._publish(STOP)
         return done
 
     @serialized
-    def abort_run(self, why: str) -> None:
-        """End the run, or the plan being made, as failed: '<trajectory> aborted: <why>'."""
-        self._plans.drop(f'aborted: {why}')
+    def abort_run(self, why: str, reason: Ending) -> None:
+        """End the run, or the plan being made, as failed for `reason`: '<trajectory> aborted:
+        <why>'."""
+        self._plans.drop(f'aborted: {why}', reason)
         if self.run is not None:
-            self._finish(False, f'{self.run.name} aborted: {why}')
+            self.run.end(False, f'{self.run.name} aborted: {why}', reason)
+            self._finish_if_ended()
 
     @serialized
     def stop(self) -> str:
@@ -186,7 +190,7 @@ class RunManager:
         run = self.run
         self._publish(STOP)
         if run is None:
-            name = self._plans.drop(_STOPPED_EARLY)
+            name = self._plans.drop(_STOPPED_EARLY, Ending.STOPPED)
             if name is not None:
                 return f'stopped {name} while it was being planned'
             return 'nothing was running; turtle stopped'
@@ -201,13 +205,6 @@ class RunManager:
     def _publish(self, command: Command) -> None:
         self._loop.sent(command, self.now_s())
         self._base.publish(command)
-
-    @serialized
-    def _finish(self, success: bool, message: str) -> None:
-        """End the run now with this verdict (unless it already had one)."""
-        if self.run is not None:
-            self.run.end(success, message)
-            self._finish_if_ended()
 
     def _finish_if_ended(self) -> None:
         run, done = self.run, self._run_done
@@ -229,7 +226,7 @@ class RunManager:
             self._pen.set(self.settings.pen, down=True,
                           then=lambda _answered: done.set_result(outcome))
 
-    def refusal(self) -> str | None:
+    def refusal(self) -> outcomes.RunRefused | None:
         """Why a request would be refused now (None: it would be accepted)."""
         busy = None
         if self.run is not None:
@@ -237,24 +234,27 @@ class RunManager:
         elif self._plans.current is not None:
             busy = f'{self._plans.current.name} is being planned'
         if busy is not None:
-            return (f'busy: {busy}; wait for it or call '
-                    f'{self._node.resolve_service_name("~/stop")} (std_srvs/srv/Trigger) to '
-                    'stop it')
+            return outcomes.RunRefused(
+                f'busy: {busy}; wait for it or call '
+                f'{self._node.resolve_service_name("~/stop")} (std_srvs/srv/Trigger) to stop it',
+                Ending.BUSY)
         silence = self._silence.seconds()
         if self._loop.pose is None or silence > self.settings.pose_timeout_s:
             heard = 'never' if self._loop.pose is None else f'not for {silence:.1f} s'
-            return (f'no pose on {self.pose_topic} ({heard}): is the simulator running and '
-                    f'turtle_name right?')
+            return outcomes.RunRefused(f'no pose on {self.pose_topic} ({heard}): is the '
+                                       'simulator running and turtle_name right?',
+                                       Ending.POSE_LOST)
         if self._base.publisher.get_subscription_count() == 0:
-            return (f'nothing subscribes to {self.command_topic} yet: is the simulator '
-                    f'running and turtle_name right?')
+            return outcomes.RunRefused(f'nothing subscribes to {self.command_topic} yet: is the '
+                                       'simulator running and turtle_name right?',
+                                       Ending.NO_SIMULATOR)
         return None
 
     @serialized
-    def refuse(self, reason: str) -> outcomes.RunRefused:
-        """The refusal of a request, logged."""
-        self._state_lock.warning(reason)
-        return outcomes.RunRefused(reason)
+    def refuse(self, message: str, reason: Ending) -> outcomes.RunRefused:
+        """The refusal of a request for `reason`, logged."""
+        self._state_lock.warning(message)
+        return outcomes.RunRefused(message, reason)
 
     async def start_run(self, kind: TrajectoryKind, request, *,
                         controller: Chosen | None = None) -> tuple[RunSupervisor, Future]:
@@ -271,7 +271,7 @@ class RunManager:
         try:
             plan = await completion(self._node, planning.plan)
         except PlanError as error:
-            raise self.refuse(f'{kind.name} refused: {error}') from None
+            raise self.refuse(f'{kind.name} refused: {error}', Ending.INVALID_REQUEST) from None
         finally:
             self._done_planning(planning)
         return self._start_planned(kind, planning, plan, controller or self._controller)
@@ -280,7 +280,7 @@ class RunManager:
     def _begin_planning(self, kind: TrajectoryKind, request) -> Planning:
         refusal = self.refusal()
         if refusal is not None:
-            raise self.refuse(refusal)
+            raise self.refuse(str(refusal), refusal.reason)
         return self._plans.begin(kind.name, request, self._loop.pose, self.settings)
 
     @serialized
@@ -291,10 +291,11 @@ class RunManager:
     def _start_planned(self, kind: TrajectoryKind, planning: Planning, plan: Plan | None,
                        controller: Chosen) -> tuple[RunSupervisor, Future]:
         if plan is None:  # its future was cancelled: stopped or aborted
-            raise self.refuse(f'{kind.name} {planning.ended}')
+            raise self.refuse(f'{kind.name} {planning.ended}', planning.reason)
         if plan.pen is not None and not self._pen.ready:
             raise self.refuse(f'{kind.name} refused: it lifts the pen between strokes, and the '
-                              f'simulator service {self._pen.service_name} is not available')
+                              f'simulator service {self._pen.service_name} is not available',
+                              Ending.NO_SIMULATOR)
         settings = planning.settings
         self._silence.was_busy()  # the plan's wall time is not the simulator's silence
         run = self._loop.start(plan, arena=settings.arena, now_s=self.now_s(),
@@ -308,16 +309,17 @@ class RunManager:
         return run, done
 
     @serialized
-    def stop_run(self, run: RunSupervisor) -> None:
-        """End `run` at once as stopped by request, if it is still the one running."""
+    def stop_run(self, run: RunSupervisor, reason: Ending = Ending.STOPPED) -> None:
+        """End `run` at once as stopped by request (`reason`: a stop or a cancel), if it is
+        still the one running."""
         if run is self.run:
-            run.request_stop()
+            run.request_stop(reason)
             self._finish_if_ended()
 
     @serialized
-    def stop_planning(self, request: Any) -> None:
+    def stop_planning(self, request: Any, reason: Ending = Ending.STOPPED) -> None:
         """End the plan being made for `request`, if it still is, as stopped by request."""
-        self._plans.drop(_STOPPED_EARLY, request)
+        self._plans.drop(_STOPPED_EARLY, reason, request)
 
     @serialized
     def forget_turtle(self) -> None:

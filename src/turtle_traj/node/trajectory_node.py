@@ -15,6 +15,7 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.task import Future
 
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.profile import load_solver, solver_loaded
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.registry import TRAJECTORIES
@@ -104,9 +105,10 @@ class TrajectoryNode(Node):
         """Stop the turtle, and the run if one runs; what was stopped."""
         return self._runs.stop()
 
-    def abort_run(self, why: str) -> None:
-        """End the run, if one runs, as failed: '<trajectory> aborted: <why>'."""
-        self._runs.abort_run(why)
+    def abort_run(self, why: str, reason: Ending = Ending.STOPPED) -> None:
+        """End the run, if one runs, as failed for `reason` (by default: stopped by the
+        program holding the node): '<trajectory> aborted: <why>'."""
+        self._runs.abort_run(why, reason)
 
     def shutdown_turtle(self) -> Future | None:
         """End any trajectory and leave the turtle standing (called on program exit); what to

@@ -9,7 +9,6 @@ from rclpy.callback_groups import CallbackGroup
 from rclpy.node import Node
 
 from turtle_traj.api.ros_interface import service_type
-from turtle_traj.core.control.supervisor import Outcome
 from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
 from turtle_traj.node.async_service import create_async_service
 from turtle_traj.node.outcomes import RunRefused, fill_response
@@ -32,5 +31,5 @@ class TrajectoryServices:
         try:
             _run, finished = await runs.start_run(kind, request)
         except RunRefused as refusal:
-            return fill_response(response, Outcome(False, str(refusal), runs.pose))
+            return fill_response(response, refusal.outcome(runs.pose))
         return fill_response(response, await completion(self._node, finished))

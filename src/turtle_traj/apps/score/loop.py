@@ -14,6 +14,7 @@ import numpy as np
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import RunSupervisor
@@ -71,5 +72,5 @@ def drive(plan: Plan, start: Pose2D, settings: Settings, *, inertia: Inertia | N
             record.commands.append(command)
         world.step()
     record.steps = int(max_s / STEP_S)
-    run.end(False, f'{run.name} still running after {max_s:g} s')
+    run.end(False, f'{run.name} still running after {max_s:g} s', Ending.TIMED_OUT)
     return record

@@ -38,6 +38,7 @@ class Outcome:
 
     success: bool
     message: str
+    reason: Ending
     pose: Pose2D | None = None
     elapsed_s: float = 0.0
     path_length: float = 0.0
@@ -46,7 +47,6 @@ class Outcome:
     final_heading_error: float = 0.0
     pen_up_length: float = 0.0
     pen_up_unordered: float = 0.0
-    reason: Ending = Ending.ABORTED
 
 
 def wall_clearance(arena: Arena, pose: Pose2D) -> float:
@@ -100,16 +100,16 @@ class RunSupervisor:
     def name(self) -> str:
         return self.plan.trajectory
 
-    def end(self, success: bool, message: str, reason: Ending | None = None) -> None:
-        """Decide the verdict (the first decision stands); `reason` by default: succeeded,
-        or aborted."""
+    def end(self, success: bool, message: str, reason: Ending) -> None:
+        """Decide the verdict and why (the first decision stands)."""
         if self.ending is None:
             self.ending = (success, message)
-            self.reason = reason or (Ending.SUCCEEDED if success else Ending.ABORTED)
+            self.reason = reason
 
-    def request_stop(self) -> None:
-        """A stop request: success for an endless trajectory (it ends only this way)."""
-        self.end(self.plan.path.endless, f'{self.name} stopped by request', Ending.STOPPED)
+    def request_stop(self, reason: Ending = Ending.STOPPED) -> None:
+        """A stop request (`reason`: a stop, or a cancel): success for an endless trajectory
+        (it ends only this way)."""
+        self.end(self.plan.path.endless, f'{self.name} stopped by request', reason)
 
     @property
     def pen_wanted(self) -> bool | None:
@@ -195,7 +195,7 @@ class RunSupervisor:
             follower = self.follower
             clamped = (f' ({follower.name}: {follower.clamped} of {follower.commands} commands '
                        'clamped to the limits)' if isinstance(follower, StrokeDriver) else '')
-            self.end(True, f'{self.name} done{clamped}')
+            self.end(True, f'{self.name} done{clamped}', Ending.SUCCEEDED)
         return STOP
 
     def _hazard(self, pose: Pose2D, config: ControlConfig, arena: Arena,
@@ -204,7 +204,7 @@ class RunSupervisor:
         clearance = wall_clearance(arena, pose)
         if clearance < arena.margin / 2 and clearance < self._start_clearance:
             return (f'{self.name} stopped: the turtle came within {clearance:.3f} m of the wall '
-                    f'at ({pose.x:.2f}, {pose.y:.2f})', Ending.WALL)
+                    f'at ({pose.x:.2f}, {pose.y:.2f})', Ending.OUT_OF_BOUNDS)
         if not self._stalled(now_s, config.progress_timeout_s):
             return None
         why = ('the base does not follow the commands as fast as max_linear_accel and '
@@ -230,18 +230,19 @@ class RunSupervisor:
 
         Elapsed time runs from the first command to the path's end (not the settling after it)
         or to the stop. A run that reached its end reports the miss of its end point and end
-        heading; one ended early reports its distance from the path, and no heading error.
+        heading; one ended early reports its distance from the path, and no heading error. One
+        reported before it ended is reported as out of time.
         """
         success, message = self.ending or (False, f'{self.name} still running')
+        reason = self.reason or Ending.TIMED_OUT
         path = self.plan.path
         ended_s = self._path_done_s if self._path_done_s is not None else now_s
         began_s = self.started_s if self._first_command_s is None else self._first_command_s
         outcome = Outcome(
-            success, message, pose, elapsed_s=max(ended_s - began_s, 0.0),
+            success, message, reason, pose, elapsed_s=max(ended_s - began_s, 0.0),
             path_length=self.distance if path.endless else path.length,
             max_deviation=self.max_deviation, final_error=math.nan,
-            pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered,
-            reason=self.reason or Ending.ABORTED)
+            pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered)
         if pose is None:
             return outcome
         if self.follower.done:
