@@ -156,6 +156,7 @@ def test_a_path_planned_from_where_the_robot_stood_is_driven_on_from_where_it_st
 @pytest.mark.parametrize(('fields', 'code', 'said'), [
     ({'points': []}, Result.INVALID_PATH, 'no poses'),
     ({'points': [(6.0, 5.5), (math.nan, 5.5)]}, Result.INVALID_PATH, 'not finite'),
+    ({'points': [(6.0, 5.5), (30.0, 5.5)]}, Result.INVALID_PATH, 'arena'),  # refused by the plan
     ({'frame_id': 'map'}, Result.TF_ERROR, "'world'"),
     ({'controller_id': 'no_such_controller'}, Result.INVALID_CONTROLLER, 'no_such_controller'),
 ])
