@@ -27,7 +27,7 @@ from turtle_traj.core.control.controllers.catalogue import (
     resolve,
 )
 from turtle_traj.core.control.controllers.dwpp import Dwpp
-from turtle_traj.core.control.controllers.pure_pursuit import ROTATE_MIN_ANGLE, PurePursuit
+from turtle_traj.core.control.controllers.pure_pursuit import PurePursuit
 from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.control.strokes import StrokeDriver, strokes_of
 from turtle_traj.core.geometry.angles import wrap_angle
@@ -126,7 +126,7 @@ def test_pure_pursuit_turns_in_place_first_when_facing_away():
                                             config.period_s))
     command = controller.command(State(start, Command(), start, 0.0))
     assert command.linear == 0.0 and abs(command.angular) == config.angular_speed
-    ahead = Pose2D(3.0, 3.0, ROTATE_MIN_ANGLE / 2)
+    ahead = Pose2D(3.0, 3.0, controller.rotate_to_heading_min_angle / 2)
     assert controller.command(State(ahead, Command(), ahead, 0.0)).linear > 0.0
     run = drive(plan, start, DEFAULT_SETTINGS, controller=choose('pure_pursuit'))
     assert run.run.ending[0] and math.dist((run.poses[-1].x, run.poses[-1].y), (7.0, 3.0)) < 0.015

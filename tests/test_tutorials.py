@@ -24,7 +24,7 @@ RUN_ELSEWHERE = {'two-machines.md': 'tests/test_two_hosts.py'}
 BLOCK = re.compile(r'```(\w+)\n(.*?)```', re.S)
 
 
-def _steps(page: Path) -> list[tuple[str, str, list[str]]]:
+def tutorial_steps(page: Path) -> list[tuple[str, str, list[str]]]:
     """('file', name, [text]) | ('python', '', [text]) | ('command', line, expected lines)."""
     steps = []
     for language, text in BLOCK.findall(page.read_text()):
@@ -63,7 +63,7 @@ def run_page(page: Path, folder: Path) -> None:
     environment = {**os.environ, 'PATH': f"{Path(sys.executable).parent}:{os.environ['PATH']}"}
     background: list[subprocess.Popen] = []
     try:
-        for kind, name, content in _steps(page):
+        for kind, name, content in tutorial_steps(page):
             if kind == 'file':
                 (folder / name).write_text(content[0])
                 continue
@@ -127,7 +127,7 @@ def test_the_tutorial_runs_as_written(name, tmp_path):
 def test_the_tutorials_have_something_to_run():
     for name in PAGES:
         if name not in RUN_ELSEWHERE:
-            kinds = {kind for kind, _name, _content in _steps(TUTORIALS / name)}
+            kinds = {kind for kind, _name, _content in tutorial_steps(TUTORIALS / name)}
             assert 'command' in kinds or 'python' in kinds, name
 
 

@@ -1,7 +1,7 @@
 """Sphinx directives that write reference tables from the code, so they cannot go stale.
 
-- ``parameters``: every node parameter from the parameter table (type, default, unit, range,
-  read-only, description).
+- ``parameters``: every node parameter from the parameter table, then the shipped controllers'
+  tuning (type, default, unit, range, read-only, description).
 - ``trajectories``: every trajectory service from the registry, with its request fields.
 - ``interface``: one .srv or .action file of `interfaces/`, as it is.
 """
@@ -49,14 +49,18 @@ def _literal(text: str) -> str:
 
 class Parameters(Directive):
     def run(self):
+        from turtle_traj.core.control.controllers.catalogue import SHIPPED, choose
         from turtle_traj.core.parameters.table import PARAMETERS
+        named = [(spec.name, spec) for spec in PARAMETERS]
+        for controller in map(choose, SHIPPED):  # the shipped controllers' tuning
+            named += [(f'{controller.prefix}.{spec.name}', spec) for spec in controller.tunables]
         rows = []
-        for spec in PARAMETERS:
+        for name, spec in named:
             kind = type(spec.default).__name__
             bounds = '' if spec.low is None else f'{spec.low:g} to {spec.high:g}'
             if spec.choices:
                 bounds = ', '.join(_literal(choice) for choice in spec.choices)
-            rows.append([_literal(spec.name), kind, _literal(repr(spec.default)), spec.unit,
+            rows.append([_literal(name), kind, _literal(repr(spec.default)), spec.unit,
                          bounds, 'yes' if spec.read_only else '',
                          spec.description])
         return _table(self, ['name', 'type', 'default', 'unit', 'range', 'read-only',

@@ -26,7 +26,7 @@ from rclpy.callback_groups import CallbackGroup
 from rclpy.node import Node
 from turtle_traj_interfaces.srv import FollowPath as FollowPathRequest
 
-from turtle_traj.core.control.controllers.catalogue import Chosen, UnknownController, choose
+from turtle_traj.core.control.controllers.catalogue import Chosen, UnknownController
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.core.geometry.projection import LengthLeft, PolylineSegments
@@ -128,7 +128,7 @@ class Nav2FollowPath:
         controller = None
         if goal.controller_id:
             try:
-                controller = choose(goal.controller_id)
+                controller = self._runs.choose_controller(goal.controller_id)
             except UnknownController as error:
                 raise GoalFailed(Result.INVALID_CONTROLLER, str(error)) from None
         request = FollowPathRequest.Request(

@@ -22,7 +22,7 @@ from rclpy.task import Future
 from std_msgs.msg import Header
 
 from turtle_traj.core.control.commands import STOP, Command
-from turtle_traj.core.control.controllers.catalogue import Chosen, choose
+from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.plan import Plan
@@ -34,6 +34,7 @@ from turtle_traj.core.registry import TrajectoryKind
 from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.node import outcomes
 from turtle_traj.node.base_topics import BaseTopics
+from turtle_traj.node.controller_tuning import ControllerTuning
 from turtle_traj.node.pen_client import PenClient
 from turtle_traj.node.plan_desk import PlanDesk, Planning
 from turtle_traj.node.pose_silence import PoseSilence
@@ -66,7 +67,8 @@ class RunManager:
         # turtlesim's pose echoes the command in effect; odometry measures the velocity
         self._loop = ControlLoop(STEP_S, echoes=not self._base.odometry)
         name = node.get_parameter('controller').value  # checked as it was declared
-        self._controller = choose(name)
+        self._tuning = ControllerTuning(node, name)
+        self._controller = self._tuning.choose(name)
         self._plan = node.create_publisher(
             PathMsg, '~/plan', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
         self._pen = PenClient(node, turtle, callback_group=callback_group)
@@ -110,6 +112,13 @@ class RunManager:
     def pen_ready(self) -> bool:
         """The simulator's set_pen is found (drawings need it)."""
         return self._pen.ready
+
+    def choose_controller(self, name: str) -> Chosen:
+        """The controller `name` stands for, tuned by the node's parameters.
+
+        :raises UnknownController: with the reason.
+        """
+        return self._tuning.choose(name)
 
     def now_s(self) -> float:
         """The node clock, seconds."""

@@ -16,6 +16,7 @@ import gc
 import math
 import threading
 import time
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
@@ -25,6 +26,7 @@ from turtle_traj.core.control.controller import Controller, Limits, State, Strok
 from turtle_traj.core.control.dynamics import within_reach
 from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.control.prediction import Prediction
+from turtle_traj.core.control.tuning import tune
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 
 _JOIN_M = 1e-6  # polylines whose ends meet this closely join into one stroke
@@ -142,8 +144,10 @@ class StrokeDriver:
     """
 
     def __init__(self, path: Path, controller: Controller, name: str, *,
-                 manage_pen: bool = False, timed: bool = True) -> None:
+                 manage_pen: bool = False, timed: bool = True,
+                 tuning: Callable[[], Mapping[str, float]] | None = None) -> None:
         self.path, self.controller, self.name = path, controller, name
+        self.tuning = tuning  # the controller's tuning now, set before each stroke starts
         self.timed = timed  # an answer later than the period ends the run
         self.manage_pen = manage_pen
         self.pen_down: bool | None = None
@@ -215,6 +219,8 @@ class StrokeDriver:
         flip = math.pi if stroke.reverse else 0.0
         if self._along is None:
             self._along, self._periods = _Along(stroke.points), 0
+            if self.tuning is not None:
+                tune(self.controller, self.tuning())
             self._call('start', Stroke(stroke.points, self._lap), Limits(
                 config.linear_speed, config.angular_speed, config.max_linear_accel,
                 config.max_angular_accel, config.period_s))

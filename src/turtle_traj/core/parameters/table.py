@@ -5,8 +5,8 @@ can change at run time. Pure data (no numpy, no Pillow): the node declares it
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 
+from turtle_traj.core.control.tuning import Spec
 from turtle_traj.core.turtlesim_contract import DEFAULT_PEN, WORLD_SIZE_M
 
 # The drawings shipped with the package (os.path: importlib.resources costs `--help` 6 ms).
@@ -15,20 +15,6 @@ _DRAWINGS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path
 
 
 NO_WALLS_M = 100.0  # with arena 'none': how far from the origin paths may go
-
-
-@dataclass(frozen=True)
-class Spec:
-    """One parameter: default, unit, allowed range and whether it can change at run time."""
-
-    name: str
-    default: float | int | str
-    description: str
-    unit: str = ''
-    low: float | None = None
-    high: float | None = None
-    read_only: bool = False
-    choices: tuple[str, ...] = ()  # the values a text parameter may take (empty: any)
 
 
 PARAMETERS = (

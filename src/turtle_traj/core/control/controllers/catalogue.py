@@ -11,7 +11,7 @@ import functools
 import importlib
 import os
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from importlib.metadata import entry_points
 
@@ -21,12 +21,14 @@ from turtle_traj.core.control.controllers.pure_pursuit import PurePursuit
 from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.strokes import StrokeDriver
+from turtle_traj.core.control.tuning import Spec, tunables
 
 EXACT = 'exact'
 SHIPPED: dict[str, type] = {'dwpp': Dwpp, 'pure_pursuit': PurePursuit}
 ENTRY_POINT_GROUP = 'turtle_traj.controllers'
 
 ControllerFactory = Callable[[], Controller]
+TuningSource = Callable[[], Mapping[str, float]]  # the tuning's values now, by name
 
 
 @dataclass(frozen=True)
@@ -40,6 +42,18 @@ class Chosen:
     # whose simulated time waits for the controller: their figures then never depend on how
     # busy the machine is.
     timed: bool = True
+    tuning: TuningSource | None = None  # None: the class's defaults
+
+    @property
+    def prefix(self) -> str:
+        """The prefix of its tuning's parameters: its name, or its class's for
+        `module:Class`."""
+        return parameter_prefix(self.name)
+
+    @property
+    def tunables(self) -> tuple[Spec, ...]:
+        """The tuning its class declares (none for the exact follower)."""
+        return () if self.factory is None else tunables(self.factory)
 
     def driver(self, plan: Plan, *, manage_pen: bool) -> PlanController:
         """The controller of this run's whole plan: the exact follower, or the chosen
@@ -48,11 +62,17 @@ class Chosen:
             return PathFollower(plan.path, end_tolerance=plan.end_tolerance,
                                 manage_pen=manage_pen, profiles=plan.profiles)
         return StrokeDriver(plan.path, self.factory(), self.name, manage_pen=manage_pen,
-                            timed=self.timed)
+                            timed=self.timed, tuning=self.tuning)
 
 
 class UnknownController(ValueError):
     """A controller name that names no controller, or a class that is not one."""
+
+
+def parameter_prefix(name: str) -> str:
+    """The prefix of a controller's tuning parameters: `name`, or the class of `module:Class`
+    (`my_controller:WaypointP` -> `WaypointP`)."""
+    return name.rpartition(':')[2]
 
 
 def names() -> list[str]:

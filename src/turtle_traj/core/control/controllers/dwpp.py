@@ -24,6 +24,9 @@ class Dwpp(PurePursuit):
 
     rotate_to_heading = False
     approach_scaling = False  # the paper's robot brakes at its limit, not on a ramp
+    # the tuning of those two regulations does not apply
+    rotate_to_heading_min_angle = approach_velocity_scaling_dist = None
+    min_approach_linear_velocity = None
 
     def _window(self, velocity: Command) -> tuple[float, float, float, float]:
         """The velocities within reach in one period: v_low, v_high, w_low, w_high."""

@@ -6,16 +6,19 @@ The regulations, as RPP names them (Macenski et al., "Regulated Pure Pursuit for
 Tracking", 2023), written from that description:
 
 - adaptive look-ahead (`use_velocity_scaled_lookahead_dist`): the look-ahead distance is the
-  speed times `LOOKAHEAD_TIME_S`, clamped to `LOOKAHEAD_RANGE_M`;
+  speed times `lookahead_time`, clamped to `min_lookahead_dist` and `max_lookahead_dist`;
 - regulated linear velocity on curvature (`use_regulated_linear_velocity_scaling`): below the
-  radius `REGULATED_MIN_RADIUS_M` the speed scales with the radius, down to `MIN_SPEED`;
-- approach velocity scaling (`approach_velocity_scaling_dist`): within `APPROACH_DIST_M` of the
-  goal the speed scales with the distance left, down to `MIN_APPROACH_SPEED`, and never above
-  the speed from which the base can still stop (its acceleration limit);
-- rotate to heading (`use_rotate_to_heading`): facing more than `ROTATE_MIN_ANGLE` away from
-  the look-ahead point, it turns in place first.
+  radius `regulated_linear_scaling_min_radius` the speed scales with the radius, down to
+  `regulated_linear_scaling_min_speed`;
+- approach velocity scaling: within `approach_velocity_scaling_dist` of the goal the speed
+  scales with the distance left, down to `min_approach_linear_velocity`, and never above the
+  speed from which the base can still stop (its acceleration limit);
+- rotate to heading (`use_rotate_to_heading`): facing more than `rotate_to_heading_min_angle`
+  away from the look-ahead point, it turns in place first.
 
-The node clamps each command to the base's limits (`strokes.StrokeDriver`).
+Those numbers are its tuning (`tuning.Tunable`), with RPP's names and defaults: the node serves
+them as the parameters `pure_pursuit.<name>`. The node clamps each command to the base's limits
+(`strokes.StrokeDriver`).
 """
 
 from __future__ import annotations
@@ -26,17 +29,10 @@ import numpy as np
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.controller import Limits, State, Stroke
+from turtle_traj.core.control.tuning import Tunable
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
 
-LOOKAHEAD_TIME_S = 1.5  # RPP's defaults
-LOOKAHEAD_RANGE_M = (0.3, 0.9)
-REGULATED_MIN_RADIUS_M = 0.9
-MIN_SPEED = 0.25  # m/s (at most the top speed)
-APPROACH_DIST_M = 0.6
-MIN_APPROACH_SPEED = 0.05
-ROTATE_MIN_ANGLE = math.radians(45.0)
-GOAL_TOLERANCE_M = 0.01
 _SPACING_M = 0.01  # the path is followed point by point this far apart
 _SEARCH_POINTS = 100  # the nearest point is searched up to 1 m ahead of the last one
 _NEAR_END_M = 0.05  # the goal counts only this close to the end along the path (a closed
@@ -48,6 +44,25 @@ class PurePursuit:
 
     rotate_to_heading = True
     approach_scaling = True
+    # RPP's defaults
+    lookahead_time = Tunable(1.5, 'The look-ahead distance is the speed times this', 's',
+                             0.01, 20.0)
+    min_lookahead_dist = Tunable(0.3, 'Shortest look-ahead distance', 'm', 0.01, 10.0)
+    max_lookahead_dist = Tunable(0.9, 'Longest look-ahead distance', 'm', 0.01, 10.0)
+    regulated_linear_scaling_min_radius = Tunable(
+        0.9, 'Below this radius of curvature the speed scales with the radius', 'm', 0.0, 100.0)
+    regulated_linear_scaling_min_speed = Tunable(
+        0.25, 'The least speed the curvature scaling leaves (at most the top speed)', 'm/s',
+        0.0, 10.0)
+    approach_velocity_scaling_dist = Tunable(
+        0.6, 'Within this distance of the goal the speed scales with the distance left', 'm',
+        0.0, 10.0)
+    min_approach_linear_velocity = Tunable(
+        0.05, 'The least speed the approach scaling leaves', 'm/s', 0.001, 10.0)
+    rotate_to_heading_min_angle = Tunable(
+        math.radians(45.0), 'Facing further than this from the look-ahead point, it turns in '
+        'place first', 'rad', 0.0, math.pi)
+    goal_tolerance = Tunable(0.01, 'Arrived this close to the end of a stroke', 'm', 0.001, 1.0)
 
     def start(self, stroke: Stroke, limits: Limits) -> None:
         self.points = _densified(np.asarray(stroke.points, dtype=float))
@@ -67,7 +82,7 @@ class PurePursuit:
     def choose(self, speed: float, curvature: float, bearing: float,
                velocity: Command) -> Command:
         """The command for a regulated speed on the arc of `curvature`."""
-        if self.rotate_to_heading and abs(bearing) > ROTATE_MIN_ANGLE:
+        if self.rotate_to_heading and abs(bearing) > self.rotate_to_heading_min_angle:
             return Command(0.0, math.copysign(self.limits.angular_speed, bearing))
         return Command(speed, curvature * speed)
 
@@ -89,12 +104,12 @@ class PurePursuit:
         beyond = ((pose.x - end[0]) * (end[0] - before[0])
                   + (pose.y - end[1]) * (end[1] - before[1])) > 0.0
         return remaining < _NEAR_END_M and (
-            math.dist((pose.x, pose.y), end) <= GOAL_TOLERANCE_M or beyond)
+            math.dist((pose.x, pose.y), end) <= self.goal_tolerance or beyond)
 
     def _steering(self, pose: Pose2D, speed: float) -> tuple[float, float]:
         """The arc's curvature to the look-ahead point, and the point's bearing."""
-        low, high = LOOKAHEAD_RANGE_M
-        distance = min(max(speed * LOOKAHEAD_TIME_S, low), high)
+        distance = min(max(speed * self.lookahead_time, self.min_lookahead_dist),
+                       self.max_lookahead_dist)
         ahead = self.points[self.nearest:]
         beyond = np.nonzero(np.hypot(ahead[:, 0] - pose.x, ahead[:, 1] - pose.y) >= distance)[0]
         target = ahead[beyond[0]] if len(beyond) else self.points[-1]
@@ -106,12 +121,15 @@ class PurePursuit:
     def _regulated_speed(self, curvature: float, remaining: float) -> float:
         limits = self.limits
         speed = limits.linear_speed
-        floor = min(MIN_SPEED, limits.linear_speed)
+        floor = min(self.regulated_linear_scaling_min_speed, limits.linear_speed)
         radius = 1.0 / max(abs(curvature), 1e-9)
-        if radius < REGULATED_MIN_RADIUS_M:
-            speed = max(speed * radius / REGULATED_MIN_RADIUS_M, floor)
-        if self.approach_scaling and remaining < APPROACH_DIST_M:
-            speed = min(speed, max(speed * remaining / APPROACH_DIST_M, MIN_APPROACH_SPEED))
+        min_radius = self.regulated_linear_scaling_min_radius
+        if radius < min_radius:
+            speed = max(speed * radius / min_radius, floor)
+        approach = self.approach_velocity_scaling_dist
+        if self.approach_scaling and remaining < approach:
+            speed = min(speed, max(speed * remaining / approach,
+                                   self.min_approach_linear_velocity))
         if limits.linear_accel:
             speed = min(speed, math.sqrt(2.0 * limits.linear_accel * max(remaining, 0.0)))
         return speed
