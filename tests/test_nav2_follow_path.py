@@ -14,7 +14,9 @@ from geometry_msgs.msg import PoseStamped
 from nav2_msgs.action import FollowPath
 from nav_msgs.msg import Path as PathMsg
 from turtle_traj_interfaces.action import Draw
+from turtlesim.srv import TeleportAbsolute
 
+from turtle_traj.apps.score.courses import planner_path
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 from turtle_traj.testing.geometry import distance_to_polyline, xy
 
@@ -151,6 +153,19 @@ def test_a_path_planned_from_where_the_robot_stood_is_driven_on_from_where_it_st
     assert min(math.dist(position, (x - 1.0, y + 1.0)) for position in driven) < 0.01
     assert math.dist(driven[-1], loop[-1]) < 0.01
     assert driven[:, 1].min() > y - 0.01  # the part behind it was not driven
+
+
+def test_a_grid_planners_staircase_is_followed_exactly_to_its_goal(turtle_system, follow):
+    points = planner_path()  # 5 cm cells, staircases of 45-degree steps, 18 m
+    turtle_system.call(TeleportAbsolute, '/turtle1/teleport_absolute', TeleportAbsolute.Request(
+        x=float(points[0, 0]), y=float(points[0, 1]), theta=math.pi / 4))
+    turtle_system.spin_sim_seconds(0.1)
+    turtle_system.poses.clear()
+    outcome = _result(turtle_system, _send(turtle_system, follow, points))
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED, outcome.result.error_msg
+    driven = xy(turtle_system.poses)
+    assert distance_to_polyline(driven, points).max() < 3e-3
+    assert math.dist(driven[-1], points[-1]) < 0.01
 
 
 @pytest.mark.parametrize(('fields', 'code', 'said'), [

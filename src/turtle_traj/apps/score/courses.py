@@ -1,7 +1,9 @@
 """The standard courses every controller is scored on.
 
-- `turtlesim`: the demo's trajectories (each kind's example from the registry), on turtlesim's
-  physics (velocities change at once), the node's default settings.
+- `turtlesim`: the demo's trajectories (each kind's example from the registry), and a grid
+  planner's path around two walls (`grid_planner`: 5 cm cells, staircases of 45-degree steps,
+  as a Nav2 planner gives), on turtlesim's physics (velocities change at once), the node's
+  default settings.
 - `inertia`: the DWPP paper's step curves (45, 90 and 135 degrees: three 3 m legs) and its sine,
   on a unicycle whose velocity follows each command within 0.5 m/s^2 and 1.0 rad/s^2, the
   node at the paper's limits (0.5 m/s, 1.0 rad/s) in an open arena.
@@ -72,6 +74,22 @@ def _demo_courses() -> list[Course]:
                    Pose2D(*kind.example.start)) for kind in TRAJECTORIES]
 
 
+def planner_path() -> np.ndarray:
+    """A grid planner's path across turtlesim's arena, between two walls (0.5 m of a robot's
+    clearance included), from the lower left to the upper right."""
+    def blocked(x: float, y: float) -> bool:
+        return (3.5 <= x <= 4.5 and y <= 7.0) or (6.5 <= x <= 7.5 and y >= 4.0)
+    from turtle_traj.apps.score.grid_planner import grid_path  # networkx, only when scored
+    return grid_path((1.5, 1.5), (9.5, 9.2), blocked, (0.5, 10.5))
+
+
+def _planner_course() -> Course:
+    points = planner_path()
+    heading = math.atan2(points[1, 1] - points[0, 1], points[1, 0] - points[0, 0])
+    return Course('planner path', 'turtlesim', 'follow_path', follow_request(points),
+                  Pose2D(float(points[0, 0]), float(points[0, 1]), heading))
+
+
 def _paper_courses() -> list[Course]:
     settings = settings_from_values({**DEFAULTS, **PAPER_LIMITS, 'arena': 'none'})
     paths = [(f'step{angle}', step_curve(angle)) for angle in (45, 90, 135)]
@@ -97,7 +115,7 @@ def standard_courses(robots: tuple[str, ...] = ROBOTS) -> list[Course]:
     """Every standard course on these robots."""
     courses = []
     if 'turtlesim' in robots:
-        courses += _demo_courses()
+        courses += [*_demo_courses(), _planner_course()]
     if 'inertia' in robots:
         courses += _paper_courses()
     if 'base' in robots:

@@ -4,7 +4,8 @@ Every figure is measured here against the plan (the path the node plans for the 
 and start), not taken from the controller: time (simulated, to the path's end), time against
 the node's least-time bound, cross-track RMSE and maximum error, the end point's miss, and the
 share of the controller's commands the node had to clamp to the limits (none for the exact
-follower, which plans within them).
+follower, which plans within them). A run finishes, as a Nav2 goal checker judges, when it ends
+within `GOAL_TOLERANCE_M` of the path's end: a controller that gives up early does not.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
 from turtle_traj.core.planning import planner
 
 _CLAMPED = re.compile(r'(\d+) of (\d+) commands clamped')
+GOAL_TOLERANCE_M = 0.05  # five times the shipped controllers' own arrival tolerance
 
 
 @dataclass
@@ -53,9 +55,13 @@ def _figures(course: Course, controller: str, success: bool, message: str, time_
              bound_s: float, driven: np.ndarray, planned: np.ndarray, end: tuple[float, float],
              clamped_pct: float) -> Result:
     distances = NearestOnPolyline(planned).distances(driven)
+    missed = math.dist(driven[-1], end)
+    if success and missed > GOAL_TOLERANCE_M:
+        success, message = False, (f'{message}, but {missed:.3f} m from the path\'s end (the '
+                                   f'goal tolerance: {GOAL_TOLERANCE_M:g} m)')
     return Result(course.name, course.robot, controller, success, message, time_s, bound_s,
                   1e3 * float(np.sqrt(np.mean(distances ** 2))), 1e3 * float(distances.max()),
-                  1e3 * math.dist(driven[-1], end), clamped_pct, driven, planned)
+                  1e3 * missed, clamped_pct, driven, planned)
 
 
 def run_course(course: Course, controller: str, *, work_dir: Path | None = None) -> Result:

@@ -1,0 +1,46 @@
+"""`turtle-traj score`'s fairness: its planner course is a grid planner's path (5 cm cells,
+45-degree staircases, clear of the walls), and a run counts as finished only when it ends within
+the goal tolerance of the path's end."""
+
+import math
+
+import numpy as np
+
+from turtle_traj.apps.score.courses import planner_path, standard_courses
+from turtle_traj.apps.score.runner import GOAL_TOLERANCE_M, run_course
+
+
+class GivesUp:
+    """A controller that declares every stroke done at once: the robot never moves."""
+
+    def start(self, stroke, limits) -> None:
+        pass
+
+    def command(self, state):
+        return None
+
+
+def test_the_planner_course_is_a_grid_staircase_clear_of_the_walls():
+    points = planner_path()
+    steps = np.diff(points, axis=0)
+    lengths = np.hypot(*steps.T)
+    assert np.allclose(np.sort(np.unique(lengths.round(9))), [0.05, 0.05 * math.sqrt(2)])
+    headings = np.degrees(np.arctan2(steps[:, 1], steps[:, 0]))
+    assert np.allclose(headings / 45.0, np.round(headings / 45.0))  # multiples of 45 degrees
+    assert np.count_nonzero(np.abs(np.diff(headings)) > 1.0) >= 50  # a staircase: many steps
+    inside_walls = [(3.5 <= x <= 4.5 and y <= 7.0) or (6.5 <= x <= 7.5 and y >= 4.0)
+                    for x, y in points]
+    assert not any(inside_walls)
+    assert math.dist(points[0], (1.5, 1.5)) < 0.04 and math.dist(points[-1], (9.5, 9.2)) < 0.04
+    # the shortest path of the 8-connected grid: no longer than the straight line by more
+    # than the detours around the walls' ends allow
+    assert 13.0 < lengths.sum() < 19.0
+
+
+def test_a_run_that_ends_short_of_the_path_s_end_does_not_finish(tmp_path):
+    course = next(c for c in standard_courses(('turtlesim',)) if c.name == 'move')
+    result = run_course(course, f'{__name__}:GivesUp', work_dir=tmp_path)
+    assert result.end_mm > 1e3 * GOAL_TOLERANCE_M
+    assert not result.success and "from the path's end" in result.message
+    exact = run_course(course, 'exact', work_dir=tmp_path)
+    assert exact.success and exact.end_mm < 1e3 * GOAL_TOLERANCE_M
