@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 import pytest
+from action_msgs.msg import GoalStatus
 from geometry_msgs.msg import Point, Twist
 from rcl_interfaces.msg import Parameter as ParameterMsg
 from rcl_interfaces.msg import ParameterType, ParameterValue
@@ -205,3 +206,23 @@ def test_a_bad_pose_source_is_refused_at_start(rclpy_context):
     with pytest.raises(InvalidParameterValueException, match="one of 'turtlesim', 'odometry'"):
         TrajectoryNode(context=rclpy_context,
                        parameter_overrides=[Parameter('pose_source', value='gps')])
+
+
+def test_nav2s_follow_path_on_a_base_with_inertia_is_exact_and_counts_down(base):
+    from nav2_msgs.action import FollowPath
+
+    from tests.test_nav2_follow_path import path_result, planner_like, send_path
+
+    follow = base.action_client(FollowPath, '/follow_path')
+    assert base.spin_until(follow.server_is_ready, timeout_s=60.0)
+    points = planner_like(radius=1.5)
+    left: list[float] = []
+    handle = send_path(base, follow, points,
+                       feedback=lambda message: left.append(message.feedback.distance_to_goal))
+    outcome = path_result(base, handle)
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED, outcome.result.error_msg
+    driven = xy(base.poses)
+    assert distance_to_polyline(driven, points).max() < 3e-3
+    assert math.dist(driven[-1], points[-1]) < 0.01
+    assert left[0] > 2.0 and left[-1] < 0.01 and all(np.diff(left) <= 1e-6)
+    assert _outside_reach(base.commands) == 0

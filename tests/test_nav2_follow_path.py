@@ -40,7 +40,7 @@ def follow(turtle_system):
     return client
 
 
-def _path(points, frame_id: str = '') -> PathMsg:
+def path_message(points, frame_id: str = '') -> PathMsg:
     path = PathMsg()
     path.header.frame_id = frame_id
     for x, y in points:
@@ -51,12 +51,13 @@ def _path(points, frame_id: str = '') -> PathMsg:
     return path
 
 
-def _planner_like(radius: float = 1.0, spacing: float = 0.02) -> np.ndarray:
-    """A quarter circle from the spawn pose, turning left, a pose every `spacing` metres (as a
-    planner's path comes: dense poses)."""
+def planner_like(radius: float = 1.0, spacing: float = 0.02,
+                 start: tuple[float, float] = (SPAWN_XY_M, SPAWN_XY_M)) -> np.ndarray:
+    """A quarter circle from `start` along x (the spawn pose), turning left, a pose every
+    `spacing` metres (as a planner's path comes: dense poses)."""
     angles = np.linspace(0.0, math.pi / 2, round(radius * math.pi / 2 / spacing) + 1)
-    return np.stack([SPAWN_XY_M + radius * np.sin(angles),
-                     SPAWN_XY_M + radius * (1.0 - np.cos(angles))], axis=1)
+    return np.stack([start[0] + radius * np.sin(angles),
+                     start[1] + radius * (1.0 - np.cos(angles))], axis=1)
 
 
 def _length_left(points: np.ndarray, position) -> float:
@@ -70,8 +71,8 @@ def _length_left(points: np.ndarray, position) -> float:
     return float((1.0 - t[nearest]) * lengths[nearest] + lengths[nearest + 1:].sum())
 
 
-def _send(turtle_system, follow, points, feedback=None, **fields):
-    future = follow.send_goal_async(FollowPath.Goal(path=_path(points, fields.pop(
+def send_path(turtle_system, follow, points, feedback=None, **fields):
+    future = follow.send_goal_async(FollowPath.Goal(path=path_message(points, fields.pop(
         'frame_id', '')), **fields), feedback_callback=feedback)
     assert turtle_system.spin_until(future.done, timeout_s=10.0)
     handle = future.result()
@@ -79,7 +80,7 @@ def _send(turtle_system, follow, points, feedback=None, **fields):
     return handle
 
 
-def _result(turtle_system, handle, timeout_s: float = 120.0):
+def path_result(turtle_system, handle, timeout_s: float = 120.0):
     future = handle.get_result_async()
     assert turtle_system.spin_until(future.done, timeout_s=timeout_s)
     return future.result()
@@ -98,7 +99,7 @@ def test_the_action_is_nav2_jazzys_type(turtle_system, follow):
 
 
 def test_a_planners_path_is_followed_with_feedback_counting_down(turtle_system, follow):
-    points = _planner_like()
+    points = planner_like()
     length = float(np.hypot(*np.diff(points, axis=0).T).sum())
     feedback = []
     turtle_system.poses.clear()
@@ -106,8 +107,8 @@ def test_a_planners_path_is_followed_with_feedback_counting_down(turtle_system, 
     def on_feedback(message) -> None:
         pose = turtle_system.poses[-1]
         feedback.append((turtle_system.sim_time_s, message.feedback, (pose.x, pose.y)))
-    handle = _send(turtle_system, follow, points, on_feedback)
-    outcome = _result(turtle_system, handle)
+    handle = send_path(turtle_system, follow, points, on_feedback)
+    outcome = path_result(turtle_system, handle)
     assert outcome.status == GoalStatus.STATUS_SUCCEEDED
     assert outcome.result.error_code == Result.NONE
     driven = xy(turtle_system.poses)
@@ -134,9 +135,9 @@ def test_a_path_planned_from_where_the_robot_stood_is_driven_on_from_where_it_st
     """A planner's path begins at the robot's pose when it was planned: a hair behind it, or
     some way back along the path. The robot goes on from where it stands, with no turn back to
     the path's first pose; a path that comes back past the robot is driven all the same."""
-    points = _planner_like() - (6e-4, 0.0)  # its first pose 0.6 mm behind the turtle
+    points = planner_like() - (6e-4, 0.0)  # its first pose 0.6 mm behind the turtle
     turtle_system.poses.clear()
-    outcome = _result(turtle_system, _send(turtle_system, follow, points))
+    outcome = path_result(turtle_system, send_path(turtle_system, follow, points))
     assert outcome.status == GoalStatus.STATUS_SUCCEEDED
     headings = [pose.theta for pose in turtle_system.poses]
     assert min(headings) > -0.01 and max(headings) < math.pi / 2 + 0.01  # never turned back
@@ -147,7 +148,7 @@ def test_a_path_planned_from_where_the_robot_stood_is_driven_on_from_where_it_st
     loop = np.array([(x, y - 0.2), (x, y + 1.0), (x - 1.0, y + 1.0), (x - 1.0, y), (x, y),
                      (x, y + 0.5)])
     turtle_system.poses.clear()
-    outcome = _result(turtle_system, _send(turtle_system, follow, loop))
+    outcome = path_result(turtle_system, send_path(turtle_system, follow, loop))
     assert outcome.status == GoalStatus.STATUS_SUCCEEDED
     driven = xy(turtle_system.poses)
     assert min(math.dist(position, (x - 1.0, y + 1.0)) for position in driven) < 0.01
@@ -161,7 +162,7 @@ def test_a_grid_planners_staircase_is_followed_exactly_to_its_goal(turtle_system
         x=float(points[0, 0]), y=float(points[0, 1]), theta=math.pi / 4))
     turtle_system.spin_sim_seconds(0.1)
     turtle_system.poses.clear()
-    outcome = _result(turtle_system, _send(turtle_system, follow, points))
+    outcome = path_result(turtle_system, send_path(turtle_system, follow, points))
     assert outcome.status == GoalStatus.STATUS_SUCCEEDED, outcome.result.error_msg
     driven = xy(turtle_system.poses)
     assert distance_to_polyline(driven, points).max() < 3e-3
@@ -177,34 +178,35 @@ def test_a_grid_planners_staircase_is_followed_exactly_to_its_goal(turtle_system
 ])
 def test_a_bad_goal_fails_with_nav2s_code_and_the_next_one_runs(turtle_system, follow, fields,
                                                                  code, said):
-    points = fields.pop('points', _planner_like(radius=0.5))
-    outcome = _result(turtle_system, _send(turtle_system, follow, points, **fields))
+    points = fields.pop('points', planner_like(radius=0.5))
+    outcome = path_result(turtle_system, send_path(turtle_system, follow, points, **fields))
     assert outcome.status == GoalStatus.STATUS_ABORTED
     assert outcome.result.error_code == code and said in outcome.result.error_msg
     # the node serves the next goal, with the controller it names
-    good = _planner_like(radius=0.5)
-    outcome = _result(turtle_system, _send(turtle_system, follow, good, controller_id='dwpp'))
+    good = planner_like(radius=0.5)
+    handle = send_path(turtle_system, follow, good, controller_id='dwpp')
+    outcome = path_result(turtle_system, handle)
     assert outcome.status == GoalStatus.STATUS_SUCCEEDED, outcome.result.error_msg
 
 
 def test_a_new_goal_replaces_the_one_running_and_a_cancel_stops_the_robot(turtle_system,
                                                                          follow):
-    first = _send(turtle_system, follow, _planner_like(radius=2.0))
+    first = send_path(turtle_system, follow, planner_like(radius=2.0))
     turtle_system.spin_sim_seconds(1.0)
     pose = turtle_system.poses[-1]
     second_path = [(pose.x, pose.y), (pose.x, pose.y - 1.0)]
-    second = _send(turtle_system, follow, second_path)
-    assert _result(turtle_system, first).status == GoalStatus.STATUS_ABORTED
-    outcome = _result(turtle_system, second)
+    second = send_path(turtle_system, follow, second_path)
+    assert path_result(turtle_system, first).status == GoalStatus.STATUS_ABORTED
+    outcome = path_result(turtle_system, second)
     assert outcome.status == GoalStatus.STATUS_SUCCEEDED
     assert math.dist(xy(turtle_system.poses)[-1], second_path[-1]) < 0.01
     # a cancel stops the robot within a few steps
-    third = _send(turtle_system, follow, _planner_like(radius=2.0) - (0.0, 1.5))
+    third = send_path(turtle_system, follow, planner_like(radius=2.0) - (0.0, 1.5))
     turtle_system.spin_sim_seconds(1.0)
     cancel = third.cancel_goal_async()
     cancelled_at = turtle_system.sim_time_s
     assert turtle_system.spin_until(cancel.done)
-    assert _result(turtle_system, third).status == GoalStatus.STATUS_CANCELED
+    assert path_result(turtle_system, third).status == GoalStatus.STATUS_CANCELED
     assert turtle_system.spin_until(
         lambda: turtle_system.poses[-1].linear_velocity == 0.0, timeout_s=1.0)
     assert turtle_system.sim_time_s - cancelled_at < 0.1
@@ -216,7 +218,7 @@ def test_a_goal_while_a_drawing_runs_is_refused_with_the_reason(turtle_system, f
     future = draw.send_goal_async(Draw.Goal(trajectory='circle', size=1.0, forever=True))
     assert turtle_system.spin_until(future.done)
     turtle_system.spin_sim_seconds(0.5)
-    outcome = _result(turtle_system, _send(turtle_system, follow, _planner_like()))
+    outcome = path_result(turtle_system, send_path(turtle_system, follow, planner_like()))
     assert outcome.status == GoalStatus.STATUS_ABORTED
     assert outcome.result.error_code == Result.UNKNOWN
     assert 'busy: circle is running' in outcome.result.error_msg

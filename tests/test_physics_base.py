@@ -219,3 +219,22 @@ def test_the_live_view_shows_the_ground_truth_trail(base):
     x, y, yaw = base.sim.physics.pose()
     assert (scene.turtle.x, scene.turtle.y, scene.turtle.theta) == (
         x + SPAWN_XY_M, y + SPAWN_XY_M, yaw)
+
+
+def test_nav2s_follow_path_drives_the_physics_base_in_its_odometry_frame(base):
+    from action_msgs.msg import GoalStatus
+    from nav2_msgs.action import FollowPath
+
+    from tests.test_nav2_follow_path import path_result, planner_like, send_path
+
+    follow = base.action_client(FollowPath, '/follow_path')
+    assert base.spin_until(follow.server_is_ready, timeout_s=60.0)
+    points = planner_like(radius=0.5, start=(0.0, 0.0))  # where the base stands
+    wrong = path_result(base, send_path(base, follow, points, frame_id='map'))
+    assert wrong.result.error_code == FollowPath.Result.TF_ERROR
+    assert "'odom'" in wrong.result.error_msg  # the frame it follows paths in
+    outcome = path_result(base, send_path(base, follow, points, frame_id='odom'))
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED, outcome.result.error_msg
+    odometry = _xy(base.odometry)
+    assert distance_to_polyline(odometry, points).max() < 3e-3
+    assert math.dist(odometry[-1], points[-1]) < 0.01
