@@ -4,6 +4,7 @@
 import math
 import re
 import time
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -378,3 +379,19 @@ def test_on_a_curve_the_exact_follower_holds_a_steady_turn_rate_within_the_limit
     at_the_limit = np.abs(np.diff(middle)) >= 0.99 * window
     assert at_the_limit.mean() < 0.01, at_the_limit.mean()
     assert np.ptp(middle) < 0.1 * np.mean(np.abs(middle))
+
+
+@pytest.mark.parametrize(('decel', 'braking'), [(0.0, 0.5), (2.0, 2.0)])
+def test_dwpp_brakes_within_the_deceleration_the_node_clamps_with(decel, braking):
+    """Limits carry max_linear_decel (0: the acceleration limit); DWPP's window slows down by
+    that much a period, and speeds up by the acceleration limit."""
+    config = replace(DEFAULT_SETTINGS.control, max_linear_accel=0.5, max_angular_accel=1.0,
+                     max_linear_decel=decel)
+    limits = Limits(config.linear_speed, config.angular_speed, config.max_linear_accel,
+                    config.max_angular_accel, config.period_s, config.max_linear_decel)
+    assert limits.linear_braking == braking
+    controller = Dwpp()
+    controller.start(Stroke(np.array([(0.0, 0.0), (0.05, 0.0)])), limits)
+    moving = Pose2D(0.04, 0.0, 0.0)  # 1 cm before the end at 0.5 m/s: it must brake hard
+    command = controller.command(State(moving, Command(0.5, 0.0), moving, 1.0))
+    assert command.linear == pytest.approx(0.5 - braking * config.period_s)

@@ -50,6 +50,12 @@ class Limits:
     linear_accel: float  # [m/s^2] per period from the command before; 0: unlimited (turtlesim)
     angular_accel: float  # [rad/s^2]; 0: unlimited
     period_s: float  # the control period: one command each, acting for this long
+    linear_decel: float = 0.0  # [m/s^2] braking; 0: linear_accel (the node's max_linear_decel)
+
+    @property
+    def linear_braking(self) -> float:
+        """The deceleration the node clamps braking with [m/s^2]; 0: unlimited."""
+        return self.linear_decel or self.linear_accel
 
 
 @dataclass(frozen=True)

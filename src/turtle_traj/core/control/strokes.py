@@ -223,7 +223,7 @@ class StrokeDriver:
                 tune(self.controller, self.tuning())
             self._call('start', Stroke(stroke.points, self._lap), Limits(
                 config.linear_speed, config.angular_speed, config.max_linear_accel,
-                config.max_angular_accel, config.period_s))
+                config.max_angular_accel, config.period_s, config.max_linear_decel))
         self._along.fraction(pose)
         velocity = prediction.velocity
         state = State(Pose2D(prediction.pose.x, prediction.pose.y, prediction.pose.theta + flip),

@@ -32,8 +32,9 @@ class Dwpp(PurePursuit):
         """The velocities within reach in one period: v_low, v_high, w_low, w_high."""
         limits = self.limits
         a = (limits.linear_accel or _UNLIMITED) * limits.period_s
+        braking = (limits.linear_braking or _UNLIMITED) * limits.period_s
         alpha = (limits.angular_accel or _UNLIMITED) * limits.period_s
-        return (max(velocity.linear - a, 0.0), min(velocity.linear + a, limits.linear_speed),
+        return (max(velocity.linear - braking, 0.0), min(velocity.linear + a, limits.linear_speed),
                 max(velocity.angular - alpha, -limits.angular_speed),
                 min(velocity.angular + alpha, limits.angular_speed))
 

@@ -130,8 +130,8 @@ class PurePursuit:
         if self.approach_scaling and remaining < approach:
             speed = min(speed, max(speed * remaining / approach,
                                    self.min_approach_linear_velocity))
-        if limits.linear_accel:
-            speed = min(speed, math.sqrt(2.0 * limits.linear_accel * max(remaining, 0.0)))
+        if limits.linear_braking:
+            speed = min(speed, math.sqrt(2.0 * limits.linear_braking * max(remaining, 0.0)))
         return speed
 
 
