@@ -58,10 +58,13 @@ bench: setup
 	for script in bench/*_bench.py; do $(PY) $$script || exit 1; done
 
 # ruff, and import-linter's contracts: packages import downwards, the simulator knows no
-# trajectories, the core and the web server load no ROS.
+# trajectories, the core and the web server load no ROS. Cyclomatic complexity (radon's ranks,
+# through xenon): at most B in the control core and the node, at most C anywhere.
 lint: setup
 	$(VENV)/bin/ruff check src tests bench ros/turtle_traj/setup.py ros/turtle_traj/launch
 	$(VENV)/bin/lint-imports --no-logo  # the architecture: the contracts in pyproject.toml
+	$(VENV)/bin/xenon --max-absolute B src/turtle_traj/core/control src/turtle_traj/node
+	$(VENV)/bin/xenon --max-absolute C src
 
 # The documentation site (Sphinx, MyST Markdown): warnings are errors, so a broken
 # cross-reference or a reference table that no longer builds fails. No network is used.

@@ -15,6 +15,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from turtle_traj.cli.programs import LOCAL_PROGRAMS
 from turtle_traj.core.fields import (
     BOOL,
     POINTS,
@@ -26,7 +27,7 @@ from turtle_traj.core.fields import (
 )
 from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
 from turtle_traj.rosutils.priority import add_priority_option
-from turtle_traj.sim.options import add_sim_options, options_from
+from turtle_traj.sim.options import add_sim_options
 
 if TYPE_CHECKING:
     from turtle_traj.client.traj_client import TrajClient
@@ -214,37 +215,33 @@ def _main(args: Sequence[str] | None) -> int:
     from turtle_traj.rosutils.fastdds_profile import use_our_fastdds_profile
     use_our_fastdds_profile()
     trajectory = getattr(options, 'trajectory', None)
+    _add_point_files(parser, options, trajectory)
+    program = LOCAL_PROGRAMS.get(options.command)
+    if program is not None:
+        return program(parser, options)
+    # `kill` and a closed terminal stop the turtle as Ctrl-C does (the goal is cancelled).
+    for ending in (signal.SIGTERM, signal.SIGHUP):
+        signal.signal(ending, signal.default_int_handler)
+    if options.command in ('menu', 'params'):
+        return _run_session(options)
+    return _ask_the_node(options, trajectory)
+
+
+def _add_point_files(parser: argparse.ArgumentParser, options: argparse.Namespace,
+                     trajectory: TrajectoryKind | None) -> None:
+    """Points fields: those given on the command line, then those of their --file."""
     for item in trajectory.fields if trajectory is not None else ():
-        if item.type == POINTS:  # from the command line, then from --file
+        if item.type == POINTS:
             path = getattr(options, f'{item.name}_file')
             try:
                 extra = _read_points(path) if path is not None else []
             except (OSError, ValueError) as error:
                 parser.error(str(error))
             setattr(options, item.name, [*getattr(options, item.name), *extra] or None)
-    if options.command == 'up':
-        from turtle_traj.apps.node import Options, run  # loads the simulator: only here
-        return run(Options(sim=options_from(options), base=options.base, nice=options.nice))
-    if options.command == 'score':
-        from turtle_traj.apps.score.main import run as run_score
-        return run_score(options.controller, options.output, options.course)
-    if options.command == 'teleop':
-        from turtle_traj.cli import teleop
-        return teleop.main([])
-    if options.command in ('record', 'play', 'plot'):
-        from turtle_traj.apps import bags as programs
-        if options.command == 'record':
-            return programs.record(options.output, options.topics, options.node)
-        if options.command == 'play':
-            return programs.play(options.bag, options.topics, options.rate)
-        if options.bag is not None and options.last:
-            parser.error('plot takes a BAG or --last, not both')
-        return programs.plot(options.bag, options.output)
-    # `kill` and a closed terminal stop the turtle as Ctrl-C does (the goal is cancelled).
-    for ending in (signal.SIGTERM, signal.SIGHUP):
-        signal.signal(ending, signal.default_int_handler)
-    if options.command in ('menu', 'params'):
-        return _run_session(options)
+
+
+def _ask_the_node(options: argparse.Namespace, trajectory: TrajectoryKind | None) -> int:
+    """save, stop, reset or a trajectory, through the node; the exit code."""
     from turtle_traj.cli.console import report
     from turtle_traj.client.traj_client import (
         GoalRejected,

@@ -113,18 +113,8 @@ class Nav2FollowPath:
 
     def _checked(self, goal: FollowPath.Goal) -> tuple[Chosen | None, object]:
         """The goal's controller and the request it makes; GoalFailed if it cannot run."""
-        poses = goal.path.poses
-        if not poses:
-            raise GoalFailed(Result.INVALID_PATH, 'the path has no poses')
-        points = [(stamped.pose.position.x, stamped.pose.position.y) for stamped in poses]
-        if not all(math.isfinite(value) for point in points for value in point):
-            raise GoalFailed(Result.INVALID_PATH, 'the path has a pose that is not finite')
-        expected = self._runs.frame_id
-        frames = {goal.path.header.frame_id, *(stamped.header.frame_id for stamped in poses)}
-        if frames - {'', expected}:
-            raise GoalFailed(Result.TF_ERROR, f"the path is in frame(s) {sorted(frames - {''})}; "
-                             f"this node follows paths in '{expected}' (the frame of the poses "
-                             "it reads), or with an empty frame_id")
+        points = _points(goal.path)
+        self._check_frames(goal.path)
         controller = None
         if goal.controller_id:
             try:
@@ -134,6 +124,15 @@ class Nav2FollowPath:
         request = FollowPathRequest.Request(
             points=[Point(x=x, y=y) for x, y in self._ahead(points)])
         return controller, request
+
+    def _check_frames(self, path) -> None:
+        """GoalFailed (TF_ERROR) unless the path is in the frame of the poses read."""
+        expected = self._runs.frame_id
+        frames = {path.header.frame_id, *(stamped.header.frame_id for stamped in path.poses)}
+        if frames - {'', expected}:
+            raise GoalFailed(Result.TF_ERROR, f"the path is in frame(s) {sorted(frames - {''})}; "
+                             f"this node follows paths in '{expected}' (the frame of the poses "
+                             "it reads), or with an empty frame_id")
 
     def _ahead(self, points: list[tuple[float, float]]) -> list[tuple[float, float]]:
         """The path's poses after the segment nearest the robot (its last, if none)."""
@@ -153,3 +152,13 @@ class Nav2FollowPath:
         self._ros.get_logger().warning(f'{ACTION}: {message}')
         goal_handle.abort()
         return Result(error_code=code, error_msg=message)
+
+
+def _points(path) -> list[tuple[float, float]]:
+    """The path's positions; GoalFailed (INVALID_PATH) for none, or one not finite."""
+    if not path.poses:
+        raise GoalFailed(Result.INVALID_PATH, 'the path has no poses')
+    points = [(stamped.pose.position.x, stamped.pose.position.y) for stamped in path.poses]
+    if not all(math.isfinite(value) for point in points for value in point):
+        raise GoalFailed(Result.INVALID_PATH, 'the path has a pose that is not finite')
+    return points

@@ -51,24 +51,38 @@ def validate(node: Node, parameters: list[Parameter],
     """Cross-field rules of the settings table, on the values the change would leave (and the
     turtle's pose, which a new arena must contain)."""
     incoming = {p.name: p.value for p in parameters}
+    problem = (_choice_problem(incoming) or _controller_problem(incoming)
+               or _pen_color_problem(incoming) or _arena_change_problem(node, incoming, turtle))
+    return SetParametersResult(successful=problem is None, reason=problem or '')
+
+
+def _choice_problem(incoming: dict[str, object]) -> str | None:
     for name, value in incoming.items():
         spec = PARAMETER.get(name)
         if spec is not None and spec.choices and value not in spec.choices:
-            return SetParametersResult(successful=False, reason=(
-                f'{name} must be one of {", ".join(map(repr, spec.choices))}, got {value!r}'))
-    if 'controller' in incoming:
-        try:
-            resolve(incoming['controller'])
-        except UnknownController as error:
-            return SetParametersResult(successful=False, reason=str(error))
-    if 'pen_color' in incoming:
-        problem = pen_color_problem(incoming['pen_color'])
-        if problem is not None:
-            return SetParametersResult(successful=False, reason=problem)
+            return f'{name} must be one of {", ".join(map(repr, spec.choices))}, got {value!r}'
+    return None
+
+
+def _controller_problem(incoming: dict[str, object]) -> str | None:
+    if 'controller' not in incoming:
+        return None
+    try:
+        resolve(incoming['controller'])
+    except UnknownController as error:
+        return str(error)
+    return None
+
+
+def _pen_color_problem(incoming: dict[str, object]) -> str | None:
+    return pen_color_problem(incoming['pen_color']) if 'pen_color' in incoming else None
+
+
+def _arena_change_problem(node: Node, incoming: dict[str, object],
+                          turtle: Pose2D | None) -> str | None:
     if not incoming.keys() & ARENA_PARAMETERS:
-        return SetParametersResult(successful=True)
+        return None
     values = {name: incoming[name] if name in incoming
               else node.get_parameter(name).value if node.has_parameter(name)
               else DEFAULTS[name] for name in ARENA_PARAMETERS}
-    problem = arena_problem(values, turtle)
-    return SetParametersResult(successful=problem is None, reason=problem or '')
+    return arena_problem(values, turtle)

@@ -1,0 +1,39 @@
+"""The subcommands that run a program of their own here (the simulator and node, the score,
+teleop, bags) rather than ask a running node: each loads what it needs only when chosen."""
+
+from __future__ import annotations
+
+import argparse
+
+from turtle_traj.sim.options import options_from
+
+
+def up(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
+    from turtle_traj.apps.node import Options, run  # loads the simulator: only here
+    return run(Options(sim=options_from(options), base=options.base, nice=options.nice))
+
+
+def score(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
+    from turtle_traj.apps.score.main import run as run_score
+    return run_score(options.controller, options.output, options.course)
+
+
+def teleop(_parser: argparse.ArgumentParser, _options: argparse.Namespace) -> int:
+    from turtle_traj.cli import teleop
+    return teleop.main([])
+
+
+def bags(parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
+    from turtle_traj.apps import bags as programs
+    if options.command == 'record':
+        return programs.record(options.output, options.topics, options.node)
+    if options.command == 'play':
+        return programs.play(options.bag, options.topics, options.rate)
+    if options.bag is not None and options.last:
+        parser.error('plot takes a BAG or --last, not both')
+    return programs.plot(options.bag, options.output)
+
+
+# by subcommand
+LOCAL_PROGRAMS = {'up': up, 'score': score, 'teleop': teleop, 'record': bags, 'play': bags,
+                  'plot': bags}
