@@ -212,6 +212,44 @@ def test_a_new_goal_replaces_the_one_running_and_a_cancel_stops_the_robot(turtle
     assert turtle_system.sim_time_s - cancelled_at < 0.1
 
 
+def test_a_new_path_takes_over_from_the_running_one_without_a_stop(turtle_system, follow):
+    """As a Nav2 planner replans: the second path starts where the robot was as it was planned
+    (a step behind it by the time it arrives), goes on straight, then bends left on an arc. The
+    robot never slows below half its speed until it brakes for the end, follows both paths, and
+    the first goal ends aborted with no error code, as Nav2's action server ends a preempted
+    one."""
+    x, y = SPAWN_XY_M - 2.0, SPAWN_XY_M
+    first_path = np.array([(x + 0.02 * step, y) for step in range(201)])  # 4 m along x
+    turtle_system.call(TeleportAbsolute, '/turtle1/teleport_absolute',
+                       TeleportAbsolute.Request(x=x, y=y, theta=0.0))
+    turtle_system.spin_sim_seconds(0.1)
+    first = send_path(turtle_system, follow, first_path)
+    turtle_system.spin_sim_seconds(1.5)
+    pose = turtle_system.poses[-1]
+    assert pose.linear_velocity > 0.99  # cruising
+    straight = [(pose.x + 0.02 * step, pose.y) for step in range(21)]
+    angles = np.linspace(0.0, 0.5, 51)[1:]  # radius 2 m, 2 cm apart
+    arc = np.stack([straight[-1][0] + 2.0 * np.sin(angles),
+                    pose.y + 2.0 * (1.0 - np.cos(angles))], axis=1)
+    second_path = np.vstack((straight, arc))
+    turtle_system.poses.clear()
+    second = send_path(turtle_system, follow, second_path)
+    replaced = path_result(turtle_system, first)
+    assert replaced.status == GoalStatus.STATUS_ABORTED
+    assert replaced.result.error_code == Result.NONE
+    outcome = path_result(turtle_system, second)
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED, outcome.result.error_msg
+    driven = xy(turtle_system.poses)
+    on_the_way = [p.linear_velocity for p, position in zip(turtle_system.poses, driven,
+                                                             strict=True)
+                  if math.dist(position, second_path[-1]) > 0.5]
+    assert min(on_the_way) > 0.5  # never stopped, nor nearly
+    gaps = np.minimum(distance_to_polyline(driven, first_path),
+                      distance_to_polyline(driven, second_path))
+    assert gaps.max() < 3e-3
+    assert math.dist(driven[-1], second_path[-1]) < 0.01
+
+
 def test_a_goal_while_a_drawing_runs_is_refused_with_the_reason(turtle_system, follow):
     draw = turtle_system.action_client(Draw, '/turtle_traj/draw')
     assert turtle_system.spin_until(draw.server_is_ready, timeout_s=60.0)

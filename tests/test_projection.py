@@ -78,3 +78,16 @@ def test_a_walk_from_the_start_finds_where_the_robot_stands_along_the_path():
     assert segments.walk(0, 1.1, 0.01)[0] == 1
     # far off: the walk goes on while the path comes no farther (to (2, 1), shared by 2 and 3)
     assert segments.walk(0, 5.0, 5.0)[0] == 3
+
+
+@pytest.mark.parametrize(('index', 'fraction', 'distance'), [
+    (0, 0.0, 0.0), (0, 0.25, 0.3), (1, 0.5, 1.7), (0, 0.1, 100.0), (2, 1.0, 0.5)])
+def test_a_point_further_along_is_where_the_arc_length_puts_it(index, fraction, distance):
+    points = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 2.0), (3.0, 2.0)])
+    arc = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))))
+    start = arc[index] + fraction * (arc[index + 1] - arc[index])
+    target = min(start + distance, arc[-1])
+    expected = (np.interp(target, arc, points[:, 0]), np.interp(target, arc, points[:, 1]))
+    found_index, x, y = PolylineSegments(points).along(index, fraction, distance)
+    assert (x, y) == pytest.approx(expected)
+    assert arc[found_index] <= target + 1e-12 <= arc[found_index + 1] + 1e-12

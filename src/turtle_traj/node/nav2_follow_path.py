@@ -8,9 +8,11 @@ was planned, so the poses up to the end of the segment nearest the robot (walkin
 path's start) are behind it, and the robot drives from where it stands to the next one.
 `controller_id` picks a controller for the goal (empty: the node's `controller`). Feedback at
 10 Hz: the path length left from the nearest point and the speed commanded. A new goal while
-one runs replaces it: the old one ends aborted, as in Nav2, and the new one is driven from where
-the robot is (it stops while that is planned). A goal that arrives while one of the node's own
-trajectories runs is refused. Failures carry Nav2's error codes with `error_msg`.
+one runs replaces it, as Nav2's controller server does: the old run drives on while the new path
+is planned, then the new one takes over from where the robot is, without a stop, and the old
+goal ends aborted with no error code (a new goal that cannot run leaves the old one running). A
+goal that arrives while one of the node's own trajectories runs is refused. Failures carry
+Nav2's error codes with `error_msg`.
 """
 
 from __future__ import annotations
@@ -39,8 +41,10 @@ from turtle_traj.node.waiting import completion
 ACTION = 'follow_path'
 Result = FollowPath.Result
 # Nav2's code for each way a run ends unsuccessfully or is refused (a cancel ends CANCELED,
-# with none); UNKNOWN for the rest (busy, no robot, a wall, a jump)
-ERROR_CODES = {Ending.INVALID_REQUEST: Result.INVALID_PATH,
+# with none; a goal replaced by the next ends aborted with none, as Nav2's action server ends
+# it); UNKNOWN for the rest (busy, no robot, a wall, a jump)
+ERROR_CODES = {Ending.REPLACED: Result.NONE,
+               Ending.INVALID_REQUEST: Result.INVALID_PATH,
                Ending.NO_PROGRESS: Result.FAILED_TO_MAKE_PROGRESS,
                Ending.TIMED_OUT: Result.PATIENCE_EXCEEDED,
                Ending.CONTROLLER_FAULT: Result.NO_VALID_CONTROL}
@@ -78,9 +82,8 @@ class Nav2FollowPath:
     async def _execute(self, goal_handle: ServerGoalHandle) -> FollowPath.Result:
         try:
             controller, request = self._checked(goal_handle.request)
-            if self._running is not None:  # a new path: the goal it replaces ends aborted
-                self._runs.stop_run(self._running[1])
-            run, finished = await self._start(goal_handle, request, controller)
+            replacing = self._running[1] if self._running is not None else None
+            run, finished = await self._start(request, controller, replacing)
         except GoalFailed as failure:
             return self._end(goal_handle, failure.code, str(failure))
         self._running = (goal_handle, run)
@@ -103,10 +106,11 @@ class Nav2FollowPath:
         return self._end(goal_handle, ERROR_CODES.get(outcome.reason, Result.UNKNOWN),
                          outcome.message)
 
-    async def _start(self, goal_handle: ServerGoalHandle, request, controller: Chosen | None):
+    async def _start(self, request, controller: Chosen | None,
+                     replacing: RunSupervisor | None):
         try:
             return await self._runs.start_run(BY_NAME['follow_path'], request,
-                                              controller=controller)
+                                              controller=controller, replacing=replacing)
         except RunRefused as refusal:  # busy, no robot, a path too big, stopped meanwhile
             raise GoalFailed(ERROR_CODES.get(refusal.reason, Result.UNKNOWN), str(refusal)) \
                 from None
@@ -135,12 +139,22 @@ class Nav2FollowPath:
                              "it reads), or with an empty frame_id")
 
     def _ahead(self, points: list[tuple[float, float]]) -> list[tuple[float, float]]:
-        """The path's poses after the segment nearest the robot (its last, if none)."""
+        """The path from where the robot joins it on: the point a little ahead of the one
+        nearest the robot (found walking from the start), then the poses after it. The joining
+        stretch is at least a control period's drive at top speed, and meets the path at a
+        quarter of `corner_angle` at most, however close the next pose: the robot steers onto
+        the path, never turns in place to reach a pose beside it."""
         pose = self._runs.pose
         if pose is None or len(points) < 2:
             return points
-        behind, _ = PolylineSegments(np.array(points)).walk(0, pose.x, pose.y)
-        return points[behind + 1:]
+        segments = PolylineSegments(np.array(points))
+        nearest, _ = segments.walk(0, pose.x, pose.y)
+        _, fraction, offset = segments.project(pose.x, pose.y, (nearest,))
+        settings = self._runs.settings
+        join = max(abs(offset) / math.tan(settings.defaults.corner_angle / 4.0),
+                   settings.control.linear_speed * settings.control.period_s)
+        index, x, y = segments.along(nearest, fraction, join)
+        return [(x, y), *points[index + 1:]]
 
     def _feedback(self, left: LengthLeft) -> FollowPath.Feedback:
         pose = self._runs.pose
@@ -149,7 +163,9 @@ class Nav2FollowPath:
                                    speed=abs(self._runs.last_command.linear))
 
     def _end(self, goal_handle: ServerGoalHandle, code: int, message: str) -> Result:
-        self._ros.get_logger().warning(f'{ACTION}: {message}')
+        """Abort the goal with Nav2's `code` (a warning in the log, unless it is NONE)."""
+        logger = self._ros.get_logger()
+        (logger.info if code == Result.NONE else logger.warning)(f'{ACTION}: {message}')
         goal_handle.abort()
         return Result(error_code=code, error_msg=message)
 

@@ -215,13 +215,15 @@ class RunManager:
         self._loop.sent(command, self.now_s())
         self._base.publish(command)
 
-    def _finish_if_ended(self) -> None:
+    def _finish_if_ended(self, *, stop: bool = True) -> None:
+        """Report the run if it has ended, and stop the turtle (unless a new run takes over)."""
         run, done = self.run, self._run_done
         if run is None or run.ending is None:
             return
         self._loop.take_run()
         self._run_done = None
-        self._publish(STOP)
+        if stop:
+            self._publish(STOP)
         if self._recording is not None:
             self._recording.stop()
         outcome = run.outcome(self._loop.pose, self.now_s())
@@ -235,10 +237,11 @@ class RunManager:
             self._pen.set(self.settings.pen, down=True,
                           then=lambda _answered: done.set_result(outcome))
 
-    def refusal(self) -> outcomes.RunRefused | None:
-        """Why a request would be refused now (None: it would be accepted)."""
+    def refusal(self, replacing: RunSupervisor | None = None) -> outcomes.RunRefused | None:
+        """Why a request would be refused now (None: it would be accepted), one that replaces
+        the run `replacing` if it still runs."""
         busy = None
-        if self.run is not None:
+        if self.run is not None and self.run is not replacing:
             busy = f'{self.run.name} is running'
         elif self._plans.current is not None:
             busy = f'{self._plans.current.name} is being planned'
@@ -265,29 +268,33 @@ class RunManager:
         self._state_lock.warning(message)
         return outcomes.RunRefused(message, reason)
 
-    async def start_run(self, kind: TrajectoryKind, request, *,
-                        controller: Chosen | None = None) -> tuple[RunSupervisor, Future]:
+    async def start_run(self, kind: TrajectoryKind, request, *, controller: Chosen | None = None,
+                        replacing: RunSupervisor | None = None) -> tuple[RunSupervisor, Future]:
         """Plan `request` and drive it (with `controller`, or the node's): the run, and the
         future of its Outcome.
 
         The plan is made beside the executor (a text with rounded corners takes seconds), which
-        meanwhile answers parameters and hears poses. The node is busy from the request on.
+        meanwhile answers parameters and hears poses. The node is busy from the request on. A
+        request `replacing` a run lets that run drive on while it is planned, then takes over
+        from it without a stop (the run ends REPLACED); if it no longer runs, it starts anew.
 
         :raises RunRefused: busy, a request that cannot be planned, no simulator, or stopped
             while it was being planned (logged).
         """
-        planning = self._begin_planning(kind, request)
+        planning = self._begin_planning(kind, request, replacing)
         try:
             plan = await completion(self._node, planning.plan)
         except PlanError as error:
             raise self.refuse(f'{kind.name} refused: {error}', Ending.INVALID_REQUEST) from None
         finally:
             self._done_planning(planning)
-        return self._start_planned(kind, planning, plan, controller or self._controller)
+        return self._start_planned(kind, planning, plan, controller or self._controller,
+                                   replacing)
 
     @serialized
-    def _begin_planning(self, kind: TrajectoryKind, request) -> Planning:
-        refusal = self.refusal()
+    def _begin_planning(self, kind: TrajectoryKind, request,
+                        replacing: RunSupervisor | None) -> Planning:
+        refusal = self.refusal(replacing)
         if refusal is not None:
             raise self.refuse(str(refusal), refusal.reason)
         return self._plans.begin(kind.name, request, self._loop.pose, self.settings)
@@ -298,7 +305,8 @@ class RunManager:
 
     @serialized
     def _start_planned(self, kind: TrajectoryKind, planning: Planning, plan: Plan | None,
-                       controller: Chosen) -> tuple[RunSupervisor, Future]:
+                       controller: Chosen,
+                       replacing: RunSupervisor | None) -> tuple[RunSupervisor, Future]:
         if plan is None:  # its future was cancelled: stopped or aborted
             raise self.refuse(f'{kind.name} {planning.ended}', planning.reason)
         if plan.pen is not None and not self._pen.ready:
@@ -306,6 +314,9 @@ class RunManager:
                               f'simulator service {self._pen.service_name} is not available',
                               Ending.NO_SIMULATOR)
         settings = planning.settings
+        if replacing is not None and replacing is self.run:  # it hands over, moving
+            replacing.end(False, f'{replacing.name} replaced by {kind.name}', Ending.REPLACED)
+            self._finish_if_ended(stop=False)
         self._silence.was_busy()  # the plan's wall time is not the simulator's silence
         run = self._loop.start(plan, arena=settings.arena, now_s=self.now_s(),
                                controller=controller)

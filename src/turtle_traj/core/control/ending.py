@@ -25,4 +25,5 @@ class Ending(Enum):
     POSE_LOST = 'pose lost'  # no pose for pose_timeout
     POSE_JUMPED = 'pose jumped'  # teleported, reset, a second simulator
     OUT_OF_BOUNDS = 'out of bounds'  # the turtle came within the arena's margin
+    REPLACED = 'replaced'  # a new path took over, the robot moving on (Nav2's FollowPath)
     SHUTTING_DOWN = 'shutting down'  # the node is going

@@ -55,6 +55,18 @@ class PolylineSegments:
                 index, nearest = index + step, distance
         return index, nearest
 
+    def along(self, index: int, fraction: float, distance: float) -> tuple[int, float, float]:
+        """The point `distance` further along the polyline from `fraction` of segment `index`
+        (its end, if the polyline ends first): its segment's index, and x, y."""
+        while True:
+            ax, ay, dx, dy, _, length = self._segments[index]
+            fraction += distance / length
+            if fraction <= 1.0 or index == self.count - 1:
+                fraction = min(fraction, 1.0)
+                return index, ax + dx * fraction, ay + dy * fraction
+            distance = (fraction - 1.0) * length
+            index, fraction = index + 1, 0.0
+
     def project(self, px: float, py: float,
                 candidates: Iterable[int]) -> tuple[int, float, float]:
         """The nearest of the `candidates` segments (the first of equals): its index, the
