@@ -5,6 +5,7 @@ the goal tolerance of the path's end."""
 import math
 
 import numpy as np
+import pytest
 
 from turtle_traj.apps.score.courses import planner_path, standard_courses
 from turtle_traj.apps.score.runner import GOAL_TOLERANCE_M, run_course
@@ -44,3 +45,27 @@ def test_a_run_that_ends_short_of_the_path_s_end_does_not_finish(tmp_path):
     assert not result.success and "from the path's end" in result.message
     exact = run_course(course, 'exact', work_dir=tmp_path)
     assert exact.success and exact.end_mm < 1e3 * GOAL_TOLERANCE_M
+
+
+def test_the_exact_follower_is_matched_at_a_rival_s_error_measured_on_the_drawn_path(tmp_path):
+    from turtle_traj.apps.score.matched import matched_runs
+    from turtle_traj.testing.geometry import distance_to_polyline
+
+    courses = {c.name: c for c in standard_courses(('turtlesim',))}
+    square = courses['square']
+    results = [run_course(square, name, work_dir=tmp_path) for name in ('exact', 'dwpp')]
+    [matched] = matched_runs(square, results, tmp_path)
+    rival = results[1]
+    assert matched.rival is rival and matched.tolerance_m == rival.max_mm / 1e3
+    assert matched.exact.controller == 'exact @ dwpp'
+    # its error is measured against the square as drawn (not its rounded plan): independently
+    drawn = results[0].plan
+    assert matched.exact.max_mm == pytest.approx(
+        1e3 * distance_to_polyline(matched.exact.path, drawn).max(), abs=1e-6)
+    assert 0.0 < matched.exact.max_mm <= 1e3 * matched.tolerance_m
+    assert matched.ahead == (matched.exact.time_s <= rival.time_s)
+    # a request that takes no tolerance is not matched
+    go_to = courses['go_to']
+    assert not hasattr(go_to.request, 'corner_tolerance')
+    assert matched_runs(go_to, [run_course(go_to, name, work_dir=tmp_path)
+                                for name in ('exact', 'dwpp')], tmp_path) == []

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from turtle_traj.apps.score.courses import ROBOTS, standard_courses
+from turtle_traj.apps.score.matched import Matched, format_matched, matched_runs
 from turtle_traj.apps.score.report import (
     format_ranking,
     format_table,
@@ -47,8 +48,10 @@ def _progress(done: int, total: int, what: str) -> None:
 
 
 def score(controllers: Sequence[str], *, robots: Sequence[str] = ROBOTS,
-          courses: Sequence[str] = (), progress=_progress) -> list[Result]:
-    """Every chosen course for every controller (courses: names, or all).
+          courses: Sequence[str] = (), progress=_progress
+          ) -> tuple[list[Result], list[Matched]]:
+    """Every chosen course for every controller (courses: names, or all), and the exact
+    follower at each other's error (`matched`).
 
     :raises UnknownController: a name that is not a controller.
     """
@@ -59,14 +62,15 @@ def score(controllers: Sequence[str], *, robots: Sequence[str] = ROBOTS,
     if unknown:
         raise ValueError(f"no course {', '.join(sorted(unknown))}: the courses are "
                          f"{', '.join(c.name for c in standard_courses(tuple(robots)))}")
-    results, total = [], len(chosen) * len(controllers)
+    results, matched, total = [], [], len(chosen) * len(controllers)
     with tempfile.TemporaryDirectory() as work:
         for course in chosen:
             for controller in controllers:
                 progress(len(results), total, f'{course.name}: {controller}')
                 results.append(run_course(course, controller, work_dir=Path(work)))
+            matched += matched_runs(course, results[-len(controllers):], Path(work))
     progress(total, total, 'done')
-    return results
+    return results, matched
 
 
 def run(controllers: Sequence[str], output: Path | None, courses: Sequence[str] = ()) -> int:
@@ -75,17 +79,21 @@ def run(controllers: Sequence[str], output: Path | None, courses: Sequence[str] 
     if robots != ROBOTS:
         print('(no MuJoCo: the base courses are left out; pip install turtle_traj[physics])')
     try:
-        results = score(list(dict.fromkeys(controllers)) or DEFAULT_CONTROLLERS, robots=robots,
-                        courses=courses)
+        results, matched = score(list(dict.fromkeys(controllers)) or DEFAULT_CONTROLLERS,
+                                 robots=robots, courses=courses)
     except (UnknownController, ValueError) as error:
         print(f'turtle-traj score: {error}', file=sys.stderr)
         return 2
     print(format_table(results))
     print()
     print(format_ranking(ranking(results)))
+    if matched:
+        print('\nThe exact follower with each other controller\'s maximum error as its '
+              'corner_tolerance:')
+        print(format_matched(matched))
     if output is not None:
         output.mkdir(parents=True, exist_ok=True)
         write_csv(results, output / 'score.csv')
-        pictures = write_plots(results, output)
+        pictures = write_plots(results, output, matched)
         print(f'\nwrote {output / "score.csv"} and {len(pictures)} pictures in {output}')
     return 0

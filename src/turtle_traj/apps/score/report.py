@@ -8,8 +8,12 @@ import statistics
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from turtle_traj.apps.score.runner import Result
+
+if TYPE_CHECKING:
+    from turtle_traj.apps.score.matched import Matched
 
 COLUMNS = ('course', 'robot', 'controller', 'success', 'time_s', 'bound_s', 'time_ratio',
            'rmse_mm', 'max_mm', 'end_mm', 'clamped_pct', 'message')
@@ -119,31 +123,51 @@ def _course_plot(plt, course: str, runs: Sequence[Result], target: Path) -> None
     plt.close(figure)
 
 
-def _summary_plot(plt, results: Sequence[Result], courses: list[str], target: Path) -> None:
+def _summary_plot(plt, results: Sequence[Result], courses: list[str], target: Path,
+                  matched: Sequence[Matched]) -> None:
+    """Time against maximum error, a panel per course: a point per controller that finished,
+    and a hollow one for the exact follower at each other's error, joined to that rival. Times
+    are against the course's least-time bound (the exact plan's), so that all are comparable."""
+    from matplotlib.ticker import NullFormatter
     controllers = list(dict.fromkeys(r.controller for r in results))
-    figure, (times, errors) = plt.subplots(2, 1, figsize=(max(8, len(courses) * 0.6), 7),
-                                           sharex=True)
-    width = 0.8 / len(controllers)
-    for index, controller in enumerate(controllers):
-        own = {r.course: r for r in results if r.controller == controller}
-        xs = [i + (index - (len(controllers) - 1) / 2) * width for i in range(len(courses))]
-        times.bar(xs, [own[c].ratio if own[c].success else 0.0 for c in courses], width,
-                  label=controller)
-        errors.bar(xs, [max(own[c].max_mm, 1e-2) if own[c].success else 0.0 for c in courses],
-                   width, label=controller)
-    times.set_ylabel('time / bound')
-    times.axhline(1.0, color='0.5', linewidth=0.8)
-    errors.set_ylabel('max error [mm]')
-    errors.set_yscale('log')
-    errors.set_xticks(range(len(courses)), courses, rotation=60, ha='right')
-    times.legend()
-    times.set_title('Controllers on the standard courses (no bar: did not finish)')
+    colours = {name: f'C{index}' for index, name in enumerate(controllers)}
+    columns = min(len(courses), 5)
+    rows = math.ceil(len(courses) / columns)
+    figure, panels = plt.subplots(rows, columns, figsize=(3.2 * columns, 2.6 * rows),
+                                  squeeze=False)
+    for panel, course in zip(panels.flat, courses, strict=False):
+        for r in (r for r in results if r.course == course and r.success):
+            panel.plot(max(r.max_mm, 1e-2), r.ratio, 'o', color=colours[r.controller],
+                       label=r.controller)
+        for m in (m for m in matched if m.rival.course == course and m.exact.success):
+            rival, exact = m.rival, m.exact
+            ratio = exact.time_s / rival.bound_s
+            panel.plot([rival.max_mm, max(exact.max_mm, 1e-2)], [rival.ratio, ratio],
+                       ':', color=colours[rival.controller], linewidth=0.8)
+            panel.plot(max(exact.max_mm, 1e-2), ratio, 'o', mfc='none',
+                       color=colours[rival.controller])
+        panel.set_xscale('log')
+        panel.xaxis.set_minor_formatter(NullFormatter())
+        panel.set_title(course, fontsize=9)
+        panel.tick_params(labelsize=7)
+    for panel in panels.flat[len(courses):]:
+        panel.set_visible(False)
+    handles = [plt.Line2D([], [], marker='o', linestyle='', color=colours[name], label=name)
+               for name in controllers]
+    handles.append(plt.Line2D([], [], marker='o', mfc='none', linestyle='', color='0.3',
+                              label='exact at that error'))
+    figure.legend(handles=handles, loc='upper center', ncol=len(handles), fontsize=9)
+    figure.supxlabel('max error [mm] (log)')
+    figure.supylabel('time / least-time bound')
+    figure.tight_layout(rect=(0, 0, 1, 0.97))
     figure.savefig(target, dpi=90, bbox_inches='tight')
     plt.close(figure)
 
 
-def write_plots(results: Sequence[Result], folder: Path) -> list[Path]:
-    """One PNG per course (every controller's path over the plan), and summary.png."""
+def write_plots(results: Sequence[Result], folder: Path,
+                matched: Sequence[Matched] = ()) -> list[Path]:
+    """One PNG per course (every controller's path over the plan), and summary.png (time
+    against error)."""
     import matplotlib
     matplotlib.use('Agg')
     from matplotlib import pyplot as plt
@@ -153,5 +177,5 @@ def write_plots(results: Sequence[Result], folder: Path) -> list[Path]:
         written.append(folder / _file_name(course))
         _course_plot(plt, course, [r for r in results if r.course == course], written[-1])
     written.append(folder / 'summary.png')
-    _summary_plot(plt, results, courses, written[-1])
+    _summary_plot(plt, results, courses, written[-1], matched)
     return written

@@ -79,7 +79,7 @@ def run_course(course: Course, controller: str, *, work_dir: Path | None = None)
     outcome = record.run.outcome(record.poses[-1], record.elapsed_s)
     return _figures(course, controller, success, message, outcome.elapsed_s,
                     plan.least_time_s(course.settings.control), record.xy(),
-                    plan.path.points(), plan.path.end, clamped)
+                    plan.drawn_points(), plan.path.end, clamped)
 
 
 def _on_the_base(course: Course, controller: str, work_dir: Path) -> Result:
@@ -93,8 +93,9 @@ def _on_the_base(course: Course, controller: str, work_dir: Path) -> Result:
     try:
         system = BaseSystem(context=context, output_dir=work_dir, controller=controller)
         try:
-            response = system.call(DrawShape, f'draw_{course.trajectory}',
-                                   DrawShape.Request(size=float(course.request.size)))
+            response = system.call(DrawShape, f'draw_{course.trajectory}', DrawShape.Request(
+                size=float(course.request.size),
+                corner_tolerance=float(getattr(course.request, 'corner_tolerance', 0.0))))
             odometry = np.array([sample[1:3] for sample in system.odometry])
             start = Pose2D(*system.odometry[0][1:])
             settings = system.node.settings
@@ -106,5 +107,5 @@ def _on_the_base(course: Course, controller: str, work_dir: Path) -> Result:
     found = _CLAMPED.search(response.message)
     clamped = 100.0 * int(found[1]) / max(int(found[2]), 1) if found else 0.0
     return _figures(course, controller, response.success, response.message, response.elapsed,
-                    plan.least_time_s(settings.control), odometry, plan.path.points(),
+                    plan.least_time_s(settings.control), odometry, plan.drawn_points(),
                     plan.path.end, clamped)

@@ -1,0 +1,68 @@
+"""The exact follower given another controller's error: on each course, for each other
+controller that finishes it off the path, the exact follower runs again with that controller's
+maximum error as its `corner_tolerance`. Is it then no slower, and within that error? That is
+the trade a user makes, measured: who is ahead at equal error.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from turtle_traj.apps.score.courses import Course
+from turtle_traj.apps.score.runner import Result, run_course
+from turtle_traj.core.parameters.table import PARAMETER
+
+EXACT = 'exact'
+LARGEST_TOLERANCE_M = PARAMETER['corner_tolerance'].high
+
+
+@dataclass(frozen=True)
+class Matched:
+    """The exact follower at a `rival`'s maximum error (`exact`), on one course."""
+
+    rival: Result
+    exact: Result
+    tolerance_m: float
+
+    @property
+    def ahead(self) -> bool:
+        """It finished no slower than the rival, within the rival's error."""
+        return (self.exact.success and self.exact.time_s <= self.rival.time_s
+                and self.exact.max_mm <= self.rival.max_mm)
+
+
+def matched_runs(course: Course, results: Sequence[Result], work_dir: Path) -> list[Matched]:
+    """The exact follower at each other controller's error on `course` (none where the request
+    takes no tolerance, or the exact follower was not scored)."""
+    plain = {r.controller: r for r in results}
+    if EXACT not in plain or not hasattr(course.request, 'corner_tolerance'):
+        return []
+    matched = []
+    for rival in results:
+        if rival.controller == EXACT or not rival.success or rival.max_mm <= plain[EXACT].max_mm:
+            continue
+        tolerance = min(rival.max_mm / 1e3, LARGEST_TOLERANCE_M)
+        request = copy.copy(course.request)
+        request.corner_tolerance = tolerance
+        result = run_course(replace(course, request=request), EXACT, work_dir=work_dir)
+        matched.append(Matched(rival, replace(result, controller=f'{EXACT} @ {rival.controller}'),
+                               tolerance))
+    return matched
+
+
+def format_matched(matched: Sequence[Matched]) -> str:
+    """A row per rival and course: its time and error, then the exact follower's at it."""
+    lines = [f"{'course':18} {'rival':14} {'time s':>7} {'max mm':>8}   {'exact at it':>11} "
+             f"{'max mm':>8} {'ahead':>5}"]
+    for m in matched:
+        exact = m.exact
+        time = f'{exact.time_s:11.2f}' if exact.success else f"{'NO':>11}"
+        lines.append(f'{m.rival.course:18} {m.rival.controller:14} {m.rival.time_s:7.2f} '
+                     f"{m.rival.max_mm:8.2f}   {time} {exact.max_mm:8.2f} "
+                     f"{'yes' if m.ahead else 'no':>5}")
+    ahead = sum(m.ahead for m in matched)
+    lines.append(f'the exact follower is ahead at equal error in {ahead} of {len(matched)}')
+    return '\n'.join(lines)
