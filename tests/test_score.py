@@ -69,3 +69,33 @@ def test_the_exact_follower_is_matched_at_a_rival_s_error_measured_on_the_drawn_
     assert not hasattr(go_to.request, 'corner_tolerance')
     assert matched_runs(go_to, [run_course(go_to, name, work_dir=tmp_path)
                                 for name in ('exact', 'dwpp')], tmp_path) == []
+
+
+def test_a_staircase_given_with_a_corner_tolerance_is_driven_along_its_diagonals():
+    """A path given as points is simplified within a share of its corner tolerance before its
+    corners are rounded: the grid planner's staircase loses its steps, the plan keeps within the
+    tolerance of the points given, is measured against them, and is driven within it in well
+    under half the time of the exact staircase."""
+    from turtle_traj.apps.score.courses import follow_request
+    from turtle_traj.apps.score.loop import drive
+    from turtle_traj.core.geometry.path import Pose2D
+    from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+    from turtle_traj.core.planning import planner
+    from turtle_traj.testing.geometry import distance_to_polyline
+
+    points = planner_path()
+    start = Pose2D(float(points[0, 0]), float(points[0, 1]), math.pi / 4)
+    plans = {}
+    for tolerance in (0.0, 0.2):
+        request = follow_request(points)
+        request.corner_tolerance = tolerance
+        plans[tolerance] = planner.plan('follow_path', request, start, DEFAULT_SETTINGS)
+    exact, rounded = plans[0.0], plans[0.2]
+    assert distance_to_polyline(rounded.path.points(), points).max() <= 0.2
+    assert np.allclose(rounded.drawn_points(), exact.path.points())  # measured against the given
+    assert len(rounded.path.legs) < len(exact.path.legs) / 10  # the steps are gone
+    record = drive(rounded, start, DEFAULT_SETTINGS)
+    assert record.run.ending[0]
+    assert distance_to_polyline(record.xy(), points).max() <= 0.2
+    assert record.run.outcome(record.poses[-1], record.elapsed_s).elapsed_s < 0.5 * \
+        exact.least_time_s(DEFAULT_SETTINGS.control)

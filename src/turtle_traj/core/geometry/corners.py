@@ -1,7 +1,9 @@
-"""Rounded corners and smoothed curves, within a tolerance of the path as drawn.
+"""Rounded corners, smoothed curves and simplified polylines, within a tolerance of the path
+as drawn.
 
 A corner (a turn in place between two polylines) becomes a symmetric pair of clothoids, or a
-clothoid, an arc and a clothoid; a curve is smoothed (`smoothed_curve`).
+clothoid, an arc and a clothoid; a curve is smoothed (`smoothed_curve`); points given as a path
+are simplified (`simplified`: a grid planner's staircase becomes its diagonals).
 
 A clothoid's curvature grows linearly with arc length, so a base driving it at a steady speed
 changes its turn rate steadily: it keeps moving through the corner, within its angular
@@ -90,6 +92,18 @@ def rounded_corner(corner: np.ndarray, heading_in: float, heading_out: float,
     axis = np.array([math.cos(normal), math.sin(normal)])
     second = first - 2.0 * np.outer(first @ axis, axis)
     return corner + np.concatenate((first, second[-2::-1]))
+
+
+def simplified(points: Sequence[tuple[float, float]],
+               tolerance: float) -> list[tuple[float, float]]:
+    """The fewest of `points` that keep every one of them within `tolerance` of the polyline
+    through them (Douglas-Peucker, by shapely), the first and the last kept."""
+    import shapely  # loaded when a path is simplified, not with the planner
+
+    if len(points) < 3:
+        return list(points)
+    line = shapely.LineString(points).simplify(tolerance, preserve_topology=False)
+    return [(float(x), float(y)) for x, y in line.coords]
 
 
 def smoothed_curve(points: np.ndarray, tolerance: float) -> np.ndarray:

@@ -30,7 +30,6 @@ from turtle_traj.core.geometry.corners import CLOTHOID_PAIR, arc_shape, rounded_
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
 from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.parameters.settings import Settings
-from turtle_traj.core.parameters.table import PARAMETER
 from turtle_traj.core.planning.limits import POLYGON_SIDES
 from turtle_traj.core.planning.sketches import curves, drawings, motions
 from turtle_traj.core.planning.sketches.base import (
@@ -38,8 +37,8 @@ from turtle_traj.core.planning.sketches.base import (
     Sketch,
     SketchFunction,
     arena_diagonal,
+    corner_tolerance,
     fits_in_arena,
-    require_finite,
 )
 
 __all__ = ['SKETCHES', 'PlanError', 'largest_size', 'plan']
@@ -61,8 +60,9 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings) -> Pl
                    drawn.end_tolerance, drawn.pen if settings.lifts_pen else None,
                    drawn.pen_up_unordered)
     run = planned.control(settings.control)
-    if tolerance > 0.0:
-        planned = replace(planned, path=_rounded(path, tolerance, run), drawn=path.points())
+    if tolerance > 0.0:  # measured against the path as checked: as drawn, or as given
+        planned = replace(planned, path=_rounded(path, tolerance - drawn.tolerance_spent, run),
+                          drawn=checked.points())
     if run.limited:  # planned here, not in the control loop (a curve's takes milliseconds)
         planned = replace(planned, profiles=tuple(
             profile_for(leg, run) if isinstance(leg, Polyline) else None
@@ -90,18 +90,6 @@ def _corner_cost(points: np.ndarray, heading_in: float, heading_out: float, *,
     after = points[-1] + run_up * np.array([math.cos(heading_out), math.sin(heading_out)])
     window = Polyline(np.concatenate(([before], points, [after])))
     return SpeedProfile.plan(window, config).duration_s - window.length / speed
-
-
-def corner_tolerance(request: Any, settings: Settings, *, drawing: bool) -> float:
-    """How far corners may be rounded: the request's `corner_tolerance`, else the node's
-    parameter; a drawing's pen-down corners are rounded only when the request asks."""
-    asked = getattr(request, 'corner_tolerance', 0.0)
-    require_finite(corner_tolerance=asked)
-    largest = PARAMETER['corner_tolerance'].high
-    if not 0.0 <= asked <= largest:
-        raise PlanError(f'corner_tolerance must be 0 (the default) to {largest:g} m, '
-                        f'got {asked:g}')
-    return asked or (0.0 if drawing else settings.defaults.corner_tolerance)
 
 
 def largest_size(trajectory: str, request: Any, start: Pose2D,

@@ -44,6 +44,7 @@ class Sketch:
     end_tolerance: float | None = None
     pen: PenStyle | None = None  # drawings: the pen to draw with (None: leave it alone)
     pen_up_unordered: float = 0.0  # drawings: pen-up distance in the strokes' given order
+    tolerance_spent: float = 0.0  # of the corner tolerance, on the path driven (`drive`)
 
 
 SketchFunction = Callable[[Any, Pose2D, Settings], Sketch]
@@ -116,3 +117,15 @@ def count_in_range(name: str, value: int, default: int, low: int, high: int) -> 
     if not low <= value <= high:
         raise PlanError(f'{name} must be {low} to {high} (0: {default}), got {value}')
     return value
+
+
+def corner_tolerance(request: Any, settings: Settings, *, drawing: bool) -> float:
+    """How far corners may be rounded: the request's `corner_tolerance`, else the node's
+    parameter; a drawing's pen-down corners are rounded only when the request asks."""
+    asked = getattr(request, 'corner_tolerance', 0.0)
+    require_finite(corner_tolerance=asked)
+    largest = PARAMETER['corner_tolerance'].high
+    if not 0.0 <= asked <= largest:
+        raise PlanError(f'corner_tolerance must be 0 (the default) to {largest:g} m, '
+                        f'got {asked:g}')
+    return asked or (0.0 if drawing else settings.defaults.corner_tolerance)

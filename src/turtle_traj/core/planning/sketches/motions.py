@@ -7,6 +7,7 @@ import math
 from typing import Any
 
 from turtle_traj.core.geometry import shapes
+from turtle_traj.core.geometry.corners import simplified
 from turtle_traj.core.geometry.path import Path, Pose2D
 from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.parameters.settings import Settings
@@ -15,6 +16,7 @@ from turtle_traj.core.planning.sketches.base import (
     PlanError,
     Sketch,
     arena_diagonal,
+    corner_tolerance,
     fits_in_arena,
     non_negative,
     requested_speed,
@@ -147,7 +149,14 @@ def sketch_rotation(request: Any, start: Pose2D, settings: Settings) -> Sketch:
                   angular_speed=requested_speed('angular_speed', request.speed))
 
 
+# Of a corner tolerance, the share a path given as points may be simplified by (a grid
+# planner's staircase becomes its diagonals); the rest rounds the corners left.
+SIMPLIFY_SHARE = 0.25
+
+
 def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
+    """The polyline through the points given; with a corner tolerance, the one through the
+    fewest of them within `SIMPLIFY_SHARE` of it is driven (and measured against the given)."""
     arena = settings.arena
     points = [(p.x, p.y) for p in request.points]
     if not points:
@@ -159,7 +168,13 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
         if not arena.contains((x, y)):
             raise PlanError(f'points[{index}] = ({x:g}, {y:g}) is outside the arena '
                             f'({arena.describe()}, after the wall margin)')
-    path = shapes.follow(start, points=points, closed=request.closed,
-                         corner_angle_rad=settings.defaults.corner_angle)
-    return Sketch(f'path through {len(points)} points', lambda _: path,
+    corner_angle = settings.defaults.corner_angle
+    given = shapes.follow(start, points=points, closed=request.closed,
+                          corner_angle_rad=corner_angle)
+    spent = SIMPLIFY_SHARE * corner_tolerance(request, settings, drawing=False)
+    driven = given if not spent else shapes.follow(
+        start, points=simplified(points, spent), closed=request.closed,
+        corner_angle_rad=corner_angle)
+    return Sketch(f'path through {len(points)} points', lambda _: given,
+                  drive=lambda _: driven, tolerance_spent=spent,
                   linear_speed=requested_speed('linear_speed', request.linear_speed))
