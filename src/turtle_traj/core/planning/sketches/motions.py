@@ -8,7 +8,7 @@ from typing import Any
 
 from turtle_traj.core.geometry import shapes
 from turtle_traj.core.geometry.corners import simplified
-from turtle_traj.core.geometry.path import Path, Pose2D
+from turtle_traj.core.geometry.path import NearestOnPolyline, Path, Pose2D, Turn
 from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.parameters.settings import Settings
 from turtle_traj.core.planning.limits import MAX_FREQUENCY, MAX_POINTS, MAX_SIDES
@@ -155,8 +155,10 @@ SIMPLIFY_SHARE = 0.25
 
 
 def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
-    """The polyline through the points given; with a corner tolerance, the one through the
-    fewest of them within `SIMPLIFY_SHARE` of it is driven (and measured against the given)."""
+    """The polyline through the points given. With a corner tolerance, the one through the
+    fewest of them within `SIMPLIFY_SHARE` of it is driven if it has fewer turns in place (a
+    staircase's steps; a curve has none to lose, and is smoothed whole), its corners rounded
+    within the tolerance it leaves; either is measured against the points given."""
     arena = settings.arena
     points = [(p.x, p.y) for p in request.points]
     if not points:
@@ -171,10 +173,19 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     corner_angle = settings.defaults.corner_angle
     given = shapes.follow(start, points=points, closed=request.closed,
                           corner_angle_rad=corner_angle)
-    spent = SIMPLIFY_SHARE * corner_tolerance(request, settings, drawing=False)
-    driven = given if not spent else shapes.follow(
-        start, points=simplified(points, spent), closed=request.closed,
-        corner_angle_rad=corner_angle)
+    driven, spent = given, 0.0
+    share = SIMPLIFY_SHARE * corner_tolerance(request, settings, drawing=False)
+    fewer = simplified(points, share) if share else points
+    simpler = shapes.follow(start, points=fewer, closed=request.closed,
+                            corner_angle_rad=corner_angle)
+    if _stops(simpler) < _stops(given):  # the tolerance it took is not the corners' to use
+        driven = simpler
+        spent = float(NearestOnPolyline(driven.points()).distances(given.points()).max())
     return Sketch(f'path through {len(points)} points', lambda _: given,
                   drive=lambda _: driven, tolerance_spent=spent,
                   linear_speed=requested_speed('linear_speed', request.linear_speed))
+
+
+def _stops(path: Path) -> int:
+    """The turns in place of `path`: where the robot stops."""
+    return sum(isinstance(leg, Turn) for leg in path.legs)
