@@ -14,9 +14,9 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from turtle_traj.api.controllers import choose
 from turtle_traj.apps.score.loop import drive
 from turtle_traj.core.control.commands import Command
-from turtle_traj.core.control.controllers.catalogue import choose
 from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
 from turtle_traj.core.parameters.settings import Settings, settings_from_values
 from turtle_traj.core.parameters.table import DEFAULTS
@@ -100,7 +100,7 @@ def drive_turtle_traj(points: np.ndarray, start: Pose2D, limits: Limits, *,
     plan = planner.plan('follow_path', follow_request(points, corner_tolerance=corner_tolerance),
                         start, settings)
     record = drive(plan, start, settings, inertia=inertia or Inertia(limits.a, limits.alpha),
-                   controller=choose(controller, timed=False), max_s=max_s)
+                   controller=choose(controller), max_s=max_s)
     success, message = record.run.ending
     return Run(poses=record.poses, commands=record.commands, ended=True, success=success,
                message=message, steps=record.steps)

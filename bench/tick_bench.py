@@ -41,11 +41,22 @@ def measure() -> dict:
 
     from turtle_traj.apps.score.courses import PAPER_INERTIA, standard_courses
     from turtle_traj.core.control import follower, loop, robot_model, strokes, supervisor
-    from turtle_traj.core.control.controllers.catalogue import choose
+    try:
+        from turtle_traj.api.controllers import choose
+    except ImportError:  # an older tree: the core's catalogue found controllers by name
+        from turtle_traj.core.control.controllers.catalogue import choose
     from turtle_traj.core.geometry.path import Pose2D
     from turtle_traj.core.planning import planner
     from turtle_traj.core.turtlesim_contract import STEP_S
     from turtle_traj.sim.physics import World
+
+    def _untimed(name: str):
+        """The controller, its answers untimed (an older tree's choose timed them unless told
+        not to)."""
+        try:
+            return choose(name, timed=False)
+        except TypeError:
+            return choose(name)
 
     spent = dict.fromkeys(PHASES, 0)
 
@@ -81,7 +92,7 @@ def measure() -> dict:
                 control = loop.ControlLoop(STEP_S, echoes=robot != 'odometry')
                 control.observe(course.start, 0.0, 0.0)
                 run = control.start(plan, arena=course.settings.arena, now_s=0.0,
-                                    controller=choose(controller, timed=False))
+                                    controller=_untimed(controller))
                 for step in range(int(600.0 / STEP_S)):
                     for phase in PHASES:
                         spent[phase] = 0

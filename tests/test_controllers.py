@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from turtle_traj.api.controllers import UnknownController, choose, names, resolve
 from turtle_traj.api.ros_interface import make_request
 from turtle_traj.apps.score.courses import PAPER_INERTIA, follow_request, step_curve
 from turtle_traj.apps.score.loop import drive
@@ -20,13 +21,7 @@ from turtle_traj.core.control.controller import (
     Stroke,
     interface_problem,
 )
-from turtle_traj.core.control.controllers.catalogue import (
-    Chosen,
-    UnknownController,
-    choose,
-    names,
-    resolve,
-)
+from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.controllers.dwpp import Dwpp
 from turtle_traj.core.control.controllers.pure_pursuit import PurePursuit
 from turtle_traj.core.control.follower import PathFollower
@@ -38,6 +33,7 @@ from turtle_traj.core.parameters.table import DEFAULTS
 from turtle_traj.core.planning import planner
 from turtle_traj.core.registry import BY_NAME
 from turtle_traj.core.turtlesim_contract import STEP_S
+from turtle_traj.node.answer_timer import ProcessAnswerTimer
 from turtle_traj.testing.geometry import distance_to_polyline, regular_polygon
 from turtle_traj.testing.pure_loop import shape
 
@@ -201,6 +197,9 @@ class _Reckless(Dwpp):
         return None if super().command(state) is None else Command(100.0, -100.0)
 
 
+TIMER = ProcessAnswerTimer()  # the node's: answers later than the period end the run
+
+
 @pytest.mark.parametrize(('controller', 'said'), [
     (_Raises, "controller 'bad' raised ZeroDivisionError in command(): division by zero"),
     (_Nan, "controller 'bad' returned a non-finite command (nan m/s, 0.0 rad/s)"),
@@ -211,7 +210,8 @@ class _Reckless(Dwpp):
 ])
 def test_a_misbehaving_controller_ends_the_run_saying_what_it_did(controller, said):
     points, start, plan = _step_course(90)
-    run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, controller=Chosen('bad', controller))
+    run = drive(plan, start, PAPER, inertia=PAPER_INERTIA,
+                controller=Chosen('bad', controller, TIMER))
     success, message = run.run.ending
     assert not success
     assert message.startswith('follow_path aborted: ') and said in message
@@ -234,7 +234,8 @@ def test_another_threads_garbage_collection_does_not_excuse_a_slow_controller():
     collector.start()
     try:
         points, start, plan = _step_course(90)
-        run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, controller=Chosen('bad', _Slow))
+        run = drive(plan, start, PAPER, inertia=PAPER_INERTIA,
+                    controller=Chosen('bad', _Slow, TIMER))
     finally:
         stop.set()
         collector.join()
@@ -245,7 +246,7 @@ def test_a_cpu_wait_as_the_answer_is_timed_is_not_taken_off_the_controllers_time
     """The slow controller's 50 ms still read as 50 ms when the thread waits 30 ms for a CPU
     as its answer is timed, inside the excuse's own reading (a loaded full run reported a 1 s
     sleep as 0.996 s: a wait after the clock was read, then excused from the time)."""
-    from turtle_traj.core.control import strokes
+    from turtle_traj.node import answer_timer
     reads, waited = [], [0.0]
 
     def busy_machine() -> float:  # each answer's second reading waits 30 ms for a CPU
@@ -254,9 +255,10 @@ def test_a_cpu_wait_as_the_answer_is_timed_is_not_taken_off_the_controllers_time
             time.sleep(0.03)
             waited[0] += 0.03
         return waited[0]
-    monkeypatch.setattr(strokes, '_not_the_controllers_s', busy_machine)
+    monkeypatch.setattr(answer_timer, 'not_the_controllers_s', busy_machine)
     points, start, plan = _step_course(90)
-    run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, controller=Chosen('bad', _Slow))
+    run = drive(plan, start, PAPER, inertia=PAPER_INERTIA,
+                controller=Chosen('bad', _Slow, TIMER))
     assert _reported_late_s(run.run.ending[1]) >= 0.05
 
 
@@ -272,7 +274,7 @@ def test_commands_beyond_the_limits_are_clamped_and_counted():
 def test_an_untimed_choice_lets_a_slow_controller_finish():
     points, start, plan = _step_course(45)
     run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, max_s=0.5,
-                controller=Chosen('slow', _Slow, timed=False))
+                controller=Chosen('slow', _Slow))
     assert run.run.ending == (False, 'follow_path still running after 0.5 s')
     assert len(run.commands) == int(0.5 / STEP_S)  # one every step, none refused
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from turtle_traj.core.control.controllers.catalogue import ENTRY_POINT_GROUP
+from turtle_traj.api.controllers import ENTRY_POINT_GROUP
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / 'README.md', *sorted((ROOT / 'docs').rglob('*.md'))]

@@ -49,7 +49,8 @@ def _literal(text: str) -> str:
 
 class Parameters(Directive):
     def run(self):
-        from turtle_traj.core.control.controllers.catalogue import SHIPPED, choose
+        from turtle_traj.api.controllers import choose
+        from turtle_traj.core.control.controllers.catalogue import SHIPPED
         from turtle_traj.core.parameters.table import PARAMETERS
         named = [(spec.name, spec) for spec in PARAMETERS]
         for controller in map(choose, SHIPPED):  # the shipped controllers' tuning

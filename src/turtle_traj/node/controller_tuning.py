@@ -14,7 +14,9 @@ from functools import partial
 
 from rclpy.node import Node
 
-from turtle_traj.core.control.controllers.catalogue import SHIPPED, Chosen, choose
+from turtle_traj.api.controllers import choose
+from turtle_traj.core.control.controllers.catalogue import SHIPPED, Chosen
+from turtle_traj.node.answer_timer import ProcessAnswerTimer
 from turtle_traj.node.parameters import descriptor
 
 
@@ -28,19 +30,18 @@ class ControllerTuning:
             self.choose(name)
 
     def choose(self, name: str) -> Chosen:
-        """The controller `name` stands for, reading its tuning from the node's parameters
-        (declared now if they are not yet).
+        """The controller `name` stands for, its answers timed, reading its tuning from the
+        node's parameters (declared now if they are not yet).
 
         :raises UnknownController: with the reason.
         """
         chosen = choose(name)
-        if not chosen.tunables:
-            return chosen
         for spec in chosen.tunables:
             parameter = f'{chosen.prefix}.{spec.name}'
             if not self._node.has_parameter(parameter):
                 self._node.declare_parameter(parameter, spec.default, descriptor(spec))
-        return replace(chosen, tuning=partial(self._values, chosen))
+        return replace(chosen, timer=ProcessAnswerTimer(),
+                       tuning=partial(self._values, chosen) if chosen.tunables else None)
 
     def _values(self, chosen: Chosen) -> dict[str, float]:
         node, prefix = self._node, chosen.prefix

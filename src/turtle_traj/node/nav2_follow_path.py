@@ -28,7 +28,8 @@ from rclpy.callback_groups import CallbackGroup
 from rclpy.node import Node
 from turtle_traj_interfaces.srv import FollowPath as FollowPathRequest
 
-from turtle_traj.core.control.controllers.catalogue import Chosen, UnknownController
+from turtle_traj.api.controllers import UnknownController
+from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.core.geometry.projection import LengthLeft, PolylineSegments

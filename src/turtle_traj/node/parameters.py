@@ -11,7 +11,7 @@ from rcl_interfaces.msg import (
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from turtle_traj.core.control.controllers.catalogue import UnknownController, resolve
+from turtle_traj.api.controllers import UnknownController, resolve
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import (
     ARENA_PARAMETERS,

@@ -13,6 +13,7 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
+from turtle_traj.api.controllers import UnknownController, resolve
 from turtle_traj.apps.score.courses import ROBOTS, standard_courses
 from turtle_traj.apps.score.matched import Matched, format_matched, matched_runs
 from turtle_traj.apps.score.report import (
@@ -23,7 +24,7 @@ from turtle_traj.apps.score.report import (
     write_plots,
 )
 from turtle_traj.apps.score.runner import Result, run_course
-from turtle_traj.core.control.controllers.catalogue import SHIPPED, UnknownController, resolve
+from turtle_traj.core.control.controllers.catalogue import SHIPPED
 
 DEFAULT_CONTROLLERS = ('exact', *SHIPPED)
 

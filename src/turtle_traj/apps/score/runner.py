@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
+from turtle_traj.api.controllers import choose
 from turtle_traj.apps.score.courses import PAPER_INERTIA, Course
 from turtle_traj.apps.score.loop import drive
-from turtle_traj.core.control.controllers.catalogue import choose
 from turtle_traj.core.control.strokes import StrokeDriver
 from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
 from turtle_traj.core.planning import planner
@@ -69,7 +69,7 @@ def run_course(course: Course, controller: str, *, work_dir: Path | None = None)
     if course.robot == 'base':
         return _on_the_base(course, controller, work_dir or Path('output'))
     plan = planner.plan(course.trajectory, course.request, course.start, course.settings)
-    chosen = choose(controller, timed=False)  # simulated time waits for the controller
+    chosen = choose(controller)  # untimed: simulated time waits for the controller
     record = drive(plan, course.start, course.settings, controller=chosen,
                    inertia=PAPER_INERTIA if course.robot == 'inertia' else None)
     success, message = record.run.ending

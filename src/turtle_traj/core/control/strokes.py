@@ -12,11 +12,9 @@ the control period raise `ControllerFault`, which ends the run.
 
 from __future__ import annotations
 
-import gc
 import math
-import threading
-import time
 from collections.abc import Callable, Mapping
+from typing import Protocol
 
 import numpy as np
 
@@ -75,35 +73,14 @@ def strokes_of(path: Path) -> list[Polyline | Turn]:
     return steps
 
 
-# Per thread: the collector's total time so far in it (`total`), and its last start. A
-# collection holds up the thread that runs it; one run by another thread while a controller
-# sleeps or computes is not the controller's excuse (counted for every thread, it once made a
-# controller's 50 ms answer read 49 ms).
-_collecting = threading.local()
+class AnswerTimer(Protocol):
+    """Times a controller's answers: `start` just before one is asked for, `took` just after
+    it came: the seconds the controller is to blame for (the node's own timer leaves out the
+    machine's, `node.answer_timer`)."""
 
+    def start(self) -> object: ...
 
-def _on_collection(phase: str, _info: dict) -> None:
-    now = time.perf_counter()
-    if phase == 'start':
-        _collecting.started = now
-    else:
-        _collecting.total = (getattr(_collecting, 'total', 0.0)
-                             + now - getattr(_collecting, 'started', now))
-
-
-gc.callbacks.append(_on_collection)
-
-
-def _not_the_controllers_s() -> float:
-    """Time so far that no controller is to blame for: this thread waiting for a CPU (Linux's
-    schedstat; nothing elsewhere) and collecting garbage. A controller is not late because the
-    machine is busy."""
-    try:
-        with open('/proc/thread-self/schedstat') as stats:
-            waited = int(stats.read().split()[1]) * 1e-9
-    except (OSError, IndexError, ValueError):
-        waited = 0.0
-    return waited + getattr(_collecting, 'total', 0.0)
+    def took(self, mark: object) -> float: ...
 
 
 class _Along:
@@ -144,11 +121,11 @@ class StrokeDriver:
     """
 
     def __init__(self, path: Path, controller: Controller, name: str, *,
-                 manage_pen: bool = False, timed: bool = True,
+                 manage_pen: bool = False, timer: AnswerTimer | None = None,
                  tuning: Callable[[], Mapping[str, float]] | None = None) -> None:
         self.path, self.controller, self.name = path, controller, name
         self.tuning = tuning  # the controller's tuning now, set before each stroke starts
-        self.timed = timed  # an answer later than the period ends the run
+        self.timer = timer  # None: untimed; else LATE_ANSWERS late answers end the run
         self.manage_pen = manage_pen
         self.pen_down: bool | None = None
         self.pen_wanted: bool | None = None
@@ -230,8 +207,7 @@ class StrokeDriver:
                       Command(-velocity.linear if flip else velocity.linear, velocity.angular),
                       Pose2D(pose.x, pose.y, pose.theta + flip), self._periods * config.period_s)
         self._periods += 1
-        answer = self._call('command', state,
-                            period_s=config.period_s if self.timed else None)
+        answer = self._call('command', state, period_s=config.period_s)
         if answer is None:
             if not stroke.repeat:
                 return None
@@ -244,19 +220,17 @@ class StrokeDriver:
         return self._clamped(command, prediction.velocity, config)
 
     def _call(self, method: str, *args, period_s: float | None = None):
-        """The controller's answer; timed against `period_s` when one is given."""
-        if period_s is not None:
-            started, excused = time.perf_counter(), _not_the_controllers_s()
+        """The controller's answer; timed against `period_s` when one is given and the
+        driver has a timer."""
+        timer = self.timer if period_s is not None else None
+        mark = timer.start() if timer is not None else None
         try:
             answer = getattr(self.controller, method)(*args)
         except Exception as error:  # the controller's fault, whatever it is
             raise ControllerFault(f"controller '{self.name}' raised {type(error).__name__} in "
                                   f'{method}(): {error}') from error
-        if period_s is not None:
-            # the excuse read inside the timed span: a CPU wait as it is read (a system call
-            # is a point where a busy machine preempts) is then in both, never excused alone
-            excused = _not_the_controllers_s() - excused
-            took = time.perf_counter() - started - excused
+        if timer is not None:
+            took = timer.took(mark)
             self._late = self._late + 1 if took > period_s else 0
             if self._late >= LATE_ANSWERS:
                 raise ControllerFault(
