@@ -17,7 +17,8 @@ import numpy as np
 from turtle_traj.api.controllers import choose
 from turtle_traj.apps.score.loop import drive
 from turtle_traj.core.control.commands import Command
-from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.geometry.projection import NearestOnPolyline
 from turtle_traj.core.parameters.settings import Settings, settings_from_values
 from turtle_traj.core.parameters.table import DEFAULTS
 from turtle_traj.core.planning import planner

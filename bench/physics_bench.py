@@ -49,7 +49,7 @@ def _requests():
 
 def _distances(samples: list[tuple[float, float, float, float]], ideal: np.ndarray
                ) -> np.ndarray:
-    from turtle_traj.core.geometry.path import NearestOnPolyline
+    from turtle_traj.core.geometry.projection import NearestOnPolyline
     return NearestOnPolyline(ideal).distances([(x, y) for _t, x, y, _yaw in samples])
 
 

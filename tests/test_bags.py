@@ -342,7 +342,7 @@ def test_record_and_play_on_the_real_programs(tmp_path, rclpy_context):
         finally:
             executor.shutdown()
             node.destroy_node()
-    from turtle_traj.core.geometry.path import NearestOnPolyline
+    from turtle_traj.core.geometry.projection import NearestOnPolyline
     moved = np.array([(p.x, p.y) for p in replayed if p.linear_velocity > 0])
     assert len(moved) > 100
     # Open loop on the wall clock, a command acts for as long as the next one takes to come. A

@@ -12,7 +12,8 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.dynamics import stopping_speed, within_reach
 from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.corners import rounded_corner
-from turtle_traj.core.geometry.path import NearestOnPolyline, Polyline
+from turtle_traj.core.geometry.path import Polyline
+from turtle_traj.core.geometry.projection import NearestOnPolyline
 
 PERIOD = 0.016
 speeds = st.floats(-2.0, 2.0, allow_nan=False)

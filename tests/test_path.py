@@ -66,7 +66,7 @@ def test_a_sampled_arc_turns_as_an_arc_up_to_its_ends():
 @pytest.mark.parametrize('seed', range(5))
 def test_nearest_on_polyline_agrees_with_the_brute_force_distance(seed):
     """Blocks pruned by their boxes never hide the nearest segment (independent check)."""
-    from turtle_traj.core.geometry.path import NearestOnPolyline
+    from turtle_traj.core.geometry.projection import NearestOnPolyline
     from turtle_traj.testing.geometry import distance_to_polyline
 
     rng = np.random.default_rng(seed)
@@ -88,6 +88,7 @@ def test_a_smoothed_curve_keeps_to_its_tolerance_by_the_brute_force_distance(see
     decides as measuring every point against every segment does, on curves that wander back
     near themselves, and the curve it returns keeps its ends and its tolerance."""
     from turtle_traj.core.geometry import corners
+    from turtle_traj.core.geometry.projection import WithinDistance
     from turtle_traj.testing.geometry import distance_to_polyline
 
     rng = np.random.default_rng(seed)
@@ -96,7 +97,7 @@ def test_a_smoothed_curve_keeps_to_its_tolerance_by_the_brute_force_distance(see
     arc = np.linspace(0.0, polyline.length, int(polyline.length / 0.01) + 1)
     samples = np.stack([np.interp(arc, polyline.cumulative_length, points[:, axis])
                         for axis in (0, 1)], axis=1)
-    within = corners._WithinOf(polyline, arc)
+    within = WithinDistance(points, polyline.cumulative_length, arc)
     decisions = set()
     for sigma in (1.0, 5.0, 20.0, 80.0):
         candidate = corners._gaussian(samples, sigma)

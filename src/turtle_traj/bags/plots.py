@@ -19,7 +19,7 @@ import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from turtle_traj.bags.reader import Bag  # noqa: E402
-from turtle_traj.core.geometry.path import NearestOnPolyline  # noqa: E402
+from turtle_traj.core.geometry.projection import NearestOnPolyline  # noqa: E402
 from turtle_traj.core.parameters.table import DEFAULTS  # noqa: E402
 from turtle_traj.core.turtlesim_contract import WORLD_SIZE_M  # noqa: E402
 

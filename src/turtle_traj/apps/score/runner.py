@@ -21,7 +21,8 @@ from turtle_traj.api.controllers import choose
 from turtle_traj.apps.score.courses import PAPER_INERTIA, Course
 from turtle_traj.apps.score.loop import drive
 from turtle_traj.core.control.strokes import StrokeDriver
-from turtle_traj.core.geometry.path import NearestOnPolyline, Pose2D
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.geometry.projection import NearestOnPolyline
 from turtle_traj.core.planning import planner
 
 _CLAMPED = re.compile(r'(\d+) of (\d+) commands clamped')

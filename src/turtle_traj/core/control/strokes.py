@@ -26,6 +26,7 @@ from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.tuning import tune
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
+from turtle_traj.core.geometry.projection import PolylineSegments
 
 _JOIN_M = 1e-6  # polylines whose ends meet this closely join into one stroke
 # Answers later than the control period in a row that end the run. One late answer can be the
@@ -91,8 +92,8 @@ class _Along:
     BEHIND_M, AHEAD_M = 0.05, 0.25
 
     def __init__(self, points: np.ndarray) -> None:
-        self.starts, self.ends = points[:-1], points[1:]
-        self.lengths = np.hypot(*(self.ends - self.starts).T)
+        self.segments = PolylineSegments(points)
+        self.lengths = np.hypot(*np.diff(points, axis=0).T)
         self.cumulative = np.concatenate(([0.0], np.cumsum(self.lengths)))
         self.arc = 0.0
         self.last = 0.0  # the fraction last found
@@ -102,14 +103,8 @@ class _Along:
         first = max(int(np.searchsorted(cumulative, self.arc - self.BEHIND_M)) - 1, 0)
         last = min(int(np.searchsorted(cumulative, self.arc + self.AHEAD_M)) + 1,
                    len(self.lengths))
-        a, b = self.starts[first:last], self.ends[first:last]
-        d = b - a
-        squared = np.maximum((d * d).sum(axis=1), 1e-18)
-        t = np.clip(((pose.x - a[:, 0]) * d[:, 0] + (pose.y - a[:, 1]) * d[:, 1]) / squared,
-                    0.0, 1.0)
-        gaps = np.hypot(a[:, 0] + t * d[:, 0] - pose.x, a[:, 1] + t * d[:, 1] - pose.y)
-        best = int(np.argmin(gaps))
-        self.arc = cumulative[first + best] + t[best] * self.lengths[first + best]
+        index, along, _ = self.segments.project(pose.x, pose.y, range(first, last))
+        self.arc = cumulative[index] + along * self.lengths[index]
         self.last = float(self.arc / max(cumulative[-1], 1e-12))
         return self.last
 

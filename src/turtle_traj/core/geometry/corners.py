@@ -22,7 +22,8 @@ from functools import lru_cache
 import numpy as np
 
 from turtle_traj.core.geometry.angles import wrap_angle
-from turtle_traj.core.geometry.path import Leg, NearestOnPolyline, Path, Polyline, Turn
+from turtle_traj.core.geometry.path import Leg, Path, Polyline, Turn
+from turtle_traj.core.geometry.projection import WithinDistance
 
 MAX_ROUNDED_RAD = math.radians(170.0)  # sharper corners are turned in place
 _KINK_RAD = 0.02  # largest change of direction between two samples of a clothoid
@@ -114,7 +115,7 @@ def smoothed_curve(points: np.ndarray, tolerance: float) -> np.ndarray:
     arc = np.linspace(0.0, polyline.length, max(int(polyline.length / _SAMPLE_M), 2) + 1)
     samples = np.stack([np.interp(arc, polyline.cumulative_length, polyline.points[:, axis])
                         for axis in (0, 1)], axis=1)
-    within = _WithinOf(polyline, arc)
+    within = WithinDistance(polyline.points, polyline.cumulative_length, arc)
     best, low, high = samples, 0.0, max(polyline.length / 4.0, _SAMPLE_M)
     for _ in range(_SMOOTHING_SEARCH_STEPS):  # the widest window that keeps to the tolerance
         width = 0.5 * (low + high)
@@ -124,36 +125,6 @@ def smoothed_curve(points: np.ndarray, tolerance: float) -> np.ndarray:
         else:
             high = width
     return best
-
-
-class _WithinOf:
-    """Whether every point of a smoothed curve lies within a distance of the curve as drawn.
-
-    Exact, and cheap enough to ask a dozen times while planning: each point is measured first
-    against the drawn segments around its own arc position (`_NEIGHBOURS` on either side: a
-    smoothed point stays near where it was sampled), which bounds its distance from above; only
-    a point that this bound puts beyond the limit is measured against the whole curve.
-    """
-
-    _NEIGHBOURS = 24
-
-    def __init__(self, polyline: Polyline, arc: np.ndarray) -> None:
-        self._drawn = NearestOnPolyline(polyline.points)
-        starts, edges = polyline.points[:-1], np.diff(polyline.points, axis=0)
-        last = len(starts) - 1
-        at = np.clip(np.searchsorted(polyline.cumulative_length, arc, side='right') - 1, 0, last)
-        near = np.clip(at[:, None] + np.arange(-self._NEIGHBOURS, self._NEIGHBOURS + 1), 0, last)
-        self._starts, self._edges = starts[near], edges[near]  # (N, M, 2): each point's segments
-        self._squared = np.maximum(np.einsum('nmj,nmj->nm', self._edges, self._edges), 1e-18)
-
-    def __call__(self, points: np.ndarray, limit: float) -> bool:
-        offsets = points[:, None, :] - self._starts
-        along = np.clip(np.einsum('nmj,nmj->nm', offsets, self._edges) / self._squared,
-                        0.0, 1.0)
-        gaps = offsets - along[:, :, None] * self._edges
-        bound = np.sqrt(np.min(np.einsum('nmj,nmj->nm', gaps, gaps), axis=1))
-        return all(self._drawn.distance(x, y) <= limit
-                   for x, y in points[bound > limit].tolist())
 
 
 def _gaussian(samples: np.ndarray, sigma: float) -> np.ndarray:

@@ -1,12 +1,16 @@
-"""The nearest point of a polyline to a point that moves along it. Pure Python.
+"""Distances to a polyline and projections onto it: every such search of the package. Pure
+Python.
 
-A robot moves a few millimetres a control period, so the segment nearest to it is the last one
-or one nearby: each search here looks at a few segments around the last match, with plain
-floats (too few for numpy to pay) and each segment's constants computed once.
+`NearestOnPolyline` answers for any point, exactly, over the whole polyline. A robot moves a
+few millimetres a control period, so the segment nearest to it is the last one or one nearby:
+`PolylineSegments` searches a few segments around the last match, with plain floats (too few
+for numpy to pay) and each segment's constants computed once.
 `PolylineSegments.project` searches a given window, `PolylineSegments.walk` walks to the
 nearest segment nearby; `PathDeviation` walks so, and asks the whole polyline
 (`NearestOnPolyline`) only when a pose could be the farthest yet, so a run's largest deviation
-stays exact wherever the path crosses itself.
+stays exact wherever the path crosses itself. `LengthLeft` measures what is left of a path,
+`WithinDistance` checks a smoothed curve against the one it was smoothed from, and
+`nearest_point` searches a window of points (pure pursuit's).
 """
 
 from __future__ import annotations
@@ -15,8 +19,6 @@ import math
 from collections.abc import Iterable
 
 import numpy as np
-
-from turtle_traj.core.geometry.path import NearestOnPolyline
 
 _LEAST_SQUARED = 1e-18  # m²: a segment of no length is projected on as a point
 
@@ -83,6 +85,70 @@ class PolylineSegments:
         return best
 
 
+class NearestOnPolyline:
+    """Distances of single points to a fixed polyline (K, 2), its segments prepared once.
+
+    Exact, and quick for long polylines (a drawing has thousands of segments, and the distance
+    is asked for at every pose): the segments are grouped in blocks with a bounding box each,
+    and a block is searched only while its box is nearer than the nearest segment found.
+    """
+
+    _BLOCK = 256  # numpy calls cost more than their arithmetic below a few hundred
+
+    def __init__(self, vertices: np.ndarray) -> None:
+        vertices = np.asarray(vertices, dtype=float)
+        if len(vertices) == 1:
+            vertices = np.repeat(vertices, 2, axis=0)  # one point: a segment of no length
+        self._starts = vertices[:-1]
+        self._edges = np.diff(vertices, axis=0)
+        self._squared = np.maximum(np.einsum('kj,kj->k', self._edges, self._edges), 1e-18)
+        count = len(self._starts)
+        self._blocks = [(first, min(first + self._BLOCK, count))
+                        for first in range(0, count, self._BLOCK)]
+        self._low = np.array([vertices[a:b + 1].min(axis=0)
+                              for a, b in self._blocks])
+        self._high = np.array([vertices[a:b + 1].max(axis=0) for a, b in self._blocks])
+
+    def _within(self, x: float, y: float, first: int, stop: int) -> tuple[float, int]:
+        offsets = np.array([x, y]) - self._starts[first:stop]
+        edges = self._edges[first:stop]
+        along = np.clip(np.einsum('kj,kj->k', offsets, edges) / self._squared[first:stop],
+                        0.0, 1.0)
+        gaps = offsets - along[:, None] * edges
+        squared = np.einsum('kj,kj->k', gaps, gaps)
+        index = int(np.argmin(squared))
+        return float(np.sqrt(squared[index])), first + index
+
+    def distances(self, points: np.ndarray) -> np.ndarray:
+        """Distance of each point (N, 2) to the nearest segment: all at once for a polyline
+        of one block (numpy's cost per call, not its arithmetic, dominates there)."""
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        if len(self._blocks) > 1:
+            return np.array([self.distance(x, y) for x, y in points.tolist()])
+        offsets = points[:, None, :] - self._starts[None, :, :]
+        along = np.clip(np.einsum('nkj,kj->nk', offsets, self._edges) / self._squared, 0.0, 1.0)
+        gaps = offsets - along[:, :, None] * self._edges[None, :, :]
+        return np.sqrt(np.min(np.einsum('nkj,nkj->nk', gaps, gaps), axis=1))
+
+    def distance(self, x: float, y: float) -> float:
+        """Distance of (x, y) to the nearest segment."""
+        return self.nearest(x, y)[0]
+
+    def nearest(self, x: float, y: float) -> tuple[float, int]:
+        """Distance of (x, y) to the nearest segment, and that segment's index."""
+        if len(self._blocks) == 1:
+            return self._within(x, y, 0, len(self._starts))
+        point = np.array([x, y])
+        outside = np.maximum(np.maximum(self._low - point, point - self._high), 0.0)
+        bounds = np.hypot(outside[:, 0], outside[:, 1])
+        nearest = (math.inf, 0)
+        for block in np.argsort(bounds, kind='stable').tolist():
+            if not bounds[block] < nearest[0]:
+                break  # this box, and every later one, is no nearer than what was found
+            nearest = min(nearest, self._within(x, y, *self._blocks[block]))
+        return nearest
+
+
 class PathDeviation:
     """Distances of successive poses from a fixed polyline, and the largest: exact.
 
@@ -140,3 +206,43 @@ class LengthLeft:
         _, index = self._whole.nearest(x, y)
         _, fraction, _ = self._segments.project(x, y, (index,))
         return self._after[index] + (1.0 - fraction) * self._lengths[index]
+
+
+class WithinDistance:
+    """Whether every point of a curve smoothed from a polyline lies within a distance of it.
+
+    Exact, and cheap enough to ask a dozen times while planning: each point is measured first
+    against the polyline's segments around its own arc position (`_NEIGHBOURS` on either side:
+    a smoothed point stays near where it was sampled), which bounds its distance from above;
+    only a point that this bound puts beyond the limit is measured against the whole polyline.
+
+    :param cumulative: the polyline's arc length at each vertex.
+    :param arc: the arc length at which each point to be asked about was sampled.
+    """
+
+    _NEIGHBOURS = 24
+
+    def __init__(self, vertices: np.ndarray, cumulative: np.ndarray, arc: np.ndarray) -> None:
+        self._drawn = NearestOnPolyline(vertices)
+        starts, edges = vertices[:-1], np.diff(vertices, axis=0)
+        last = len(starts) - 1
+        at = np.clip(np.searchsorted(cumulative, arc, side='right') - 1, 0, last)
+        near = np.clip(at[:, None] + np.arange(-self._NEIGHBOURS, self._NEIGHBOURS + 1), 0, last)
+        self._starts, self._edges = starts[near], edges[near]  # (N, M, 2): each point's segments
+        self._squared = np.maximum(np.einsum('nmj,nmj->nm', self._edges, self._edges), 1e-18)
+
+    def __call__(self, points: np.ndarray, limit: float) -> bool:
+        offsets = points[:, None, :] - self._starts
+        along = np.clip(np.einsum('nmj,nmj->nm', offsets, self._edges) / self._squared,
+                        0.0, 1.0)
+        gaps = offsets - along[:, :, None] * self._edges
+        bound = np.sqrt(np.min(np.einsum('nmj,nmj->nm', gaps, gaps), axis=1))
+        return all(self._drawn.distance(x, y) <= limit
+                   for x, y in points[bound > limit].tolist())
+
+
+def nearest_point(points: np.ndarray, first: int, count: int, x: float, y: float) -> int:
+    """The index of the point of `points` (N, 2) nearest (x, y) among the `count` from
+    `first` on (the first of equals)."""
+    window = points[first:first + count]
+    return first + int(np.argmin(np.hypot(window[:, 0] - x, window[:, 1] - y)))

@@ -32,6 +32,7 @@ from turtle_traj.core.control.controller import Limits, State, Stroke
 from turtle_traj.core.control.tuning import Tunable
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.geometry.projection import nearest_point
 
 _SPACING_M = 0.01  # the path is followed point by point this far apart
 _SEARCH_POINTS = 100  # the nearest point is searched up to 1 m ahead of the last one
@@ -95,8 +96,7 @@ class PurePursuit:
         """The path's point nearest the robot, from the last one up to `_SEARCH_POINTS` ahead
         (the search is short, so that a later part of the path passing close by is not
         jumped to)."""
-        window = self.points[self.nearest:self.nearest + _SEARCH_POINTS]
-        self.nearest += int(np.argmin(np.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)))
+        self.nearest = nearest_point(self.points, self.nearest, _SEARCH_POINTS, pose.x, pose.y)
         return self.nearest
 
     def _arrived(self, pose: Pose2D, remaining: float) -> bool:
@@ -133,13 +133,6 @@ class PurePursuit:
         if limits.linear_braking:
             speed = min(speed, math.sqrt(2.0 * limits.linear_braking * max(remaining, 0.0)))
         return speed
-
-
-def first_minimum(distances: np.ndarray) -> int:
-    """The index of the first local minimum of `distances` (the last one if they fall all
-    the way)."""
-    rising = np.nonzero(np.diff(distances) > 0.0)[0]
-    return int(rising[0]) if len(rising) else len(distances) - 1
 
 
 def _densified(points: np.ndarray) -> np.ndarray:

@@ -8,7 +8,8 @@ from typing import Any
 
 from turtle_traj.core.geometry import shapes
 from turtle_traj.core.geometry.corners import simplified
-from turtle_traj.core.geometry.path import NearestOnPolyline, Path, Pose2D, Turn
+from turtle_traj.core.geometry.path import Path, Pose2D, Turn
+from turtle_traj.core.geometry.projection import NearestOnPolyline
 from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.parameters.settings import Settings
 from turtle_traj.core.planning.limits import MAX_FREQUENCY, MAX_POINTS, MAX_SIDES
