@@ -1,6 +1,6 @@
 """A controller chosen for a run (`Chosen`): the exact follower, or a `Controller` class driven
 stroke by stroke, with what times its answers and reads its tuning. Pure Python: finding a
-controller by name (entry points, imports) is `turtle_traj.api.controllers`'.
+controller by name (entry points, imports) is `turtle_traj.api.controllers`'s job.
 
 `exact` is the node's own follower (`follower.PathFollower`); `dwpp` and `pure_pursuit` are
 shipped beside it.
