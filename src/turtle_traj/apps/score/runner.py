@@ -20,7 +20,6 @@ import numpy as np
 from turtle_traj.api.controllers import choose
 from turtle_traj.apps.score.courses import PAPER_INERTIA, Course
 from turtle_traj.apps.score.loop import drive
-from turtle_traj.core.control.strokes import StrokeDriver
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.projection import NearestOnPolyline
 from turtle_traj.core.planning import planner
@@ -74,9 +73,7 @@ def run_course(course: Course, controller: str, *, work_dir: Path | None = None)
     record = drive(plan, course.start, course.settings, controller=chosen,
                    inertia=PAPER_INERTIA if course.robot == 'inertia' else None)
     success, message = record.run.ending
-    follower = record.run.follower
-    clamped = (100.0 * follower.clamped / max(follower.commands, 1)
-               if isinstance(follower, StrokeDriver) else 0.0)
+    clamped = record.run.follower.clamped_percent
     outcome = record.run.outcome(record.poses[-1], record.elapsed_s)
     return _figures(course, controller, success, message, outcome.elapsed_s,
                     plan.least_time_s(course.settings.control), record.xy(),

@@ -111,6 +111,13 @@ class PlanController(Protocol):
     def progress(self, config: ControlConfig) -> float:
         """How much of the plan is driven, 0 to 1."""
 
+    @property
+    def clamped_percent(self) -> float:
+        """The share of its commands the node had to clamp to the limits, in percent."""
+
+    def report(self) -> str:
+        """What the run's message says of it once done ('' for nothing)."""
+
     def update(self, pose: Pose2D, config: ControlConfig,
                prediction: Prediction | None = None) -> Command:
         """This period's command (a stop once done)."""

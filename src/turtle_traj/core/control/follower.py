@@ -61,6 +61,14 @@ class PathFollower:
             done += self._tracker.fraction * costs[self.leg_index]
         return min(done / max(sum(costs), 1e-12), 1.0)
 
+    @property
+    def clamped_percent(self) -> float:
+        """None of its commands is clamped: it plans within the limits."""
+        return 0.0
+
+    def report(self) -> str:
+        return ''
+
     def update(self, pose: Pose2D, config: ControlConfig,
                prediction: Prediction | None = None) -> Command:
         """The command for this control period, steered from where the commands still on their

@@ -155,6 +155,14 @@ class StrokeDriver:
             done += self.mark[1] * costs[self.step_index]
         return min(done / max(sum(costs), 1e-12), 1.0)
 
+    @property
+    def clamped_percent(self) -> float:
+        return 100.0 * self.clamped / max(self.commands, 1)
+
+    def report(self) -> str:
+        """How many of the controller's commands were clamped to the limits."""
+        return f' ({self.name}: {self.clamped} of {self.commands} commands clamped to the limits)'
+
     def update(self, pose: Pose2D, config: ControlConfig,
                prediction: Prediction | None = None) -> Command:
         """This period's command (STOP once done, or while the pen is not as it needs).

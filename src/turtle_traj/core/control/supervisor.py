@@ -20,7 +20,7 @@ from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
-from turtle_traj.core.control.strokes import ControllerFault, StrokeDriver
+from turtle_traj.core.control.strokes import ControllerFault
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.projection import PathDeviation
@@ -192,10 +192,7 @@ class RunSupervisor:
             self._path_done_s = now_s
         self._settled_periods += 1
         if standing or self._settled_periods > SETTLE_PERIODS:
-            follower = self.follower
-            clamped = (f' ({follower.name}: {follower.clamped} of {follower.commands} commands '
-                       'clamped to the limits)' if isinstance(follower, StrokeDriver) else '')
-            self.end(True, f'{self.name} done{clamped}', Ending.SUCCEEDED)
+            self.end(True, f'{self.name} done{self.follower.report()}', Ending.SUCCEEDED)
         return STOP
 
     def _hazard(self, pose: Pose2D, config: ControlConfig, arena: Arena,
