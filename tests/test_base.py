@@ -226,3 +226,34 @@ def test_nav2s_follow_path_on_a_base_with_inertia_is_exact_and_counts_down(base)
     assert math.dist(driven[-1], points[-1]) < 0.01
     assert left[0] > 2.0 and left[-1] < 0.01 and all(np.diff(left) <= 1e-6)
     assert _outside_reach(base.commands) == 0
+
+
+def test_a_path_taking_over_on_a_base_with_inertia_starts_at_the_speed_it_drives(base):
+    """A new FollowPath goal replaces the running one on a base with inertia: its first curve's
+    speed profile starts at the speed the base drives, so a path that goes on as the base does
+    is taken over at full speed (from rest, its profile slowed the base to 0.41 m/s within the
+    first 0.1 m)."""
+    from nav2_msgs.action import FollowPath
+
+    from tests.test_nav2_follow_path import path_result, send_path
+
+    follow = base.action_client(FollowPath, '/follow_path')
+    assert base.spin_until(follow.server_is_ready, timeout_s=60.0)
+    x, y = base.poses[-1].x, base.poses[-1].y
+    first = send_path(base, follow, [(x + 0.02 * step, y) for step in range(201)])
+    base.spin_sim_seconds(3.0)
+    pose = base.poses[-1]
+    assert pose.linear_velocity == pytest.approx(SPEED, abs=1e-3)  # cruising
+    angles = np.linspace(0.0, 0.5, 51)[1:]  # on 0.4 m, then along an arc of 2 m radius
+    path = np.vstack(([(pose.x + 0.02 * step, pose.y) for step in range(21)],
+                      np.stack([pose.x + 0.4 + 2.0 * np.sin(angles),
+                                pose.y + 2.0 * (1.0 - np.cos(angles))], axis=1)))
+    base.poses.clear()
+    second = send_path(base, follow, path)
+    assert path_result(base, first).result.error_code == FollowPath.Result.NONE
+    assert path_result(base, second).status == GoalStatus.STATUS_SUCCEEDED
+    driven = xy(base.poses)
+    handover = [p.linear_velocity for p, position in zip(base.poses, driven, strict=True)
+                if math.dist(position, path[0]) < 0.1]
+    assert min(handover) > 0.99 * SPEED
+    assert distance_to_polyline(driven, path).max() < 3e-3

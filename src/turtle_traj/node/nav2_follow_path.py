@@ -9,7 +9,8 @@ path's start) are behind it, and the robot drives from where it stands to the ne
 `controller_id` picks a controller for the goal (empty: the node's `controller`). Feedback at
 10 Hz: the path length left from the nearest point and the speed commanded. A new goal while
 one runs replaces it, as Nav2's controller server does: the old run drives on while the new path
-is planned, then the new one takes over from where the robot is, without a stop, and the old
+is planned, then the new one takes over from where the robot is, without a stop (on a base
+with acceleration limits its first curve's profile starts at the speed driven), and the old
 goal ends aborted with no error code (a new goal that cannot run leaves the old one running). A
 goal that arrives while one of the node's own trajectories runs is refused. Failures carry
 Nav2's error codes with `error_msg`.

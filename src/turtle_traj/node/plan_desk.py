@@ -37,10 +37,12 @@ class PlanDesk:
         self.current: Planning | None = None
 
     def begin(self, trajectory: str, request: Any, start: Pose2D | None,
-              settings: Settings) -> Planning:
-        """Start planning `request` from `start`; it becomes `current`."""
+              settings: Settings, start_speed: float = 0.0) -> Planning:
+        """Start planning `request` from `start` (the robot moving at `start_speed`, when the
+        plan takes over from a run); it becomes `current`."""
         self.current = Planning(trajectory, request, settings, self._offloader.submit(
-            partial(planner.plan, trajectory, request, start, settings)))
+            partial(planner.plan, trajectory, request, start, settings,
+                    start_speed=start_speed)))
         return self.current
 
     def done(self, planning: Planning) -> None:

@@ -297,7 +297,10 @@ class RunManager:
         refusal = self.refusal(replacing)
         if refusal is not None:
             raise self.refuse(str(refusal), refusal.reason)
-        return self._plans.begin(kind.name, request, self._loop.pose, self.settings)
+        # a path that takes over from a run starts at the speed the robot drives
+        moving = replacing is not None and replacing is self.run
+        speed = abs(self.last_command.linear) if moving else 0.0
+        return self._plans.begin(kind.name, request, self._loop.pose, self.settings, speed)
 
     @serialized
     def _done_planning(self, planning: Planning) -> None:

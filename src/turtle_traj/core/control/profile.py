@@ -71,10 +71,12 @@ class SpeedProfile:
 
     @classmethod
     def plan(cls, polyline: Polyline, config: ControlConfig,
-             shares: tuple[float, float, float] = PLANNING_SHARES) -> SpeedProfile:
+             shares: tuple[float, float, float] = PLANNING_SHARES,
+             start_speed: float = 0.0) -> SpeedProfile:
         """The time-optimal profile of `polyline` under `config`'s limits (a limit of 0 is
         unlimited: it is left out), taking these `shares` of the turn rate, the acceleration
-        and the angular acceleration."""
+        and the angular acceleration, from `start_speed` (from rest, if the limits cannot
+        take that speed where the polyline begins)."""
         angular_share, accel_share, angular_accel_share = shares
         import toppra
         import toppra.algorithm
@@ -98,7 +100,9 @@ class SpeedProfile:
         grid = np.linspace(0.0, length, count + 1)
         instance = toppra.algorithm.TOPPRA(constraints, path, gridpoints=grid,
                                            parametrizer='ParametrizeConstAccel')
-        speed = instance.compute_parameterization(0.0, 0.0)[1]  # (sdd, sd, v): sd is ds/dt
+        speed = instance.compute_parameterization(start_speed, 0.0)[1]  # (sdd, sd, v): ds/dt
+        if speed is None and start_speed:
+            speed = instance.compute_parameterization(0.0, 0.0)[1]
         if speed is None:  # infeasible by the solver: fall back to the curvature's bound
             return cls.curvature_bound(polyline, config)
         speed = np.maximum(np.asarray(speed, dtype=float), 0.0)
@@ -130,12 +134,13 @@ def load_solver() -> None:
     import toppra.constraint  # noqa: F401
 
 
-def profile_for(polyline: Polyline, config: ControlConfig) -> SpeedProfile | None:
-    """The profile a base with acceleration limits follows on `polyline`: the curvature's bound
-    on an endless loop, the time-optimal profile on a curve, and None on a straight line (the
-    window and braking alone bound it there)."""
+def profile_for(polyline: Polyline, config: ControlConfig,
+                start_speed: float = 0.0) -> SpeedProfile | None:
+    """The profile a base with acceleration limits follows on `polyline` (from `start_speed`):
+    the curvature's bound on an endless loop, the time-optimal profile on a curve, and None on
+    a straight line (the window and braking alone bound it there)."""
     if polyline.repeat:
         return SpeedProfile.curvature_bound(polyline, config)
     if not np.any(np.abs(polyline.curvatures) > 1e-9):
         return None
-    return SpeedProfile.plan(polyline, config)
+    return SpeedProfile.plan(polyline, config, start_speed=start_speed)

@@ -44,9 +44,11 @@ from turtle_traj.core.planning.sketches.base import (
 __all__ = ['SKETCHES', 'PlanError', 'largest_size', 'plan']
 
 
-def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings) -> Plan:
+def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
+         start_speed: float = 0.0) -> Plan:
     """Validate a request of this kind of trajectory (a registry name), build its path and check
-    it against the arena; PlanError if not."""
+    it against the arena; PlanError if not. `start_speed`: the robot's speed as the plan takes
+    over (a path replacing the one it drives), where its first curve's profile begins."""
     try:
         drawn = SKETCHES[trajectory](request, start, settings)
         tolerance = corner_tolerance(request, settings, drawing=drawn.pen is not None)
@@ -65,8 +67,9 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings) -> Pl
                           drawn=checked.points())
     if run.limited:  # planned here, not in the control loop (a curve's takes milliseconds)
         planned = replace(planned, profiles=tuple(
-            profile_for(leg, run) if isinstance(leg, Polyline) else None
-            for leg in planned.path.legs))
+            profile_for(leg, run, start_speed if index == 0 else 0.0)
+            if isinstance(leg, Polyline) else None
+            for index, leg in enumerate(planned.path.legs)))
     return planned
 
 
