@@ -248,6 +248,10 @@ def test_a_new_path_takes_over_from_the_running_one_without_a_stop(turtle_system
                       distance_to_polyline(driven, second_path))
     assert gaps.max() < 3e-3
     assert math.dist(driven[-1], second_path[-1]) < 0.01
+    # a bad goal after a replaced one still fails with its code (the two are logged at two
+    # severities: rclpy refused a second severity from one line, and the goal ended with none)
+    empty = path_result(turtle_system, send_path(turtle_system, follow, np.empty((0, 2))))
+    assert empty.result.error_code == Result.INVALID_PATH and empty.result.error_msg
 
 
 def test_a_goal_while_a_drawing_runs_is_refused_with_the_reason(turtle_system, follow):

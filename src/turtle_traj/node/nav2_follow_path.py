@@ -165,9 +165,12 @@ class Nav2FollowPath:
                                    speed=abs(self._runs.last_command.linear))
 
     def _end(self, goal_handle: ServerGoalHandle, code: int, message: str) -> Result:
-        """Abort the goal with Nav2's `code` (a warning in the log, unless it is NONE)."""
-        logger = self._ros.get_logger()
-        (logger.info if code == Result.NONE else logger.warning)(f'{ACTION}: {message}')
+        """Abort the goal with Nav2's `code` (a warning in the log, unless it is NONE). rclpy
+        ties a severity to each line that logs: each severity has its own."""
+        if code == Result.NONE:
+            self._ros.get_logger().info(f'{ACTION}: {message}')
+        else:
+            self._ros.get_logger().warning(f'{ACTION}: {message}')
         goal_handle.abort()
         return Result(error_code=code, error_msg=message)
 
