@@ -54,8 +54,12 @@ class Priority:
         return f'scheduling priority: nice {self.nice}, slice {self.slice_s * 1e3:g} ms'
 
     def report(self, logger) -> None:
-        """Say it once at start-up: info when granted, a warning with the reason when not."""
-        (logger.info if self.granted else logger.warning)(str(self))
+        """Say it once at start-up: info when granted, a warning with the reason when not
+        (each from a line of its own: rclpy ties one severity to a line that logs)."""
+        if self.granted:
+            logger.info(str(self))
+        else:
+            logger.warning(str(self))
 
 
 def priority_for(asked: int | None, by_default: bool) -> Priority | None:
