@@ -99,3 +99,14 @@ def test_a_staircase_given_with_a_corner_tolerance_is_driven_along_its_diagonals
     assert distance_to_polyline(record.xy(), points).max() <= 0.2
     assert record.run.outcome(record.poses[-1], record.elapsed_s).elapsed_s < 0.5 * \
         exact.least_time_s(DEFAULT_SETTINGS.control)
+
+
+def test_the_matched_table_is_printed_only_when_asked(capsys):
+    from turtle_traj.apps.score.main import run
+
+    assert run(['exact', 'dwpp'], None, ['square']) == 0
+    assert 'at equal error' not in capsys.readouterr().out
+    assert run(['exact', 'dwpp'], None, ['square'], matched=True) == 0
+    printed = capsys.readouterr().out
+    assert 'square             dwpp' in printed
+    assert 'the exact follower is ahead at equal error in 1 of 1' in printed

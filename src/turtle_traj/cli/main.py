@@ -170,7 +170,12 @@ def build_parser() -> argparse.ArgumentParser:
     score.add_argument('--course', action='append', default=[], metavar='NAME',
                        help='only this course (repeatable; default: all)')
     score.add_argument('--output', type=Path, metavar='DIR',
-                       help='write score.csv, a plot per course and summary.png here')
+                       help='write score.csv, a plot per course and summary.png here (implies '
+                            '--matched)')
+    score.add_argument('--matched', action='store_true',
+                       help="also run the exact follower with each other controller's maximum "
+                            'error as its corner_tolerance, and say whether it is then no '
+                            'slower within that error (about twice the time)')
     plot = commands.add_parser('plot', help="PNG plots of a recorded run: path over plan, "
                                'deviation, v and omega against their limits, progress')
     plot.add_argument('bag', type=Path, nargs='?', metavar='BAG',

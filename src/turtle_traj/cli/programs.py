@@ -15,7 +15,8 @@ def up(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
 
 def score(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
     from turtle_traj.apps.score.main import run as run_score
-    return run_score(options.controller, options.output, options.course)
+    return run_score(options.controller, options.output, options.course,
+                     matched=options.matched)
 
 
 def teleop(_parser: argparse.ArgumentParser, _options: argparse.Namespace) -> int:

@@ -49,10 +49,10 @@ def _progress(done: int, total: int, what: str) -> None:
 
 
 def score(controllers: Sequence[str], *, robots: Sequence[str] = ROBOTS,
-          courses: Sequence[str] = (), progress=_progress
+          courses: Sequence[str] = (), progress=_progress, matched: bool = False
           ) -> tuple[list[Result], list[Matched]]:
-    """Every chosen course for every controller (courses: names, or all), and the exact
-    follower at each other's error (`matched`).
+    """Every chosen course for every controller (courses: names, or all), and with `matched`
+    the exact follower at each other's error (`matched.matched_runs`).
 
     :raises UnknownController: a name that is not a controller.
     """
@@ -63,25 +63,29 @@ def score(controllers: Sequence[str], *, robots: Sequence[str] = ROBOTS,
     if unknown:
         raise ValueError(f"no course {', '.join(sorted(unknown))}: the courses are "
                          f"{', '.join(c.name for c in standard_courses(tuple(robots)))}")
-    results, matched, total = [], [], len(chosen) * len(controllers)
+    results, matches, total = [], [], len(chosen) * len(controllers)
     with tempfile.TemporaryDirectory() as work:
         for course in chosen:
             for controller in controllers:
                 progress(len(results), total, f'{course.name}: {controller}')
                 results.append(run_course(course, controller, work_dir=Path(work)))
-            matched += matched_runs(course, results[-len(controllers):], Path(work))
+            if matched:
+                matches += matched_runs(course, results[-len(controllers):], Path(work))
     progress(total, total, 'done')
-    return results, matched
+    return results, matches
 
 
-def run(controllers: Sequence[str], output: Path | None, courses: Sequence[str] = ()) -> int:
-    """The command: tables and ranking on stdout, files in `output`; 0, or 2 on a bad name."""
+def run(controllers: Sequence[str], output: Path | None, courses: Sequence[str] = (), *,
+        matched: bool = False) -> int:
+    """The command: tables and ranking on stdout (and the matched runs', with `matched` or an
+    `output`), files in `output`; 0, or 2 on a bad name."""
     robots = ROBOTS if _has_mujoco() else tuple(r for r in ROBOTS if r != 'base')
     if robots != ROBOTS:
         print('(no MuJoCo: the base courses are left out; pip install turtle_traj[physics])')
     try:
         results, matched = score(list(dict.fromkeys(controllers)) or DEFAULT_CONTROLLERS,
-                                 robots=robots, courses=courses)
+                                 robots=robots, courses=courses,
+                                 matched=matched or output is not None)
     except (UnknownController, ValueError) as error:
         print(f'turtle-traj score: {error}', file=sys.stderr)
         return 2
