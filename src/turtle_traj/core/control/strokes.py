@@ -5,9 +5,10 @@ the pen), so the run supervisor drives either. It cuts the path into strokes: co
 polylines with the same pen joined across the corners between them. The controller drives
 each stroke; turns in place before, between and after strokes are the node's own
 (`PathFollower`). A stroke driven backwards is shown to the controller as a forward one (the
-pose turned round, its speeds mirrored). Every command is clamped to the limits and counted;
-an exception, a non-finite command, a wrong type or `LATE_ANSWERS` answers in a row later than
-the control period raise `ControllerFault`, which ends the run.
+pose turned round, its speeds mirrored). The controller's tuning in effect is set on it as
+each stroke starts. Every command is clamped to the limits and counted; an exception, a
+non-finite command, a wrong type or, with an `AnswerTimer`, `LATE_ANSWERS` answers in a row
+later than the control period raise `ControllerFault`, which ends the run.
 """
 
 from __future__ import annotations
