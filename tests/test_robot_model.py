@@ -411,3 +411,22 @@ def test_a_stop_sent_after_moving_commands_is_not_what_a_standing_turtle_stands_
         model.observe(*_echo(command))
     model.observe(0.0, 0.0)
     assert model.in_flight == 0 and model.predict(Pose2D(1.0, 1.0, 0.0), 13 * STEP_S).still
+
+
+def test_the_loop_stands_when_the_model_does_as_each_sensor_tells_it():
+    """One judgement of standing for the run's settling and the model's prediction: an echo
+    stands at zero only; odometry stands within what it resolves (`MEASURED_STILL`)."""
+    from turtle_traj.core.control.loop import ControlLoop
+    from turtle_traj.core.control.robot_model import MEASURED_STILL
+
+    odometry = ControlLoop(STEP_S, echoes=False)
+    creeping = (0.4 * MEASURED_STILL[0], 0.4 * MEASURED_STILL[1])
+    odometry.observe(Pose2D(1.0, 1.0, 0.0), *creeping)
+    assert odometry.standing and odometry.model.standing
+    odometry.observe(Pose2D(1.0, 1.0, 0.0), 2.0 * MEASURED_STILL[0], 0.0)
+    assert not odometry.standing
+    turtlesim = ControlLoop(STEP_S)
+    turtlesim.observe(Pose2D(1.0, 1.0, 0.0), *creeping)
+    assert not turtlesim.standing
+    turtlesim.observe(Pose2D(1.0, 1.0, 0.0), 0.0, 0.0)
+    assert turtlesim.standing

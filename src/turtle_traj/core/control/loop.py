@@ -31,12 +31,10 @@ class ControlLoop:
         self.model = RobotModel(step_s, echoes=echoes)
         self.run: RunSupervisor | None = None
         self.pose: Pose2D | None = None
-        self.standing = True  # the last pose reported zero velocity
 
     def observe(self, pose: Pose2D, linear_echo: float, angular_echo: float) -> None:
         """A pose as turtlesim reports it, with the velocities in effect at its step."""
         self.pose = pose
-        self.standing = linear_echo == 0.0 and angular_echo == 0.0
         if self.run is not None:
             self.run.observe(pose)
         self.model.observe(linear_echo, angular_echo, pose)
@@ -44,7 +42,6 @@ class ControlLoop:
     def forget_pose(self) -> None:
         """The turtle is gone (a reset): no pose until the next one is observed."""
         self.pose = None
-        self.standing = True
 
     def start(self, plan: Plan, *, arena: Arena, now_s: float,
               controller: Chosen | None = None) -> RunSupervisor:
@@ -55,6 +52,11 @@ class ControlLoop:
         self.run = RunSupervisor(plan, start=self.pose, arena=arena, started_s=now_s,
                                  controller=controller)
         return self.run
+
+    @property
+    def standing(self) -> bool:
+        """The last pose shows the robot standing, as the model of the robot judges it."""
+        return self.model.standing
 
     def take_run(self) -> RunSupervisor | None:
         """Detach the run (it has ended) and return it."""

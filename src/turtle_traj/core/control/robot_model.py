@@ -176,7 +176,7 @@ class RobotModel:
         # way between two stops, and the prediction would miss its step)
         expected = self._first if self._in_effect is None else self._in_effect + 1
         matches = self._matches(echo)
-        if self._in_effect is None and self._standing:  # as it stood before any was taken
+        if self._in_effect is None and self.standing:  # as it stood before any was taken
             matches.insert(0, self._first - 1)
         if not matches:  # someone else's command (a stale one, the 1 s timeout): a step on
             if self._in_effect is not None:
@@ -212,8 +212,9 @@ class RobotModel:
         return due[-1] if due else first - 1
 
     @property
-    def _standing(self) -> bool:
-        """The last pose shows the robot standing."""
+    def standing(self) -> bool:
+        """The last pose shows the robot standing: a zero echo, or a measured velocity within
+        what the odometry resolves (`MEASURED_STILL`)."""
         return self._echo == STANDING if self.echoes else all(
             abs(value) <= within for value, within in zip(self._echo, MEASURED_STILL, strict=True))
 
@@ -268,7 +269,7 @@ class RobotModel:
                 y += command.linear * math.sin(theta) * self.step_s
         late = self._late_steps(self._jitter_tail)
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
-        still = self._standing and all(sent.command == STOP for sent in pending)
+        still = self.standing and all(sent.command == STOP for sent in pending)
         return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, self._overrun(last, late),
                           still, turns_first=self.echoes,
                           braking_overrun=self._overrun(
