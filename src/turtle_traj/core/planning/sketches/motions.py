@@ -176,12 +176,12 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
                           corner_angle_rad=corner_angle)
     driven, spent = given, 0.0
     share = SIMPLIFY_SHARE * corner_tolerance(request, settings, drawing=False)
-    fewer = simplified(points, share) if share else points
-    simpler = shapes.follow(start, points=fewer, closed=request.closed,
-                            corner_angle_rad=corner_angle)
-    if _stops(simpler) < _stops(given):  # the tolerance it took is not the corners' to use
-        driven = simpler
-        spent = float(NearestOnPolyline(driven.points()).distances(given.points()).max())
+    if share:
+        simpler = shapes.follow(start, points=simplified(points, share), closed=request.closed,
+                                corner_angle_rad=corner_angle)
+        if _stops(simpler) < _stops(given):
+            driven = simpler  # the tolerance it took is not the corners' to use
+            spent = float(NearestOnPolyline(driven.points()).distances(given.points()).max())
     return Sketch(f'path through {len(points)} points', lambda _: given,
                   drive=lambda _: driven, tolerance_spent=spent,
                   linear_speed=requested_speed('linear_speed', request.linear_speed))
