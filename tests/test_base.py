@@ -231,8 +231,8 @@ def test_nav2s_follow_path_on_a_base_with_inertia_is_exact_and_counts_down(base)
 def test_a_path_taking_over_on_a_base_with_inertia_starts_at_the_speed_it_drives(base):
     """A new FollowPath goal replaces the running one on a base with inertia: its first curve's
     speed profile starts at the speed the base drives, so a path that goes on as the base does
-    is taken over at full speed (from rest, its profile slowed the base to 0.41 m/s within the
-    first 0.1 m)."""
+    is taken over at full speed (a profile from rest would brake it to about 0.41 m/s within
+    the first 0.1 m)."""
     from nav2_msgs.action import FollowPath
 
     from tests.test_nav2_follow_path import path_result, send_path

@@ -104,3 +104,15 @@ def _exists(dotted: str) -> bool:
                 target = getattr(target, name)
             return True
     return False
+
+
+def test_the_controller_tutorial_names_everything_the_public_module_exports():
+    """The tutorial lists what `turtle_traj.api.controller` gives a controller's author: every
+    name it exports, and nothing it does not."""
+    from turtle_traj.api import controller
+
+    page = (ROOT / 'docs' / 'tutorials' / 'write-a-controller.md').read_text()
+    listing = re.search(r'comes from one module, `turtle_traj.api.controller`:(.*?)\n\n', page,
+                        re.S)
+    assert listing is not None
+    assert set(re.findall(r'`(\w+)`', listing[1])) == set(controller.__all__)

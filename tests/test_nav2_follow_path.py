@@ -248,8 +248,8 @@ def test_a_new_path_takes_over_from_the_running_one_without_a_stop(turtle_system
                       distance_to_polyline(driven, second_path))
     assert gaps.max() < 3e-3
     assert math.dist(driven[-1], second_path[-1]) < 0.01
-    # a bad goal after a replaced one still fails with its code (the two are logged at two
-    # severities: rclpy refused a second severity from one line, and the goal ended with none)
+    # a bad goal after a replaced one still fails with its code: the two end at two log
+    # severities, and rclpy allows one severity per logging line
     empty = path_result(turtle_system, send_path(turtle_system, follow, np.empty((0, 2))))
     assert empty.result.error_code == Result.INVALID_PATH and empty.result.error_msg
 

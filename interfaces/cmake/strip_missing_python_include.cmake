@@ -4,7 +4,9 @@
 # machine that built the wheels (e.g. /opt/python/cp311-cp311/include/python3.11). That path
 # does not exist here and CMake's generate step rejects it. Drop every non-existent entry from
 # the imported targets of this directory. On a regular ROS install all entries exist, so this
-# changes nothing there.
+# changes nothing there. Including this file applies it to the including package, after its
+# rosidl_generate_interfaces() (each package includes it OPTIONAL: copied alone, it builds
+# without).
 function(turtle_traj_strip_missing_include_dirs)
   get_property(_targets DIRECTORY PROPERTY IMPORTED_TARGETS)
   foreach(_target IN LISTS _targets)
@@ -21,3 +23,5 @@ function(turtle_traj_strip_missing_include_dirs)
     set_target_properties(${_target} PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_kept}")
   endforeach()
 endfunction()
+
+turtle_traj_strip_missing_include_dirs()

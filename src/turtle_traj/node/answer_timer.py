@@ -11,8 +11,8 @@ import time
 
 # Per thread: the collector's total time so far in it (`total`), and its last start. A
 # collection holds up the thread that runs it; one run by another thread while a controller
-# sleeps or computes is not the controller's excuse (counted for every thread, it once made a
-# controller's 50 ms answer read 49 ms).
+# sleeps or computes is not the controller's excuse (counted for every thread, other threads'
+# collections would be taken off a slow controller's time).
 _collecting = threading.local()
 
 
