@@ -168,3 +168,14 @@ def test_a_circle_stopped_by_request_reports_what_was_driven():
     radius = math.dist((poses[-1].x, poses[-1].y), (5.5, 6.5))
     assert outcome.final_error == pytest.approx(abs(radius - 1.0), abs=1e-4)  # off the path
     assert outcome.final_heading_error == 0.0
+
+
+@pytest.mark.parametrize(('silent_s', 'jumped'), [(0.0, True), (STEP_S, True), (0.55, False)])
+def test_a_gap_in_the_poses_is_driven_through_a_jump_at_one_step_is_not(silent_s, jumped):
+    """0.55 m between two poses a step apart is a teleport (more than 0.5 m a step); after
+    0.55 s without poses (a link cut for a moment, at 1 m/s) it is where the turtle drove."""
+    loop = Loop('circle', shape(size=1.0, forever=True))
+    run, start = loop.run, loop.control.pose  # the run starts from the loop's last pose
+    run.observe(Pose2D(start.x + 0.55, start.y, start.theta), silent_s)
+    assert (run.reason is Ending.POSE_JUMPED) == jumped
+    assert (run.ending is None) == (not jumped)

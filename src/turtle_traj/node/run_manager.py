@@ -126,7 +126,7 @@ class RunManager:
 
     @serialized
     def _on_pose(self, pose: Pose2D, linear_echo: float, angular_echo: float) -> None:
-        self._loop.observe(pose, linear_echo, angular_echo)
+        self._loop.observe(pose, linear_echo, angular_echo, self._silence.seconds())
         self._finish_if_ended()  # a jump ends the run
         self._silence.heard()
 

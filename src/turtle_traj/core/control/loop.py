@@ -32,11 +32,13 @@ class ControlLoop:
         self.run: RunSupervisor | None = None
         self.pose: Pose2D | None = None
 
-    def observe(self, pose: Pose2D, linear_echo: float, angular_echo: float) -> None:
-        """A pose as turtlesim reports it, with the velocities in effect at its step."""
+    def observe(self, pose: Pose2D, linear_echo: float, angular_echo: float,
+                silent_s: float = 0.0) -> None:
+        """A pose as turtlesim reports it, with the velocities in effect at its step, `silent_s`
+        after the pose before (0: the next step's; see `RunSupervisor.observe`)."""
         self.pose = pose
         if self.run is not None:
-            self.run.observe(pose)
+            self.run.observe(pose, silent_s)
         self.model.observe(linear_echo, angular_echo, pose)
 
     def forget_pose(self) -> None:

@@ -25,6 +25,7 @@ from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.projection import PathDeviation
 from turtle_traj.core.geometry.shapes import Arena
+from turtle_traj.core.turtlesim_contract import STEP_S
 
 SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
 # Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.
@@ -138,11 +139,14 @@ class RunSupervisor:
         """The largest distance from the path as drawn, over every pose so far."""
         return self._deviation.largest
 
-    def observe(self, pose: Pose2D) -> None:
-        """A new pose: measured against the path; a jump from the last one aborts the run."""
+    def observe(self, pose: Pose2D, silent_s: float = 0.0) -> None:
+        """A new pose, `silent_s` after the one before (0: the next step's): measured against
+        the path; a jump from the last one aborts the run. A jump is farther than
+        `MAX_POSE_JUMP_M` a step: poses lost on the way (a link cut for a moment) leave a gap
+        the turtle drove on through, not a jump."""
         jump = math.dist((self._pose.x, self._pose.y), (pose.x, pose.y))
         self._pose = pose
-        if jump <= MAX_POSE_JUMP_M:
+        if jump <= MAX_POSE_JUMP_M * max(silent_s / STEP_S, 1.0):
             self.distance += jump
             self._deviation.add(pose.x, pose.y)
         else:
