@@ -9,7 +9,7 @@ through odometry (its measured velocity instead of turtlesim's echo of the comma
 is timed in four phases:
   observe    the model of the robot and the run take the pose (`observe`),
   predict    where the commands in flight take the robot (`RobotModel.predict`),
-  command    the controller's command (the follower's `update`),
+  command    the controller's command (the plan walker's `update`),
   supervise  the rest of the tick: the run's rules, the model's bookkeeping, the echo's nudge.
 The simulator's own step is not timed. Each tree runs in a process of its own, from its own
 `src/` (the old one in a temporary git worktree), round by round in turn; the figures are the
@@ -40,7 +40,13 @@ def measure() -> dict:
     import numpy as np
 
     from turtle_traj.apps.score.courses import PAPER_INERTIA, standard_courses
-    from turtle_traj.core.control import follower, loop, robot_model, strokes, supervisor
+    from turtle_traj.core.control import loop, robot_model, supervisor
+    try:
+        from turtle_traj.core.control.walker import PlanWalker
+        drivers = [PlanWalker]
+    except ImportError:  # an older tree: the exact follower and the stroke driver apart
+        from turtle_traj.core.control import follower, strokes
+        drivers = [follower.PathFollower, strokes.StrokeDriver]
     try:
         from turtle_traj.api.controllers import choose
     except ImportError:  # an older tree: the core's catalogue found controllers by name
@@ -74,8 +80,8 @@ def measure() -> dict:
     timed(robot_model.RobotModel, 'observe', 'observe')
     timed(supervisor.RunSupervisor, 'observe', 'observe')
     timed(robot_model.RobotModel, 'predict', 'predict')
-    timed(follower.PathFollower, 'update', 'command')
-    timed(strokes.StrokeDriver, 'update', 'command')
+    for driver in drivers:
+        timed(driver, 'update', 'command')
 
     results = {}
     courses = {'turtlesim': standard_courses(('turtlesim',)),

@@ -15,17 +15,18 @@ from turtle_traj.apps.score.courses import PAPER_INERTIA, follow_request, step_c
 from turtle_traj.apps.score.loop import drive
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.controller import (
+    Controller,
     Limits,
-    PlanController,
     State,
     Stroke,
     interface_problem,
 )
 from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.controllers.dwpp import Dwpp
+from turtle_traj.core.control.controllers.exact import ExactFollower
 from turtle_traj.core.control.controllers.pure_pursuit import PurePursuit
-from turtle_traj.core.control.follower import PathFollower
-from turtle_traj.core.control.strokes import StrokeDriver, strokes_of
+from turtle_traj.core.control.prediction import Prediction
+from turtle_traj.core.control.walker import PlanWalker, strokes_of
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS, settings_from_values
@@ -283,25 +284,71 @@ def test_an_untimed_choice_lets_a_slow_controller_finish():
 
 def test_the_shipped_controllers_are_offered_by_name():
     assert names()[:3] == ['exact', 'dwpp', 'pure_pursuit']
-    assert resolve('exact') is None and choose('exact') == Chosen()
+    assert resolve('exact') is ExactFollower and choose('exact') == Chosen()
     assert resolve('dwpp') is Dwpp and resolve('pure_pursuit') is PurePursuit
     assert resolve('turtle_traj.core.control.controllers.dwpp:Dwpp') is Dwpp
 
 
 def test_every_controller_drives_the_plan_through_one_interface():
-    """The node asks a `PlanController` for every command: the exact follower is one, and a
-    stroke-level controller is made one stroke by stroke."""
+    """One walker drives every controller, the exact follower a `Controller` like the rest:
+    it turns in place at every corner (its strokes are the plan's legs), the others drive
+    round them (a square is one stroke)."""
     start = Pose2D(5.0, 5.0, 0.0)
     plan = planner.plan('square', make_request(BY_NAME['square'], {'size': 1.0}), start,
                         DEFAULT_SETTINGS)
-    drivers = {name: choose(name).driver(plan, manage_pen=False)
+    walkers = {name: choose(name).driver(plan, manage_pen=False)
                for name in ('exact', 'dwpp', 'pure_pursuit')}
-    assert isinstance(drivers['exact'], PathFollower)
-    assert all(isinstance(driver, StrokeDriver) for name, driver in drivers.items()
-               if name != 'exact')
-    for driver in drivers.values():
-        assert isinstance(driver, PlanController)
-        assert not driver.done and driver.progress(plan.control(DEFAULT_SETTINGS.control)) == 0
+    for walker in walkers.values():
+        assert isinstance(walker, PlanWalker) and isinstance(walker.controller, Controller)
+        assert not walker.done and walker.progress(plan.control(DEFAULT_SETTINGS.control)) == 0
+    assert walkers['exact'].steps == list(plan.path.legs)
+    assert [type(step) for step in walkers['dwpp'].steps] == [Polyline]
+
+
+class _Recording:
+    """Records what the walker hands it, and drives straight on."""
+
+    def start(self, stroke, limits):
+        self.stroke, self.limits, self.states = stroke, limits, []
+
+    def command(self, state):
+        self.states.append(state)
+        return Command(0.5, 0.0)
+
+
+def test_a_controller_is_handed_what_the_model_of_the_robot_knows():
+    """The state carries the prediction's uncertainty and what the robot is, as the exact
+    follower needs them: a user's controller gets what ours gets."""
+    start = Pose2D(2.0, 5.0, 0.0)
+    plan = planner.plan('move', make_request(BY_NAME['move'], {'distance': 2.0}), start,
+                        DEFAULT_SETTINGS)
+    recording = _Recording()
+    walker = PlanWalker(plan, recording, 'recording')
+    predicted = Pose2D(2.01, 5.0, 0.0)
+    prediction = Prediction(predicted, Command(0.5, 0.0), late_steps=2, overrun=(0.016, 0.0),
+                            still=False, turns_first=False, braking_overrun=(0.03, 0.0))
+    walker.update(start, DEFAULT_SETTINGS.control, prediction)
+    state = recording.states[0]
+    assert (state.pose, state.measured, state.velocity) == (predicted, start, Command(0.5, 0.0))
+    assert (state.late_steps, state.overrun, state.braking_overrun) == (2, (0.016, 0.0),
+                                                                       (0.03, 0.0))
+    assert state.standing is False and state.turns_first is False
+    assert recording.stroke.tolerance == DEFAULT_SETTINGS.control.position_tolerance
+    assert recording.stroke.endless is False and np.allclose(recording.stroke.points[-1],
+                                                            (4.0, 5.0))
+
+
+def test_the_exact_followers_gains_are_the_nodes_settings():
+    """Its `Tunable`s named as node settings take the node's values as each stroke starts,
+    and are not served again under the controller's prefix."""
+    assert Chosen().tunables == ()
+    start = Pose2D(2.0, 5.0, 0.0)
+    plan = planner.plan('move', make_request(BY_NAME['move'], {'distance': 2.0}), start,
+                        DEFAULT_SETTINGS)
+    walker = Chosen().driver(plan, manage_pen=False)
+    config = replace(DEFAULT_SETTINGS.control, heading_gain=3.0, cross_track_gain=7.0)
+    walker.update(start, config)
+    assert (walker.controller.heading_gain, walker.controller.cross_track_gain) == (3.0, 7.0)
 
 
 class _NoCommand:

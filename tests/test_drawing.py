@@ -11,7 +11,8 @@ import svgelements
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from turtle_traj.core.control.follower import PathFollower
+from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.geometry import drawing, svg, text
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
 from turtle_traj.core.geometry.shapes import ShapeError
@@ -196,7 +197,7 @@ def test_hello_ros_needs_less_pen_up_travel_once_ordered():
 def test_the_follower_waits_for_the_pen_before_each_curve():
     path = drawing.drawing_path(Pose2D(1.0, 1.0, 0.0), [np.array([(2.0, 1.0), (3.0, 1.0)])],
                                 corner_angle_rad=0.1)
-    follower = PathFollower(path, manage_pen=True)
+    follower = Chosen().driver(Plan('drawing', path), manage_pen=True)  # the exact follower
     config = DEFAULT_SETTINGS.control
     first = follower.update(Pose2D(1.0, 1.0, 0.0), config)
     assert (first.linear, first.angular) == (0.0, 0.0) and follower.pen_wanted is False
@@ -209,7 +210,7 @@ def test_the_follower_waits_for_the_pen_before_each_curve():
     assert (command.linear, command.angular) == (0.0, 0.0) and follower.pen_wanted is True
     follower.pen_down = True
     assert follower.update(at_stroke, config).linear > 0.0
-    plain = PathFollower(path)  # not managing the pen: drives at once
+    plain = Chosen().driver(Plan('drawing', path), manage_pen=False)  # drives at once
     assert plain.update(Pose2D(1.0, 1.0, 0.0), config).linear > 0.0
 
 

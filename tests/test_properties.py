@@ -9,7 +9,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from turtle_traj.core.control.follower import PathFollower
+from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.geometry import shapes
 from turtle_traj.core.geometry.angles import shortest_angular_distance, wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
@@ -120,10 +120,10 @@ def test_follower_commands_are_finite_and_within_limits(kind, start, poses, conf
                'rotate': SimpleNamespace(angle=-7.0, speed=0.0)}.get(
         kind, shape(sides=5, size=0.5, turns=1.0))
     try:
-        path = planning.plan(kind, request, start, DEFAULT_SETTINGS).path
+        plan = planning.plan(kind, request, start, DEFAULT_SETTINGS)
     except PlanError:
         return
-    follower = PathFollower(path)
+    follower = Chosen().driver(plan, manage_pen=False)  # the exact follower
     for pose in poses:
         command = follower.update(pose, config)
         assert math.isfinite(command.linear) and math.isfinite(command.angular)

@@ -75,7 +75,7 @@ def test_a_turtle_pushed_into_the_wall_is_stopped_but_may_leave_it():
 
 def test_settling_waits_for_standing_still_at_most_a_few_periods():
     run = Loop('rotate', SimpleNamespace(angle=0.5, speed=0.0)).run
-    run.follower.leg_index = len(run.plan.path.legs)  # the path is done
+    run.follower.step_index = len(run.follower.steps)  # the path is done
     pose = Pose2D(5.5, 5.5, 0.5)
     for period in range(SETTLE_PERIODS):
         run.command(pose, False, SETTINGS.control, ARENA, period * 0.016)
@@ -92,7 +92,7 @@ def test_elapsed_time_runs_from_the_first_command():
     assert run.started_s == 0.0
     pose = Pose2D(5.5, 5.5, 0.0)
     run.command(pose, True, SETTINGS.control, ARENA, 0.3)  # the first command, 0.3 s later
-    run.follower.leg_index = len(run.plan.path.legs)  # the path is done
+    run.follower.step_index = len(run.follower.steps)  # the path is done
     run.command(pose, True, SETTINGS.control, ARENA, 1.3)
     assert run.ending == (True, 'rotate done')
     assert run.outcome(pose, now_s=1.3).elapsed_s == pytest.approx(1.0)

@@ -16,7 +16,6 @@ from importlib.metadata import entry_points
 
 from turtle_traj.core.control.controller import interface_problem
 from turtle_traj.core.control.controllers.catalogue import (
-    EXACT,
     SHIPPED,
     Chosen,
     ControllerFactory,
@@ -32,7 +31,7 @@ class UnknownController(ValueError):
 def names() -> list[str]:
     """Every controller offered by name: shipped, then installed entry points."""
     installed = sorted(point.name for point in entry_points(group=ENTRY_POINT_GROUP))
-    return [EXACT, *SHIPPED, *(name for name in installed if name not in SHIPPED)]
+    return [*SHIPPED, *(name for name in installed if name not in SHIPPED)]
 
 
 def choose(name: str) -> Chosen:
@@ -44,14 +43,12 @@ def choose(name: str) -> Chosen:
 
 
 @functools.lru_cache(maxsize=64)
-def resolve(name: str) -> ControllerFactory | None:
-    """The class a name stands for (None: the exact follower); found once per process (the
-    node checks its parameter as it is declared, then takes the class).
+def resolve(name: str) -> ControllerFactory:
+    """The class a name stands for; found once per process (the node checks its parameter as
+    it is declared, then takes the class).
 
     :raises UnknownController: with the reason.
     """
-    if name == EXACT:
-        return None
     if name in SHIPPED:
         return SHIPPED[name]
     points = [point for point in entry_points(group=ENTRY_POINT_GROUP) if point.name == name]

@@ -1,5 +1,5 @@
 """How long a controller took to answer, less what the machine is to blame for: the node's
-`strokes.AnswerTimer`. A controller is not late because its thread waited for a CPU (Linux's
+`walker.AnswerTimer`. A controller is not late because its thread waited for a CPU (Linux's
 schedstat; nothing elsewhere) or collected garbage.
 """
 

@@ -26,7 +26,7 @@ from turtle_traj.apps.score.report import (
 from turtle_traj.apps.score.runner import Result, run_course
 from turtle_traj.core.control.controllers.catalogue import SHIPPED
 
-DEFAULT_CONTROLLERS = ('exact', *SHIPPED)
+DEFAULT_CONTROLLERS = tuple(SHIPPED)
 
 
 def _has_mujoco() -> bool:

@@ -13,9 +13,9 @@ from pathlib import Path
 
 from turtle_traj.apps.score.courses import Course
 from turtle_traj.apps.score.runner import Result, run_course
+from turtle_traj.core.control.controllers.catalogue import EXACT
 from turtle_traj.core.parameters.table import PARAMETER
 
-EXACT = 'exact'
 LARGEST_TOLERANCE_M = PARAMETER['corner_tolerance'].high
 
 

@@ -1,18 +1,15 @@
-"""The controller interfaces: what a path-following controller is given, and what it gives back.
+"""The controller interface: what a path-following controller is given, and what it gives back.
 
-Pure Python, no ROS. Two levels. `PlanController` drives a whole plan (its legs, turns in
-place and pen) and is what the node asks for a command every control period: the exact follower
-(`follower.PathFollower`) is one, and `strokes.StrokeDriver` makes one of any `Controller`.
-
-`Controller`, the one to write, follows one *stroke* at a time: a polyline the robot drives
+Pure Python, no ROS. A `Controller` follows one *stroke* at a time: a polyline the robot drives
 without lifting the pen (a square's four sides, a letter's outline, a step curve). The node
 hands it the stroke and the base's limits when the stroke starts; then, once per control
 period, the robot's state as the model of the robot predicts it for the moment the command
-takes effect; the controller answers with a velocity command, or None once it has arrived.
-Everything else is the node's: turns in place between strokes and at the end (`rotate`, a
-final heading), the pen, the watchdogs, and keeping the robot safe from the controller
-(`strokes.StrokeDriver`: commands clamped to the limits, NaN, exceptions and late answers end
-the run with the robot stopped).
+takes effect, with how uncertain that moment is; the controller answers with a velocity
+command, or None once it has arrived. Everything else is the node's (`walker.PlanWalker`, the
+same for every controller, the node's exact follower included): turns in place between strokes
+and at the end (`rotate`, a final heading), the pen, progress and laps, the watchdogs, and
+keeping the robot safe from the controller (commands clamped to the limits; NaN, exceptions
+and late answers end the run with the robot stopped).
 
 A minimal controller (a proportional go-to-goal)::
 
@@ -36,8 +33,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from turtle_traj.core.control.commands import Command
-from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.prediction import Prediction
+from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.path import Pose2D
 
 
@@ -64,6 +60,16 @@ class Stroke:
 
     points: np.ndarray  # (N, 2)
     lap: int = 0  # an endless stroke (a circle until stopped) comes again, lap after lap
+    # it ends where it starts and has no end: a controller may drive on round it, or answer
+    # None at its last point, and the next lap starts
+    endless: bool = False
+    # m from its last point that count as arrived: the node's position_tolerance, or the
+    # request's on the plan's last stroke
+    tolerance: float = 0.0
+    # on a base with acceleration limits, the time-optimal speed along the stroke as the node
+    # planned it with the request (`profile.SpeedProfile.speed_at(arc length)`); None: none
+    # planned (no limits, a straight line, a stroke of several legs)
+    profile: SpeedProfile | None = None
 
 
 @dataclass(frozen=True)
@@ -74,53 +80,38 @@ class State:
     velocity: Command  # the velocity in effect until then (the last command sent)
     measured: Pose2D  # the last pose the robot reported
     elapsed_s: float  # control periods since the stroke started, in seconds
+    # How uncertain the moment is (`robot_model`): the next command may act this many control
+    # steps longer than one (a late arrival, a late tick), 99 times in 100,
+    late_steps: int = 0
+    # carrying the robot this much (m, rad) beyond `pose` with `velocity` as it does;
+    overrun: tuple[float, float] = (0.0, 0.0)
+    # as `overrun` for a whole braking at the deceleration limit, one of whose commands may
+    # act late (a base with inertia)
+    braking_overrun: tuple[float, float] = (0.0, 0.0)
+    standing: bool = True  # the robot stands, and every command on its way is a stop
+    # what the robot is: each of its steps turns first and then moves along the new heading
+    # (turtlesim); False: it drives arcs (a base)
+    turns_first: bool = True
+    # the limits in effect now: the node's parameters may change them during a stroke (None:
+    # those the stroke started with)
+    limits: Limits | None = None
 
 
 @runtime_checkable
 class Controller(Protocol):
-    """A path-following controller: `start` once per stroke, then `command` every period."""
+    """A path-following controller: `start` once per stroke, then `command` every period.
+
+    A controller may set the class attribute `turns_at_corners = True`: the node then turns in
+    place at every corner of the path, and each stroke is the stretch between two corners
+    (the exact follower's corners at 0.0 mm). By default it drives round corners up to
+    `walker.MAX_CORNER_RAD` itself.
+    """
 
     def start(self, stroke: Stroke, limits: Limits) -> None:
         """A new stroke begins (the robot stands at or near its first point)."""
 
     def command(self, state: State) -> Command | None:
         """This period's velocity command; None once the stroke's end is reached."""
-
-
-@runtime_checkable
-class PlanController(Protocol):
-    """A controller of a whole plan, made for one run: every control period the node hands it
-    the last pose and the model of the robot's prediction, and sends the command it returns.
-
-    It reports how far it got (`mark`, `progress`: the run's watchdog and feedback) and when it
-    is `done`; with the pen managed, it names the pen state it waits for (`pen_wanted`) and the
-    node tells it the state the simulator confirmed (`pen_down`).
-    """
-
-    pen_down: bool | None
-    pen_wanted: bool | None
-
-    @property
-    def done(self) -> bool:
-        """The plan's last leg is finished."""
-
-    @property
-    def mark(self) -> tuple[int, float]:
-        """Where it is: the index of its current step, and how much of that step is done."""
-
-    def progress(self, config: ControlConfig) -> float:
-        """How much of the plan is driven, 0 to 1."""
-
-    @property
-    def clamped_percent(self) -> float:
-        """The share of its commands the node had to clamp to the limits, in percent."""
-
-    def report(self) -> str:
-        """What the run's message says of it once done ('' for nothing)."""
-
-    def update(self, pose: Pose2D, config: ControlConfig,
-               prediction: Prediction | None = None) -> Command:
-        """This period's command (a stop once done)."""
 
 
 def interface_problem(candidate: object) -> str | None:

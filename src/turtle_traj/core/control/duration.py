@@ -19,7 +19,7 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.path import Path, Polyline, Turn
 
-CURVATURE_SHARE = 0.8  # of the top turn rate, on a curve without limits (PathFollower's)
+CURVATURE_SHARE = 0.8  # of the top turn rate, on a curve without limits (the exact follower's)
 
 
 def ramp_s(distance: float, top: float, speeding_up: float, braking: float) -> float:

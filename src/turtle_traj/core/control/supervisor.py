@@ -15,12 +15,11 @@ from dataclasses import dataclass
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.controller import PlanController
 from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
-from turtle_traj.core.control.strokes import ControllerFault
+from turtle_traj.core.control.walker import ControllerFault, PlanWalker
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.projection import PathDeviation
@@ -86,7 +85,7 @@ class RunSupervisor:
         self._best_mark = (0, 0.0)  # the furthest the follower got, and when
         self._best_mark_s = started_s
 
-    def _driver(self, controller: Chosen | None) -> PlanController:
+    def _driver(self, controller: Chosen | None) -> PlanWalker:
         """The chosen controller of the whole plan (None: the exact follower). One that cannot
         be made ends the run at once, with the exact follower left standing in."""
         chosen, manage_pen = controller or Chosen(), self.plan.pen is not None
@@ -122,7 +121,7 @@ class RunSupervisor:
         self.follower.pen_down = down
 
     def progress(self, config: ControlConfig) -> float:
-        """How much of the plan is driven, 0 to 1 (see `PathFollower.progress`)."""
+        """How much of the plan is driven, 0 to 1 (see `PlanWalker.progress`)."""
         return self.follower.progress(self.plan.control(config))
 
     def distance_from_path(self, pose: Pose2D) -> float:

@@ -1,26 +1,30 @@
-"""A controller chosen for a run (`Chosen`): the exact follower, or a `Controller` class driven
-stroke by stroke, with what times its answers and reads its tuning. Pure Python: finding a
-controller by name (entry points, imports) is `turtle_traj.api.controllers`'s job.
+"""A controller chosen for a run (`Chosen`): a `Controller` class, driven by the plan walker,
+with what times its answers and reads its tuning. Pure Python: finding a controller by name
+(entry points, imports) is `turtle_traj.api.controllers`'s job.
 
-`exact` is the node's own follower (`follower.PathFollower`); `dwpp` and `pure_pursuit` are
+`exact` is the node's own follower (`exact.ExactFollower`); `dwpp` and `pure_pursuit` are
 shipped beside it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
-from turtle_traj.core.control.controller import Controller, PlanController
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.controller import Controller
 from turtle_traj.core.control.controllers.dwpp import Dwpp
+from turtle_traj.core.control.controllers.exact import ExactFollower
 from turtle_traj.core.control.controllers.pure_pursuit import PurePursuit
-from turtle_traj.core.control.follower import PathFollower
 from turtle_traj.core.control.plan import Plan
-from turtle_traj.core.control.strokes import AnswerTimer, StrokeDriver
 from turtle_traj.core.control.tuning import Spec, tunables
+from turtle_traj.core.control.walker import AnswerTimer, PlanWalker
 
 EXACT = 'exact'
-SHIPPED: dict[str, type] = {'dwpp': Dwpp, 'pure_pursuit': PurePursuit}
+SHIPPED: dict[str, type] = {EXACT: ExactFollower, 'dwpp': Dwpp, 'pure_pursuit': PurePursuit}
+# A controller's tuning named as one of these is the node's own setting, served once under
+# its own name (the exact follower's `heading_gain`), not under the controller's prefix.
+NODE_SETTINGS = frozenset(field.name for field in fields(ControlConfig))
 
 ControllerFactory = Callable[[], Controller]
 TuningSource = Callable[[], Mapping[str, float]]  # the tuning's values now, by name
@@ -31,8 +35,8 @@ class Chosen:
     """A controller chosen by name: a new one is made for every run."""
 
     name: str = EXACT
-    factory: ControllerFactory | None = None  # a `Controller` class; None: the exact follower
-    # Times its answers: later than the control period ends the run (`strokes.LATE_ANSWERS`
+    factory: ControllerFactory = ExactFollower  # a `Controller` class
+    # Times its answers: later than the control period ends the run (`walker.LATE_ANSWERS`
     # in a row; the node's runs, in real or lock-step time). None in pure loops (`turtle-traj
     # score`), whose simulated time waits for the controller: their figures then never depend
     # on how busy the machine is.
@@ -47,17 +51,14 @@ class Chosen:
 
     @property
     def tunables(self) -> tuple[Spec, ...]:
-        """The tuning its class declares (none for the exact follower)."""
-        return () if self.factory is None else tunables(self.factory)
+        """The tuning its class declares of its own (`NODE_SETTINGS` are the node's)."""
+        return tuple(spec for spec in tunables(self.factory) if spec.name not in NODE_SETTINGS)
 
-    def driver(self, plan: Plan, *, manage_pen: bool) -> PlanController:
-        """The controller of this run's whole plan: the exact follower, or the chosen
-        `Controller` stroke by stroke (its constructor's exception propagates)."""
-        if self.factory is None:
-            return PathFollower(plan.path, end_tolerance=plan.end_tolerance,
-                                manage_pen=manage_pen, profiles=plan.profiles)
-        return StrokeDriver(plan.path, self.factory(), self.name, manage_pen=manage_pen,
-                            timer=self.timer, tuning=self.tuning)
+    def driver(self, plan: Plan, *, manage_pen: bool) -> PlanWalker:
+        """This run's plan, walked with a new controller of the class (its constructor's
+        exception propagates)."""
+        return PlanWalker(plan, self.factory(), self.name, manage_pen=manage_pen,
+                          timer=self.timer, tuning=self.tuning)
 
 
 def parameter_prefix(name: str) -> str:

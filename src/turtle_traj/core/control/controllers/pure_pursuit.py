@@ -18,7 +18,7 @@ Tracking", 2023), written from that description:
 
 Those numbers are its tuning (`tuning.Tunable`), with RPP's names and defaults: the node serves
 them as the parameters `pure_pursuit.<name>`. The node clamps each command to the base's limits
-(`strokes.StrokeDriver`).
+(`walker.PlanWalker`).
 """
 
 from __future__ import annotations

@@ -1,14 +1,15 @@
-"""A path driven stroke by stroke by any `Controller`, with the robot kept safe from it.
+"""A plan driven by any `Controller`, the node's exact follower included. Pure Python.
 
-Pure Python. `StrokeDriver` has the surface of `PathFollower` (update, done, mark, progress,
-the pen), so the run supervisor drives either. It cuts the path into strokes: consecutive
-polylines with the same pen joined across the corners between them. The controller drives
-each stroke; turns in place before, between and after strokes are the node's own
-(`PathFollower`). A stroke driven backwards is shown to the controller as a forward one (the
-pose turned round, its speeds mirrored). The controller's tuning in effect is set on it as
-each stroke starts. Every command is clamped to the limits and counted; an exception, a
-non-finite command, a wrong type or, with an `AnswerTimer`, `LATE_ANSWERS` answers in a row
-later than the control period raise `ControllerFault`, which ends the run.
+`PlanWalker` walks the plan's steps: strokes, which the controller drives, and turns in place,
+which the node makes (`trackers.TurnTracker`). A controller that `turns_at_corners` (the
+exact follower) gets each stretch between two corners as a stroke; any other gets polylines
+with the same pen joined across the corners between them, up to `MAX_CORNER_RAD`. The walker
+keeps the pen as each stroke needs it, measures progress itself (the same for every
+controller), starts the laps of an endless stroke, and sets the controller's tuning as each
+stroke starts. A stroke driven backwards is shown to the controller as a forward one (the
+pose turned round, its speeds mirrored). Every command is clamped to the limits and counted;
+an exception, a non-finite command, a wrong type or, with an `AnswerTimer`, `LATE_ANSWERS`
+answers in a row later than the control period raise `ControllerFault`, which ends the run.
 """
 
 from __future__ import annotations
@@ -23,8 +24,9 @@ from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controller import Controller, Limits, State, Stroke
 from turtle_traj.core.control.dynamics import within_reach
-from turtle_traj.core.control.follower import PathFollower
+from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
+from turtle_traj.core.control.trackers import TurnTracker
 from turtle_traj.core.control.tuning import tune
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 from turtle_traj.core.geometry.projection import PolylineSegments
@@ -86,54 +88,70 @@ class AnswerTimer(Protocol):
 
 
 class _Along:
-    """How far along a polyline a pose is (0 to 1): the closest point from a little behind
-    the last match to a little ahead of it (further than a robot drives in a period, too short
-    to jump to a later part of the stroke that passes close by)."""
+    """How far along a stroke a pose is (0 to 1 of a lap): the closest point from a little
+    behind the last match to a little ahead of it (further than a robot drives in a period, too
+    short to jump to a later part of the stroke that passes close by). On an endless stroke the
+    window runs on round its start, into the next lap."""
 
     BEHIND_M, AHEAD_M = 0.05, 0.25
 
-    def __init__(self, points: np.ndarray) -> None:
+    def __init__(self, points: np.ndarray, endless: bool) -> None:
         self.segments = PolylineSegments(points)
         self.lengths = np.hypot(*np.diff(points, axis=0).T)
         self.cumulative = np.concatenate(([0.0], np.cumsum(self.lengths)))
+        self.endless = endless
         self.arc = 0.0
         self.last = 0.0  # the fraction last found
 
     def fraction(self, pose: Pose2D) -> float:
-        cumulative = self.cumulative
+        cumulative, count = self.cumulative, len(self.lengths)
         first = max(int(np.searchsorted(cumulative, self.arc - self.BEHIND_M)) - 1, 0)
-        last = min(int(np.searchsorted(cumulative, self.arc + self.AHEAD_M)) + 1,
-                   len(self.lengths))
-        index, along, _ = self.segments.project(pose.x, pose.y, range(first, last))
+        ahead = self.arc + self.AHEAD_M
+        candidates = list(range(first, min(int(np.searchsorted(cumulative, ahead)) + 1, count)))
+        if self.endless and ahead > cumulative[-1]:  # round the start, into the next lap
+            candidates += range(min(int(np.searchsorted(cumulative, ahead - cumulative[-1])) + 1,
+                                    count))
+        index, along, _ = self.segments.project(pose.x, pose.y, candidates)
         self.arc = cumulative[index] + along * self.lengths[index]
         self.last = float(self.arc / max(cumulative[-1], 1e-12))
         return self.last
 
 
-class StrokeDriver:
-    """Drives `path` with `controller`, a stroke at a time (see the module's docstring).
+class PlanWalker:
+    """Drives `plan` with `controller`, a stroke at a time (see the module's docstring).
+
+    With `manage_pen`, a stroke starts only once the pen is as it needs (`Polyline.pen`):
+    until the caller reports that state in `pen_down`, the walker holds the robot with STOP and
+    names the state it waits for in `pen_wanted` (unknown, None, at first).
 
     :param name: the controller's name, for the messages.
+    :param tuning: the controller's own tuning now, by name; the rest of its `Tunable`s named
+        as one of the node's settings (`ControlConfig`, `heading_gain`) take the node's value.
     """
 
-    def __init__(self, path: Path, controller: Controller, name: str, *,
+    def __init__(self, plan: Plan, controller: Controller, name: str, *,
                  manage_pen: bool = False, timer: AnswerTimer | None = None,
                  tuning: Callable[[], Mapping[str, float]] | None = None) -> None:
-        self.path, self.controller, self.name = path, controller, name
-        self.tuning = tuning  # the controller's tuning now, set before each stroke starts
+        self.plan, self.controller, self.name = plan, controller, name
+        self.tuning = tuning
         self.timer = timer  # None: untimed; else LATE_ANSWERS late answers end the run
         self.manage_pen = manage_pen
         self.pen_down: bool | None = None
         self.pen_wanted: bool | None = None
-        self.steps = strokes_of(path)
+        corners = getattr(controller, 'turns_at_corners', False)
+        self.steps = list(plan.path.legs) if corners else strokes_of(plan.path)
+        # each step's speed profile, where a step is one leg of the plan, planned with it
+        self._profiles = plan.profiles if corners else ()
         self.step_index = 0
         self.commands = 0  # commands the controller gave
         self.clamped = 0  # of them, changed to stay within the limits
-        self._turn: PathFollower | None = None
+        self._turn: TurnTracker | None = None
         self._along: _Along | None = None
         self._lap = 0
         self._periods = 0  # commands asked for in this stroke
         self._late = 0  # answers in a row later than the period
+        self._last_command = STOP  # for a caller without a model of the robot
+        self._limits: tuple[ControlConfig, Limits] | None = None  # settings, their limits
 
     @property
     def done(self) -> bool:
@@ -141,14 +159,14 @@ class StrokeDriver:
 
     @property
     def mark(self) -> tuple[int, float]:
-        """Where the driver is: its step, and how much of it is driven (0 to 1)."""
+        """Where the walker is: its step, and how much of it is driven (0 to 1)."""
         if self._turn is not None:
-            return self.step_index, self._turn.mark[1]
+            return self.step_index, self._turn.fraction
         return self.step_index, self._along.last if self._along else 0.0
 
     def progress(self, config: ControlConfig) -> float:
-        """How much of the path is driven, 0 to 1, each step weighted by its time at top
-        speed."""
+        """How much of the plan is driven, 0 to 1, each step weighted by its time at top
+        speed (so turns in place count); an endless stroke shows its current lap's."""
         costs = [step.length / config.linear_speed if isinstance(step, Polyline)
                  else abs(step.sweep_rad) / config.angular_speed for step in self.steps]
         done = sum(costs[:self.step_index])
@@ -161,17 +179,26 @@ class StrokeDriver:
         return 100.0 * self.clamped / max(self.commands, 1)
 
     def report(self) -> str:
-        """How many of the controller's commands were clamped to the limits."""
+        """How many of the controller's commands were clamped to the limits, if any were."""
+        if not self.clamped:
+            return ''
         return f' ({self.name}: {self.clamped} of {self.commands} commands clamped to the limits)'
 
     def update(self, pose: Pose2D, config: ControlConfig,
                prediction: Prediction | None = None) -> Command:
-        """This period's command (STOP once done, or while the pen is not as it needs).
+        """This period's command, steered from where the commands on their way will take the
+        robot (`prediction`, from `RobotModel.predict`; without it each command is taken to
+        act at once); STOP once done, or while the pen is not as it needs.
 
         :raises ControllerFault: the controller raised, answered late or out of type.
         """
         if prediction is None:
-            prediction = Prediction.immediate(pose)
+            prediction = Prediction.immediate(pose, self._last_command)
+        self._last_command = command = self._next_command(pose, config, prediction)
+        return command
+
+    def _next_command(self, pose: Pose2D, config: ControlConfig,
+                      prediction: Prediction) -> Command:
         while not self.done:
             step = self.steps[self.step_index]
             if isinstance(step, Turn):
@@ -191,25 +218,22 @@ class StrokeDriver:
     def _turn_in_place(self, turn: Turn, pose: Pose2D, config: ControlConfig,
                        prediction: Prediction) -> Command | None:
         if self._turn is None:
-            self._turn = PathFollower(Path((turn,)))
-        command = self._turn.update(pose, config, prediction)
-        return None if self._turn.done else command
+            self._turn = TurnTracker(turn, pose)
+        command = self._turn.update(pose, prediction, config)
+        return None if command is None else within_reach(command, prediction.velocity, config)
 
     def _stroke(self, stroke: Polyline, pose: Pose2D, config: ControlConfig,
                 prediction: Prediction) -> Command | None:
         flip = math.pi if stroke.reverse else 0.0
         if self._along is None:
-            self._along, self._periods = _Along(stroke.points), 0
-            if self.tuning is not None:
-                tune(self.controller, self.tuning())
-            self._call('start', Stroke(stroke.points, self._lap), Limits(
-                config.linear_speed, config.angular_speed, config.max_linear_accel,
-                config.max_angular_accel, config.period_s, config.max_linear_decel))
+            self._start(stroke, config)
         self._along.fraction(pose)
         velocity = prediction.velocity
         state = State(Pose2D(prediction.pose.x, prediction.pose.y, prediction.pose.theta + flip),
                       Command(-velocity.linear if flip else velocity.linear, velocity.angular),
-                      Pose2D(pose.x, pose.y, pose.theta + flip), self._periods * config.period_s)
+                      Pose2D(pose.x, pose.y, pose.theta + flip), self._periods * config.period_s,
+                      prediction.late_steps, prediction.overrun, prediction.braking_overrun,
+                      prediction.still, prediction.turns_first, self._limits_of(config))
         self._periods += 1
         answer = self._call('command', state, period_s=config.period_s)
         if answer is None:
@@ -223,9 +247,29 @@ class StrokeDriver:
             command = Command(-command.linear, command.angular)
         return self._clamped(command, prediction.velocity, config)
 
+    def _start(self, stroke: Polyline, config: ControlConfig) -> None:
+        """The controller's tuning set, and the stroke handed to it."""
+        self._along, self._periods = _Along(stroke.points, stroke.repeat), 0
+        values = {**vars(config), **(self.tuning() if self.tuning is not None else {})}
+        tune(self.controller, values)
+        last = self.step_index == len(self.steps) - 1
+        tolerance = (self.plan.end_tolerance if last and self.plan.end_tolerance is not None
+                     else config.position_tolerance)
+        profile = self._profiles[self.step_index] if self._profiles else None
+        self._call('start', Stroke(stroke.points, self._lap, stroke.repeat, tolerance, profile),
+                   self._limits_of(config))
+
+    def _limits_of(self, config: ControlConfig) -> Limits:
+        """The limits of `config`, made again only when the settings change."""
+        if self._limits is None or self._limits[0] is not config:
+            self._limits = (config, Limits(
+                config.linear_speed, config.angular_speed, config.max_linear_accel,
+                config.max_angular_accel, config.period_s, config.max_linear_decel))
+        return self._limits[1]
+
     def _call(self, method: str, *args, period_s: float | None = None):
         """The controller's answer; timed against `period_s` when one is given and the
-        driver has a timer."""
+        walker has a timer."""
         timer = self.timer if period_s is not None else None
         mark = timer.start() if timer is not None else None
         try:
