@@ -56,6 +56,14 @@ def measure() -> dict:
     from turtle_traj.core.turtlesim_contract import STEP_S
     from turtle_traj.sim.physics import World
 
+    def _loop(loop, odometry: bool, step_s: float):
+        """A control loop for turtlesim or an odometry base (an older tree took a flag)."""
+        try:
+            from turtle_traj.core.control.observers import ODOMETRY_BASE, TURTLESIM
+        except ImportError:
+            return loop.ControlLoop(step_s, echoes=not odometry)
+        return loop.ControlLoop(step_s, robot=ODOMETRY_BASE if odometry else TURTLESIM)
+
     def _untimed(name: str):
         """The controller, its answers untimed (an older tree's choose timed them unless told
         not to)."""
@@ -95,7 +103,7 @@ def measure() -> dict:
                                     course.settings)
                 world = World(inertia=None if robot == 'turtlesim' else PAPER_INERTIA)
                 turtle = world.spawn(course.start.x, course.start.y, course.start.theta, 't')
-                control = loop.ControlLoop(STEP_S, echoes=robot != 'odometry')
+                control = _loop(loop, robot == 'odometry', STEP_S)
                 control.observe(course.start, 0.0, 0.0)
                 run = control.start(plan, arena=course.settings.arena, now_s=0.0,
                                     controller=_untimed(controller))

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from turtle_traj.core.control.commands import STOP, Command
+from turtle_traj.core.control.observers import ODOMETRY_BASE
 from turtle_traj.core.control.quantile import RunningQuantile, WindowQuantile
 from turtle_traj.core.control.robot_model import BRAKING_WINDOW, RATE, RobotModel
 from turtle_traj.core.geometry.path import Pose2D
@@ -342,7 +343,7 @@ def test_a_stop_is_never_nudged_and_odometry_needs_no_nudging():
     for step in range(3):
         model.sent(model.distinct(STOP), step * STEP_S)
     assert model.distinct(STOP) == STOP
-    odometry = RobotModel(STEP_S, echoes=False)
+    odometry = RobotModel(STEP_S, robot=ODOMETRY_BASE)
     for step in range(3):
         odometry.sent(odometry.distinct(Command(1.0, 0.0)), step * STEP_S)
     assert odometry.distinct(Command(1.0, 0.0)) == Command(1.0, 0.0)
@@ -353,7 +354,7 @@ def test_a_stop_is_never_nudged_and_odometry_needs_no_nudging():
 def _base_with_delay(delay: int, commands: list[Command]) -> RobotModel:
     """A base that acts on each command `delay` steps after it was sent, one command a step,
     its odometry (pose and measured velocity) observed after every step."""
-    model = RobotModel(STEP_S, echoes=False)
+    model = RobotModel(STEP_S, robot=ODOMETRY_BASE)
     world = World()
     base = world.spawn(5.0, 5.0, 0.0)
     for step, command in enumerate(commands):
@@ -413,13 +414,14 @@ def test_a_stop_sent_after_moving_commands_is_not_what_a_standing_turtle_stands_
     assert model.in_flight == 0 and model.predict(Pose2D(1.0, 1.0, 0.0), 13 * STEP_S).still
 
 
-def test_the_loop_stands_when_the_model_does_as_each_sensor_tells_it():
-    """One judgement of standing for the run's settling and the model's prediction: an echo
-    stands at zero only; odometry stands within what it resolves (`MEASURED_STILL`)."""
+def test_the_loop_stands_when_the_model_does_as_each_robot_tells_it():
+    """One judgement of standing for the run's settling and the model's prediction, from the
+    robot's description: turtlesim stands at zero only; a base within what its odometry
+    resolves (`MEASURED_STILL`); only turtlesim's step turns first."""
     from turtle_traj.core.control.loop import ControlLoop
-    from turtle_traj.core.control.robot_model import MEASURED_STILL
+    from turtle_traj.core.control.observers import MEASURED_STILL
 
-    odometry = ControlLoop(STEP_S, echoes=False)
+    odometry = ControlLoop(STEP_S, robot=ODOMETRY_BASE)
     creeping = (0.4 * MEASURED_STILL[0], 0.4 * MEASURED_STILL[1])
     odometry.observe(Pose2D(1.0, 1.0, 0.0), *creeping)
     assert odometry.standing and odometry.model.standing
@@ -430,3 +432,7 @@ def test_the_loop_stands_when_the_model_does_as_each_sensor_tells_it():
     assert not turtlesim.standing
     turtlesim.observe(Pose2D(1.0, 1.0, 0.0), 0.0, 0.0)
     assert turtlesim.standing
+    # what the robot is, told by its description, not by how it is sensed
+    pose = Pose2D(1.0, 1.0, 0.0)
+    assert turtlesim.model.predict(pose, 0.0).turns_first
+    assert not odometry.model.predict(pose, 0.0).turns_first

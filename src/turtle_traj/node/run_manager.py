@@ -25,6 +25,7 @@ from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.loop import ControlLoop
+from turtle_traj.core.control.observers import ODOMETRY_BASE, TURTLESIM
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.supervisor import RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
@@ -64,8 +65,7 @@ class RunManager:
         self._state_lock = StateLock(node.get_logger())
         self._base = BaseTopics(node, turtle, self._on_pose)  # poses come once it spins
         self.pose_topic = self._base.pose_topic
-        # turtlesim's pose echoes the command in effect; odometry measures the velocity
-        self._loop = ControlLoop(STEP_S, echoes=not self._base.odometry)
+        self._loop = ControlLoop(STEP_S, robot=ODOMETRY_BASE if self._base.odometry else TURTLESIM)
         name = node.get_parameter('controller').value  # checked as it was declared
         self._tuning = ControllerTuning(node, name)
         self._controller = self._tuning.choose(name)

@@ -12,6 +12,7 @@ from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.echo import alike
+from turtle_traj.core.control.observers import TURTLESIM, Robot
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.robot_model import RobotModel
 from turtle_traj.core.control.supervisor import RunSupervisor
@@ -24,11 +25,12 @@ class ControlLoop:
 
     :param step_s: how long each command acts at least: the robot's step (turtlesim's 16 ms),
         not the control period, which may differ.
-    :param echoes: the pose echoes the command in effect (turtlesim); False for odometry.
+    :param robot: what the robot is (`observers.Robot`): turtlesim, or a base seen through
+        its odometry.
     """
 
-    def __init__(self, step_s: float, *, echoes: bool = True) -> None:
-        self.model = RobotModel(step_s, echoes=echoes)
+    def __init__(self, step_s: float, *, robot: Robot = TURTLESIM) -> None:
+        self.model = RobotModel(step_s, robot=robot)
         self.run: RunSupervisor | None = None
         self.pose: Pose2D | None = None
 

@@ -14,13 +14,11 @@ The model, in one page:
   floor (`RunningFloor`, of the median of three) is the latency without a queue; how much
   later than the one before a command arrives (95th percentile) is the jitter. A lost pose,
   or a cut link, lowers the offsets for good: the floor falls with the second lower one.
-* **One observer says which command is in effect.** turtlesim's pose echoes its velocities
-  (`echo`): the command whose echo matches is in effect, and those sent after it are in flight.
-  Commands act in order, so among equal echoes (a run of stops) the match is the one nearest a
-  step on from the last, never an older one; an echo that matches nothing is someone else's
-  command, and the robot is taken to have stepped on. A base's odometry measures its velocity
-  instead, which names no command: the latency that best explains the last poses' motion
-  (`DelayFit`) is observed, and the command due by now is in effect.
+* **An observer says which command is in effect** (`observers`): turtlesim's pose echoes its
+  velocities, and the command whose echo matches is in effect; a base's odometry measures its
+  velocity instead, which names no command, and the latency that best explains the last poses'
+  motion says which one is due. What the robot is (how its step moves it, when it stands, which
+  observer it needs) is one description, `observers.Robot`.
 * **The prediction** replays the command in effect and every command in flight from the pose,
   each from the step it arrives (its stamp plus the latency, and not before the step after the
   one before it) to the next one's, with turtlesim's integration (heading first, then position
@@ -57,11 +55,10 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass
 
 from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, STOP, Command
-from turtle_traj.core.control.delay_fit import DelayFit
-from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed, distinct
+from turtle_traj.core.control.echo import HISTORY, STANDING, as_echoed
+from turtle_traj.core.control.observers import TURTLESIM, Robot, Seen, Sent
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile, WindowQuantile
 from turtle_traj.core.geometry.angles import wrap_angle
@@ -79,37 +76,26 @@ APPROACH_CONFIDENCE = 0.99
 BRAKING_COMMANDS = 64
 BRAKING_WINDOW = round(BRAKING_COMMANDS / (1.0 - APPROACH_CONFIDENCE))
 RATE = 0.25  # steps: the most one observation moves a running quantile
-# A base whose odometry measures less than this (m/s, rad/s) stands: a few encoder ticks a
-# period (an XL430's 4096 a turn on 33 mm wheels 0.16 m apart, at 62.5 Hz: 3 mm/s, 0.04 rad/s).
-MEASURED_STILL = (0.01, 0.05)
-
-
-@dataclass(frozen=True)
-class _Sent:
-    command: Command
-    echo: Echo
-    stamp: float  # when it was sent, in steps since the first command
-    poses: int  # poses observed by then: it acts at a later step
-
-
 class RobotModel:
     """Commands sent, the evidence of which one acts, and the prediction they make.
 
+    It is the `observers.CommandLog` its observer reads (`remembered`, `first`, `count`,
+    `in_effect`, `poses`, `floor`, `standing`).
+
     :param step_s: how long each command acts at least (the robot's step, turtlesim's 16 ms).
-    :param echoes: the pose echoes the command in effect (turtlesim); False: it measures the
-        velocity (odometry), and the latency is fitted to the poses (`DelayFit`).
+    :param robot: what the robot is: turtlesim, or a base seen through its odometry.
     """
 
-    def __init__(self, step_s: float, *, echoes: bool = True) -> None:
+    def __init__(self, step_s: float, *, robot: Robot = TURTLESIM) -> None:
         self.step_s = step_s
-        self.echoes = echoes
-        self._sent: deque[_Sent] = deque(maxlen=HISTORY)
-        self._count = 0  # commands sent so far: the next one's number
+        self.robot = robot
+        self._observer = robot.observer(step_s)
+        self.remembered: deque[Sent] = deque(maxlen=HISTORY)  # the commands, oldest first
+        self.count = 0  # commands sent so far: the next one's number
         self._origin_s: float | None = None  # the first stamp: steps are counted from it
-        self._poses = 0  # robot steps, as counted by the poses observed
-        self._in_effect: int | None = None  # the number of the command in effect, if known
+        self.poses = 0  # robot steps, as counted by the poses observed
+        self.in_effect: int | None = None  # the number of the command in effect, if known
         self._echo = STANDING
-        self._fit = DelayFit(step_s)  # a measured velocity's latency, from the poses
         self._latency = RunningFloor(1.0 - CONFIDENCE, RATE)  # steps, without a queue
         self._latencies: deque[float] = deque(maxlen=3)  # of the last commands seen to act
         # steps later than the one before; the timer's steps from one tick to the next
@@ -122,22 +108,20 @@ class RobotModel:
     @property
     def in_flight(self) -> int:
         """Commands sent after the one in effect at the last pose."""
-        if self._in_effect is None:
-            return len(self._sent)
-        return min(self._count - 1 - self._in_effect, len(self._sent))
+        if self.in_effect is None:
+            return len(self.remembered)
+        return min(self.count - 1 - self.in_effect, len(self.remembered))
 
     @property
     def last_sent(self) -> Command:
         """The command in effect when the next one takes over: the last one sent, or before
         any, the velocity the last pose reported (a magnitude, for turtlesim)."""
-        return self._sent[-1].command if self._sent else Command(*self._echo)
+        return self.remembered[-1].command if self.remembered else Command(*self._echo)
 
     def distinct(self, command: Command) -> Command:
-        """`command`, moved by a few float32 steps if its echo would name another command
-        remembered (see `echo.distinct`); as it is without an echo."""
-        if not self.echoes:
-            return command
-        return distinct(command, {sent.echo for sent in self._sent}, self.last_sent)
+        """`command` as it is to be sent, so that the poses can name it (`echo.distinct`: moved
+        by a few float32 steps if its echo would name another command remembered)."""
+        return self._observer.distinct(command, self, self.last_sent)
 
     def ticked(self, now_s: float) -> None:
         """The control timer fired (node clock, seconds), with a run or without: how long
@@ -151,72 +135,53 @@ class RobotModel:
         # a command in flight past its lifespan was dropped on the way (the writer keeps it no
         # longer): it will never act, and nothing waits for it
         lifespan = COMMAND_LIFESPAN_S / self.step_s
-        while (self._in_effect is not None and self.in_flight
-               and self._sent[-self.in_flight].stamp < tick - lifespan):
-            self._in_effect += 1
+        while (self.in_effect is not None and self.in_flight
+               and self.remembered[-self.in_flight].stamp < tick - lifespan):
+            self.in_effect += 1
 
     def sent(self, command: Command, now_s: float) -> None:
         """Record a command as it is published (node clock, seconds)."""
         if self._origin_s is None:
             self._origin_s = now_s
-        self._sent.append(_Sent(command, as_echoed(command), self._in_steps(now_s), self._poses))
-        self._count += 1
+        self.remembered.append(Sent(command, as_echoed(command), self._in_steps(now_s),
+                                    self.poses))
+        self.count += 1
 
     def observe(self, linear_echo: float, angular_echo: float, pose: Pose2D | None = None) -> None:
-        """A pose's velocity echo: which command is in effect, and so how many are in flight.
-        A measured velocity (odometry) names none: the pose itself, fitted, gives the latency
-        (`DelayFit`), and the command due by now is in effect."""
-        self._poses += 1
-        self._echo = echo = (linear_echo, angular_echo)
-        if not self.echoes:
-            self._observe_motion(pose)
+        """A pose, and the velocities it reports: the observer says which command is in effect
+        (and so how many are in flight), and when it shows, how late that one acted."""
+        self.poses += 1
+        self._echo = (linear_echo, angular_echo)
+        seen: Seen | None = self._observer.see(self, self._echo, pose)
+        if seen is None:
             return
-        # among equal echoes, the one a step on from the last (the latency's floor is the
-        # earliest a command may act: as a guess it would skip a moving command still on its
-        # way between two stops, and the prediction would miss its step)
-        expected = self._first if self._in_effect is None else self._in_effect + 1
-        matches = self._matches(echo)
-        if self._in_effect is None and self.standing:  # as it stood before any was taken
-            matches.insert(0, self._first - 1)
-        if not matches:  # someone else's command (a stale one, the 1 s timeout): a step on
-            if self._in_effect is not None:
-                self._in_effect = min(expected, self._count - 1)
-            return
-        in_effect = min(matches, key=lambda number: abs(number - expected))
-        if in_effect < self._first:  # none of ours was taken yet
-            return
-        first_seen = in_effect != self._in_effect
-        self._in_effect = in_effect
-        if first_seen and len(matches) == 1:  # equal commands tell nothing of the latency
-            self._observe_latency(self._poses - self._sent[in_effect - self._first].stamp)
+        if seen.latency is not None:
+            self._observe_latency(seen.latency)
+        if not seen.due:
+            self.in_effect = seen.in_effect
+        else:  # before the latency is known, the last sent (none in flight)
+            self.in_effect = (self._due() if self._latency.value is not None
+                              else self.count - 1 if self.remembered else None)
 
-    def _observe_motion(self, pose: Pose2D | None) -> None:
-        if pose is not None:
-            self._fit.add(self._poses, pose)
-        if self._sent:
-            lowest = min(sent.poses + 1 - math.floor(sent.stamp) for sent in self._sent)
-            latency = self._fit.best([(sent.stamp, sent.command) for sent in self._sent],
-                                     lowest)
-            if latency is not None:
-                self._observe_latency(latency)
-        # the command due by now; before the latency is known, the last sent (none in flight)
-        self._in_effect = (self._due() if self._latency.value is not None
-                           else self._count - 1 if self._sent else None)
+    @property
+    def floor(self) -> float | None:
+        """The latency without a queue, in steps, once known."""
+        return self._latency.value
 
     def _due(self) -> int:
         """The newest command due by now: sent the latency's floor ago (a measured velocity
         names no command: this is the one taken to act)."""
-        floor, first = self._latency.value, self._first
-        due = [first + index for index, sent in enumerate(self._sent)
-               if round(sent.stamp + floor) <= self._poses]
+        floor, first = self._latency.value, self.first
+        due = [first + index for index, sent in enumerate(self.remembered)
+               if round(sent.stamp + floor) <= self.poses]
         return due[-1] if due else first - 1
 
     @property
     def standing(self) -> bool:
-        """The last pose shows the robot standing: a zero echo, or a measured velocity within
-        what the odometry resolves (`MEASURED_STILL`)."""
-        return self._echo == STANDING if self.echoes else all(
-            abs(value) <= within for value, within in zip(self._echo, MEASURED_STILL, strict=True))
+        """The last pose shows the robot standing: its velocities within what counts as
+        standing for it (zero for turtlesim's echo, what odometry resolves for a base)."""
+        return all(abs(value) <= within
+                   for value, within in zip(self._echo, self.robot.still_within, strict=True))
 
     def _observe_latency(self, latency: float) -> None:
         """A command first seen in effect `latency` steps after it was sent. The floor takes
@@ -226,25 +191,16 @@ class RobotModel:
             later = latency - self._latencies[-1]
             self._jitter.add(later)
             self._jitter_tail.add(later)
-            if self.echoes:  # a fitted latency's step either way is the fit's, not a command's
+            if self._observer.exact_steps:  # a fitted latency's step either way is the fit's
                 self._jitter_braking.add(later)
         self._latencies.append(latency)
         if len(self._latencies) == self._latencies.maxlen:
             self._latency.add(sorted(self._latencies)[1])
 
     @property
-    def _first(self) -> int:
+    def first(self) -> int:
         """The number of the oldest command remembered."""
-        return self._count - len(self._sent)
-
-    def _matches(self, echo: Echo) -> list[int]:
-        """The numbers of the commands remembered whose echo is `echo`: those no older than the
-        one in effect at the last pose, as commands take effect in order; any, if none is (the
-        last match was wrong)."""
-        matches = [self._first + index for index, sent in enumerate(self._sent)
-                   if sent.echo == echo]
-        in_order = [number for number in matches if number >= (self._in_effect or 0)]
-        return in_order or matches
+        return self.count - len(self.remembered)
 
     @property
     def excess(self) -> int:
@@ -255,7 +211,7 @@ class RobotModel:
         floor = self._latency.value
         if floor is None:
             return 0
-        overdue = sum(1 for sent in self._pending() if round(sent.stamp + floor) <= self._poses)
+        overdue = sum(1 for sent in self._pending() if round(sent.stamp + floor) <= self.poses)
         return max(overdue - max(self._jitter.whole(), 0), 0)
 
     def predict(self, pose: Pose2D, now_s: float) -> Prediction:
@@ -271,7 +227,7 @@ class RobotModel:
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         still = self.standing and all(sent.command == STOP for sent in pending)
         return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, self._overrun(last, late),
-                          still, turns_first=self.echoes,
+                          still, turns_first=self.robot.turns_first,
                           braking_overrun=self._overrun(
                               last, self._late_steps(self._jitter_braking)))
 
@@ -279,16 +235,17 @@ class RobotModel:
         """How far `last` carries the robot when it acts `late` steps longer (m, rad)."""
         return abs(last.linear) * late * self.step_s, abs(last.angular) * late * self.step_s
 
-    def _pending(self) -> list[_Sent]:
+    def _pending(self) -> list[Sent]:
         """The commands in flight, oldest first."""
         in_flight = self.in_flight
-        return list(self._sent)[len(self._sent) - in_flight:] if in_flight else []
+        return list(self.remembered)[len(self.remembered) - in_flight:] if in_flight else []
 
-    def _schedule(self, pending: list[_Sent], now_s: float) -> list[tuple[Command, int]]:
+    def _schedule(self, pending: list[Sent], now_s: float) -> list[tuple[Command, int]]:
         """The command in effect and each one in flight, with the steps each acts after the
         last pose: from the step it arrives (not before the step after the one before it) to
         the next one's; the last until the next command, sent now, arrives."""
-        acting = ([self._sent[-1 - len(pending)].command] if len(pending) < len(self._sent)
+        remembered = self.remembered
+        acting = ([remembered[-1 - len(pending)].command] if len(pending) < len(remembered)
                   else [Command(*self._echo)])
         acting += [sent.command for sent in pending]
         stamps = [sent.stamp for sent in pending]
@@ -298,12 +255,12 @@ class RobotModel:
         # oldest on its way is taken to arrive at the next step
         latency = self._latency.value
         if latency is None:
-            latency = self._latencies[-1] if self._latencies else self._poses + 1 - stamps[0]
-        starts, step = [], self._poses
+            latency = self._latencies[-1] if self._latencies else self.poses + 1 - stamps[0]
+        starts, step = [], self.poses
         for stamp in stamps:
             step = max(step + 1, round(stamp + latency))
             starts.append(step)
-        begins = [self._poses + 1, *starts[:-1]]
+        begins = [self.poses + 1, *starts[:-1]]
         return [(command, end - begin)
                 for command, begin, end in zip(acting, begins, starts, strict=True)]
 
