@@ -15,7 +15,9 @@ answers in a row later than the control period raise `ControllerFault`, which en
 from __future__ import annotations
 
 import math
+from bisect import bisect_left
 from collections.abc import Callable, Mapping
+from itertools import chain
 from typing import Protocol
 
 import numpy as np
@@ -89,31 +91,31 @@ class AnswerTimer(Protocol):
 
 class _Along:
     """How far along a stroke a pose is (0 to 1 of a lap): the closest point from a little
-    behind the last match to a little ahead of it (further than a robot drives in a period, too
-    short to jump to a later part of the stroke that passes close by). On an endless stroke the
-    window runs on round its start, into the next lap."""
+    behind the last match to a little ahead of it (further than a robot drives in a period, or
+    than the nearest point leaps where a controller cuts a sharp corner, too short to jump to a
+    later part of the stroke that passes close by). On an endless stroke the window runs on
+    round its start, into the next lap."""
 
     BEHIND_M, AHEAD_M = 0.05, 0.25
 
     def __init__(self, points: np.ndarray, endless: bool) -> None:
         self.segments = PolylineSegments(points)
-        self.lengths = np.hypot(*np.diff(points, axis=0).T)
-        self.cumulative = np.concatenate(([0.0], np.cumsum(self.lengths)))
+        self.cumulative = [0.0, *np.cumsum(np.hypot(*np.diff(points, axis=0).T)).tolist()]
         self.endless = endless
         self.arc = 0.0
         self.last = 0.0  # the fraction last found
 
     def fraction(self, pose: Pose2D) -> float:
-        cumulative, count = self.cumulative, len(self.lengths)
-        first = max(int(np.searchsorted(cumulative, self.arc - self.BEHIND_M)) - 1, 0)
-        ahead = self.arc + self.AHEAD_M
-        candidates = list(range(first, min(int(np.searchsorted(cumulative, ahead)) + 1, count)))
-        if self.endless and ahead > cumulative[-1]:  # round the start, into the next lap
-            candidates += range(min(int(np.searchsorted(cumulative, ahead - cumulative[-1])) + 1,
-                                    count))
+        cumulative, count = self.cumulative, self.segments.count
+        total, ahead = cumulative[-1], self.arc + self.AHEAD_M
+        first = max(bisect_left(cumulative, self.arc - self.BEHIND_M) - 1, 0)
+        candidates = range(first, min(bisect_left(cumulative, ahead) + 1, count))
+        if self.endless and ahead > total:  # round the start, into the next lap
+            candidates = chain(candidates, range(min(bisect_left(cumulative, ahead - total) + 1,
+                                                     count)))
         index, along, _ = self.segments.project(pose.x, pose.y, candidates)
-        self.arc = cumulative[index] + along * self.lengths[index]
-        self.last = float(self.arc / max(cumulative[-1], 1e-12))
+        self.arc = cumulative[index] + along * (cumulative[index + 1] - cumulative[index])
+        self.last = self.arc / max(total, 1e-12)
         return self.last
 
 
