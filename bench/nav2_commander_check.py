@@ -10,11 +10,19 @@ not the FollowPath subset `make setup` builds. Set-up, once (no Nav2 wheel exist
      PYTHONPATH=PREFIX/lib/python3.11/site-packages:<navigation2>/nav2_simple_commander for both
      `turtle-traj up` and this script (the node then serves Nav2's own type; its hash is ours).
 Run: .venv/bin/python bench/nav2_commander_check.py  (with `turtle-traj up` running)
+ or: .venv/bin/python bench/nav2_commander_check.py --base  (with `turtle-traj up --base`: the
+     MuJoCo base, its poses from /odom in the frame odom, the path from where it stands)
+With `up --base`, whose process loads MuJoCo first, the dynamic linker found the venv's
+FollowPath-only libnav2_msgs__rosidl_generator_py.so for Nav2's type support here: start it
+with LD_PRELOAD naming PREFIX/lib's libnav2_msgs__rosidl_generator_c.so,
+libnav2_msgs__rosidl_typesupport_c.so and libnav2_msgs__rosidl_generator_py.so (and .venv/lib
+at the end of LD_LIBRARY_PATH).
 
 It sends a planner-like path (a quarter circle, a pose every 2 cm), a goal with controller_id
 `dwpp`, a goal replaced 1 s in by another, a cancelled goal, three bad goals and one more, and
 prints what it measured from the turtle's poses beside what BasicNavigator reports.
 """
+import argparse
 import math
 import time
 
@@ -22,10 +30,8 @@ import numpy as np
 import rclpy
 from geometry_msgs.msg import PoseStamped
 from nav2_simple_commander.robot_navigator import BasicNavigator
-from nav_msgs.msg import Path
+from nav_msgs.msg import Odometry, Path
 from turtlesim.msg import Pose
-
-SPAWN_M = 5.544444561004639  # where turtlesim's turtle1 appears
 
 
 def arc(x: float, y: float, radius: float = 1.0, spacing: float = 0.02) -> np.ndarray:
@@ -55,16 +61,28 @@ def distances(points: np.ndarray, driven: np.ndarray) -> np.ndarray:
 
 
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--base', action='store_true', help='the MuJoCo base (`up --base`)')
+    base = parser.parse_args().base
     rclpy.init()
     navigator = BasicNavigator()
     poses: list[tuple[float, float]] = []
-    navigator.create_subscription(Pose, '/turtle1/pose',
-                                  lambda message: poses.append((message.x, message.y)), 100)
+    if base:  # the odometry's frame, and the base's first pose
+        frame = 'odom'
+        navigator.create_subscription(Odometry, '/odom', lambda message: poses.append(
+            (message.pose.pose.position.x, message.pose.pose.position.y)), 100)
+    else:
+        frame = 'world'
+        navigator.create_subscription(Pose, '/turtle1/pose',
+                                      lambda message: poses.append((message.x, message.y)), 100)
+    while not poses:
+        rclpy.spin_once(navigator, timeout_sec=0.1)
+    start = poses[-1]
 
     def run(points: np.ndarray, controller_id: str = '', after_1_s=None):
         poses.clear()
         feedback = []
-        assert navigator.followPath(path_of(points), controller_id=controller_id)
+        assert navigator.followPath(path_of(points, frame), controller_id=controller_id)
         began, acted = time.monotonic(), after_1_s is None
         while not navigator.isTaskComplete():
             message = navigator.getFeedback()
@@ -76,7 +94,7 @@ def main() -> None:
         result = navigator.result_future.result().result
         return navigator.getResult(), result, feedback, np.array(poses)
 
-    points = arc(SPAWN_M, SPAWN_M)
+    points = arc(*start, radius=0.5 if base else 1.0)
     status, result, feedback, driven = run(points)
     left = [distance for distance, _ in feedback]
     print(f'planner path: {status.name}, error_code {result.error_code}; '
@@ -96,7 +114,7 @@ def main() -> None:
     def replace() -> None:
         here = poses[-1]
         replacement.append(np.array([here, (here[0], here[1] - 0.5)]))
-        navigator.followPath(path_of(replacement[0]))
+        navigator.followPath(path_of(replacement[0], frame))
     status, result, _, driven = run(np.array([(x, y), (x, y - 2.0)]), after_1_s=replace)
     print(f'a goal replaced 1 s in: the replacement {status.name}, error_code '
           f'{result.error_code}; end {1e3 * math.dist(driven[-1], replacement[0][-1]):.1f} mm '
