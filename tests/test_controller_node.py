@@ -74,6 +74,8 @@ def test_commands_beyond_the_limits_are_clamped_counted_and_never_sent(system_wi
     found = re.search(r'\((\S+): (\d+) of (\d+) commands clamped to the limits\)',
                       response.message)
     assert found and found[1] == f'{MODULE}:ExceedsTheLimits' and int(found[2]) > 10
+    assert system.node.last_outcome.clamped_percent == pytest.approx(
+        100.0 * int(found[2]) / int(found[3]))  # the figure a client reads, not the text
     assert len(commands) >= int(found[3])  # every one was sent, clamped
     assert all(abs(c.linear.x) <= 0.8 + 1e-9 and abs(c.angular.z) <= 1.5 + 1e-9
                for c in commands)

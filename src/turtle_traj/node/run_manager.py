@@ -27,7 +27,7 @@ from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.observers import ODOMETRY_BASE, TURTLESIM
 from turtle_traj.core.control.plan import Plan
-from turtle_traj.core.control.supervisor import RunSupervisor
+from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import Settings
 from turtle_traj.core.planning.planner import PlanError
@@ -57,6 +57,7 @@ class RunManager:
                  callback_group: CallbackGroup, record_dir: str | None = None) -> None:
         self._node = node
         self._settings = settings
+        self.last_outcome: Outcome | None = None  # of the last run that ended
         self._silence = PoseSilence(node.get_clock(), WATCHDOG_PERIOD_S)
         self._run_done: Future | None = None  # what the run's handler awaits
         self._plans = PlanDesk(node)  # made beside the executor
@@ -226,7 +227,7 @@ class RunManager:
             self._publish(STOP)
         if self._recording is not None:
             self._recording.stop()
-        outcome = run.outcome(self._loop.pose, self.now_s())
+        self.last_outcome = outcome = run.outcome(self._loop.pose, self.now_s())
         if outcome.success:
             self._state_lock.info(outcomes.summary(outcome))
         else:

@@ -17,6 +17,7 @@ from rclpy.task import Future
 
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.profile import load_solver, solver_loaded
+from turtle_traj.core.control.supervisor import Outcome
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.registry import TRAJECTORIES
 from turtle_traj.node import parameters
@@ -91,6 +92,11 @@ class TrajectoryNode(Node):
     def pose(self) -> Pose2D | None:
         """The driven turtle's latest pose (None before the first, or after a reset)."""
         return self._runs.pose if self._runs is not None else None
+
+    @property
+    def last_outcome(self) -> Outcome | None:
+        """How the last run that ended ended, figures included (for in-process callers)."""
+        return self._runs.last_outcome
 
     @property
     def busy(self) -> bool:

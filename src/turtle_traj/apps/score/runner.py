@@ -11,7 +11,6 @@ within `GOAL_TOLERANCE_M` of the path's end: a controller that gives up early do
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -24,7 +23,6 @@ from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.projection import NearestOnPolyline
 from turtle_traj.core.planning import planner
 
-_CLAMPED = re.compile(r'(\d+) of (\d+) commands clamped')
 GOAL_TOLERANCE_M = 0.05  # five times the shipped controllers' own arrival tolerance
 
 
@@ -73,11 +71,10 @@ def run_course(course: Course, controller: str, *, work_dir: Path | None = None)
     record = drive(plan, course.start, course.settings, controller=chosen,
                    inertia=PAPER_INERTIA if course.robot == 'inertia' else None)
     success, message = record.run.ending
-    clamped = record.run.follower.clamped_percent
     outcome = record.run.outcome(record.poses[-1], record.elapsed_s)
     return _figures(course, controller, success, message, outcome.elapsed_s,
                     plan.least_time_s(course.settings.control), record.xy(),
-                    plan.drawn_points(), plan.path.end, clamped)
+                    plan.drawn_points(), plan.path.end, outcome.clamped_percent)
 
 
 def _on_the_base(course: Course, controller: str, work_dir: Path) -> Result:
@@ -97,13 +94,12 @@ def _on_the_base(course: Course, controller: str, work_dir: Path) -> Result:
             odometry = np.array([sample[1:3] for sample in system.odometry])
             start = Pose2D(*system.odometry[0][1:])
             settings = system.node.settings
+            clamped = system.node.last_outcome.clamped_percent
         finally:
             system.close()
     finally:
         rclpy.shutdown(context=context)
     plan = planner.plan(course.trajectory, course.request, start, settings)
-    found = _CLAMPED.search(response.message)
-    clamped = 100.0 * int(found[1]) / max(int(found[2]), 1) if found else 0.0
     return _figures(course, controller, response.success, response.message, response.elapsed,
                     plan.least_time_s(settings.control), odometry, plan.drawn_points(),
                     plan.path.end, clamped)

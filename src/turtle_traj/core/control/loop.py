@@ -12,6 +12,7 @@ from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.echo import alike
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.observers import TURTLESIM, Robot
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.robot_model import RobotModel
@@ -50,11 +51,20 @@ class ControlLoop:
     def start(self, plan: Plan, *, arena: Arena, now_s: float,
               controller: Chosen | None = None) -> RunSupervisor:
         """Begin driving `plan` from the last pose observed (with `controller`, a name and a
-        class, instead of the exact follower)."""
+        class, instead of the exact follower). A controller that cannot be made ends the run at
+        once, the exact follower's walker standing in."""
         if self.pose is None:
             raise RuntimeError('no pose observed yet')
-        self.run = RunSupervisor(plan, start=self.pose, arena=arena, started_s=now_s,
-                                 controller=controller)
+        chosen, manage_pen = controller or Chosen(), plan.pen is not None
+        try:
+            walker, fault = chosen.driver(plan, manage_pen=manage_pen), None
+        except Exception as error:  # the controller's constructor
+            walker, fault = Chosen().driver(plan, manage_pen=manage_pen), error
+        self.run = RunSupervisor(plan, walker, start=self.pose, arena=arena, started_s=now_s)
+        if fault is not None:
+            self.run.end(False, f"{plan.trajectory} aborted: controller '{chosen.name}' could "
+                                f'not be made: {type(fault).__name__}: {fault}',
+                         Ending.CONTROLLER_FAULT)
         return self.run
 
     @property

@@ -15,7 +15,6 @@ from dataclasses import dataclass
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
@@ -47,6 +46,7 @@ class Outcome:
     final_heading_error: float = 0.0
     pen_up_length: float = 0.0
     pen_up_unordered: float = 0.0
+    clamped_percent: float = 0.0  # the controller's commands the node clamped to the limits
 
 
 def wall_clearance(arena: Arena, pose: Pose2D) -> float:
@@ -63,15 +63,14 @@ class RunSupervisor:
     executor thread.
     """
 
-    def __init__(self, plan: Plan, *, start: Pose2D, arena: Arena, started_s: float,
-                 controller: Chosen | None = None) -> None:
-        """:param controller: the controller chosen (`controllers.catalogue`); None: the exact
-            follower."""
+    def __init__(self, plan: Plan, follower: PlanWalker, *, start: Pose2D, arena: Arena,
+                 started_s: float) -> None:
+        """:param follower: the plan's walker, with the run's controller."""
         self.plan = plan
         self.started_s = started_s
         self.ending: tuple[bool, str] | None = None
         self.reason: Ending | None = None
-        self.follower = self._driver(controller)
+        self.follower = follower
         self._start_clearance = wall_clearance(arena, start)
         self._settled_periods = 0
         self._pose = start
@@ -84,17 +83,6 @@ class RunSupervisor:
         self._config: tuple[ControlConfig, ControlConfig] | None = None  # node's, this run's
         self._best_mark = (0, 0.0)  # the furthest the follower got, and when
         self._best_mark_s = started_s
-
-    def _driver(self, controller: Chosen | None) -> PlanWalker:
-        """The chosen controller of the whole plan (None: the exact follower). One that cannot
-        be made ends the run at once, with the exact follower left standing in."""
-        chosen, manage_pen = controller or Chosen(), self.plan.pen is not None
-        try:
-            return chosen.driver(self.plan, manage_pen=manage_pen)
-        except Exception as error:  # the controller's constructor
-            self.end(False, f"{self.name} aborted: controller '{chosen.name}' could not be "
-                            f'made: {type(error).__name__}: {error}', Ending.CONTROLLER_FAULT)
-        return Chosen().driver(self.plan, manage_pen=manage_pen)
 
     @property
     def name(self) -> str:
@@ -242,7 +230,8 @@ class RunSupervisor:
             success, message, reason, pose, elapsed_s=max(ended_s - began_s, 0.0),
             path_length=self.distance if path.endless else path.length,
             max_deviation=self.max_deviation, final_error=math.nan,
-            pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered)
+            pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered,
+            clamped_percent=self.follower.clamped_percent)
         if pose is None:
             return outcome
         if self.follower.done:
