@@ -209,12 +209,11 @@ class LengthLeft:
 
 
 class WithinDistance:
-    """Whether every point of a curve smoothed from a polyline lies within a distance of it.
-
-    Exact, and cheap enough to ask a dozen times while planning: each point is measured first
-    against the polyline's segments around its own arc position (`_NEIGHBOURS` on either side:
-    a smoothed point stays near where it was sampled), which bounds its distance from above;
-    only a point that this bound puts beyond the limit is measured against the whole polyline.
+    """Whether every point of a curve smoothed from a polyline lies within a distance of the
+    polyline where it was sampled: of its segments around the point's own arc position
+    (`_NEIGHBOURS` on either side). Near another part of the curve is not enough: a smoothing
+    that draws a point there (a rose's petals pulled into the centre they all pass through)
+    leaves out the part it came from. Cheap enough to ask a dozen times while planning.
 
     :param cumulative: the polyline's arc length at each vertex.
     :param arc: the arc length at which each point to be asked about was sampled.
@@ -223,7 +222,6 @@ class WithinDistance:
     _NEIGHBOURS = 24
 
     def __init__(self, vertices: np.ndarray, cumulative: np.ndarray, arc: np.ndarray) -> None:
-        self._drawn = NearestOnPolyline(vertices)
         starts, edges = vertices[:-1], np.diff(vertices, axis=0)
         last = len(starts) - 1
         at = np.clip(np.searchsorted(cumulative, arc, side='right') - 1, 0, last)
@@ -236,9 +234,8 @@ class WithinDistance:
         along = np.clip(np.einsum('nmj,nmj->nm', offsets, self._edges) / self._squared,
                         0.0, 1.0)
         gaps = offsets - along[:, :, None] * self._edges
-        bound = np.sqrt(np.min(np.einsum('nmj,nmj->nm', gaps, gaps), axis=1))
-        return all(self._drawn.distance(x, y) <= limit
-                   for x, y in points[bound > limit].tolist())
+        return bool(np.all(np.min(np.einsum('nmj,nmj->nm', gaps, gaps), axis=1)
+                           <= limit * limit))
 
 
 def nearest_point(points: np.ndarray, first: int, count: int, x: float, y: float) -> int:
