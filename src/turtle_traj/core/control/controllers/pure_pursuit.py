@@ -110,9 +110,14 @@ class PurePursuit:
         """The arc's curvature to the look-ahead point, and the point's bearing."""
         distance = min(max(speed * self.lookahead_time, self.min_lookahead_dist),
                        self.max_lookahead_dist)
-        ahead = self.points[self.nearest:]
-        beyond = np.nonzero(np.hypot(ahead[:, 0] - pose.x, ahead[:, 1] - pose.y) >= distance)[0]
-        target = ahead[beyond[0]] if len(beyond) else self.points[-1]
+        target = self.points[-1]
+        for first in range(self.nearest, len(self.points), _SEARCH_POINTS):  # the first beyond
+            ahead = self.points[first:first + _SEARCH_POINTS]
+            beyond = np.nonzero(np.hypot(ahead[:, 0] - pose.x, ahead[:, 1] - pose.y)
+                                >= distance)[0]
+            if len(beyond):
+                target = ahead[beyond[0]]
+                break
         dx, dy = target[0] - pose.x, target[1] - pose.y
         left = -math.sin(pose.theta) * dx + math.cos(pose.theta) * dy
         squared = max(dx * dx + dy * dy, 1e-12)
