@@ -300,11 +300,11 @@ def _draw(client: TrajClient, trajectory: TrajectoryKind, options: argparse.Name
 
 def _run_session(options: argparse.Namespace) -> int:
     """The menu, or the params subcommand."""
-    from turtle_traj.cli.menu import run_menu
     from turtle_traj.client.traj_client import TrajClient, TrajClientError
     try:
         with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
             if options.command == 'menu':
+                from turtle_traj.cli.menu import run_menu  # the planner: not for params
                 return run_menu(client)
             if options.value is None:  # show all, or one
                 names = None if options.name is None else [options.name]
