@@ -33,9 +33,9 @@ class Options:
 
     def problem(self) -> str | None:
         if self.base and self.sim is not None and (
-                self.sim.gui or self.sim.snapshot or self.sim.holonomic):
-            return ('--base runs the physics base: --gui, --snapshot and --holonomic are '
-                    "our turtlesim's options")
+                self.sim.gui or self.sim.snapshot or self.sim.holonomic or self.sim.turtles > 1):
+            return ('--base runs the physics base: --gui, --snapshot, --holonomic and --turtles '
+                    "are our turtlesim's options")
         return self.sim.problem() if self.sim is not None else None
 
 
@@ -89,7 +89,7 @@ def run(options: Options) -> int:
             if options.sim is not None and options.sim.web:
                 nodes.extend(_base_web(options.sim, base, nodes))
         try:
-            controllers.append(TrajectoryNode(parameter_overrides=overrides))
+            controllers.extend(_trajectory_nodes(options, overrides))
         except Exception:
             for node in nodes:
                 node.destroy_node()
@@ -117,6 +117,24 @@ def run(options: Options) -> int:
                          make_executor=make_executor)
     except SimUnavailable as error:
         return fail(str(error))
+
+
+def _trajectory_nodes(options: Options, overrides: list[Parameter]) -> list[TrajectoryNode]:
+    """The trajectory node; with several turtles, one for each, in the turtle's namespace
+    (`/turtle2/turtle_traj` drives `/turtle2/pose` and `/turtle2/cmd_vel`)."""
+    names = options.sim.turtle_names if options.sim is not None else []
+    if len(names) < 2:
+        return [TrajectoryNode(parameter_overrides=overrides)]
+    nodes: list[TrajectoryNode] = []
+    try:
+        for name in names:
+            nodes.append(TrajectoryNode(namespace=f'/{name}', parameter_overrides=[
+                *overrides, Parameter('turtle_name', value='')]))
+    except Exception:
+        for node in nodes:
+            node.destroy_node()
+        raise
+    return nodes
 
 
 def _base_web(options: SimOptions, base: Node, nodes: list[Node]) -> list[Node]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -11,6 +12,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.utilities import remove_ros_args
 
+from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 from turtle_traj.rosutils.priority import add_priority_option, priority_for
 from turtle_traj.rosutils.runtime import fail, run_nodes
 from turtle_traj.sim.gui import GuiUnavailable, Window
@@ -18,6 +20,7 @@ from turtle_traj.sim.node import SimNode
 from turtle_traj.sim.options import SimOptions, SimUnavailable, add_sim_options, options_from
 
 GUI_FRAME_PERIOD_S = 1.0 / 30.0
+FLEET_RING_M = 3.0  # the other turtles start this far round turtle1
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -58,6 +61,9 @@ def create_sim(options: SimOptions, stop: Callable[[], None], *,
     :raises SimUnavailable: the window cannot open, or the live view cannot listen.
     """
     node = SimNode(lockstep=lockstep, parameter_overrides=parameter_overrides(options))
+    for name, (x, y, theta) in zip(options.turtle_names[1:], starting_places(options.turtles)[1:],
+                                   strict=True):
+        node.spawn_turtle(name, x, y, theta)
     nodes: list[Node] = [node]
     if options.web:  # aiohttp is loaded only when asked for
         from turtle_traj.apps.live_view import create_web
@@ -77,6 +83,15 @@ def create_sim(options: SimOptions, stop: Callable[[], None], *,
 
         node.create_timer(GUI_FRAME_PERIOD_S, on_frame)
     return nodes
+
+
+def starting_places(count: int) -> list[tuple[float, float, float]]:
+    """Where `count` turtles start: turtle1 at turtlesim's spawn point, the others evenly on a
+    ring `FLEET_RING_M` round it, facing east (x, y, theta)."""
+    others = [2.0 * math.pi * index / max(count - 1, 1) for index in range(count - 1)]
+    return [(SPAWN_XY_M, SPAWN_XY_M, 0.0), *(
+        (SPAWN_XY_M + FLEET_RING_M * math.cos(angle), SPAWN_XY_M + FLEET_RING_M * math.sin(angle),
+         0.0) for angle in others)]
 
 
 def save_snapshot(node: SimNode, path: Path | None) -> None:

@@ -85,6 +85,9 @@ def _add_connection_options(parser: argparse.ArgumentParser, defaults: bool = Fa
     parser.add_argument('--node', default=default('/turtle_traj'),
                         help='trajectory node to call, with its namespace (default: '
                              '/turtle_traj; e.g. /sim1/turtle_traj)')
+    parser.add_argument('--turtle', default=default(None), metavar='NAME',
+                        help="the node of turtle NAME in a fleet (`up --turtles N`): "
+                             '/NAME/turtle_traj')
     parser.add_argument('--timeout', type=float, default=default(None),
                         help='cancel the trajectory if it has not ended after this many '
                              'seconds (default: no limit; Ctrl-C cancels it)')
@@ -214,6 +217,10 @@ def main(args: Sequence[str] | None = None) -> int:
 def _main(args: Sequence[str] | None) -> int:
     parser = build_parser()
     options = parser.parse_args(args)
+    if getattr(options, 'turtle', None):
+        if options.node != '/turtle_traj':
+            parser.error('--turtle names the node: give --turtle or --node, not both')
+        options.node = f"/{options.turtle.strip('/')}/turtle_traj"
     # Our programs' Fast DDS settings (fastdds.xml), for the command line's requests too: by
     # UDP, a request lost at a busy node's full socket buffer waits for the sender's next
     # heartbeat, 3 s by Fast DDS's default, a few milliseconds by ours.

@@ -39,6 +39,7 @@ from turtle_traj.client.goals import DrawOutcome, goal_handle, known_goal
 from turtle_traj.client.liveness import Liveness
 from turtle_traj.client.remote_parameters import RemoteParameters, UnknownParameter
 from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.turtlesim_contract import turtle_topic
 from turtle_traj.rosutils.interfaces import interface
 from turtle_traj.rosutils.runtime import events_executor, process_context, spin_until
 
@@ -301,8 +302,8 @@ class TrajClient:
         """
         values = values if values is not None else self.parameters()
         namespace = self.node_name.rsplit('/', 1)[0]
-        found, pose = wait_for_message(Pose, self._node,
-                                       f'{namespace}/{values["turtle_name"]}/pose',
+        topic = turtle_topic(values['turtle_name'], 'pose')
+        found, pose = wait_for_message(Pose, self._node, f'{namespace}/{topic}',
                                        time_to_wait=1.0)
         return Pose2D(pose.x, pose.y, pose.theta) if found else None
 

@@ -34,3 +34,10 @@ class PenStyle:
 
 
 DEFAULT_PEN = PenStyle(179, 184, 255, 3)
+
+
+def turtle_topic(turtle: str, name: str) -> str:
+    """A turtle's topic or service, `<turtle>/<name>` (`turtle1/pose`); just `name` for a turtle
+    left unnamed, whose topics are the node's namespace's own (a node in `/turtle2` drives
+    `/turtle2/pose`)."""
+    return f'{turtle}/{name}' if turtle else name

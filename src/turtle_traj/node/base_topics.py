@@ -19,6 +19,7 @@ from turtlesim.msg import Pose
 
 from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, Command
 from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.turtlesim_contract import turtle_topic
 from turtle_traj.rosutils.qos import POSE_READER_QOS, TURTLE_TOPIC_QOS
 
 # What the commands are published with: turtlesim's profile, and a lifespan. A reliable writer
@@ -49,7 +50,7 @@ class BaseTopics:
             from nav_msgs.msg import Odometry
             topic, message, reader = value('odom_topic'), Odometry, self._on_odometry
         else:
-            topic, message, reader = f'{turtle}/pose', Pose, self._on_turtlesim_pose
+            topic, message, reader = turtle_topic(turtle, 'pose'), Pose, self._on_turtlesim_pose
         self._reader = reader
         self.frame_id = ''  # of the odometry read (turtlesim's pose names none)
         self.on_arrival: Callable[[], None] = lambda: None  # as the executor delivers a pose
@@ -57,7 +58,7 @@ class BaseTopics:
         self.pose_topic = node.resolve_topic_name(topic)
         self.stamped = value('cmd_vel_type') == 'TwistStamped'
         self._clock = node.get_clock()
-        command_topic = value('cmd_vel_topic') or f'{turtle}/cmd_vel'
+        command_topic = value('cmd_vel_topic') or turtle_topic(turtle, 'cmd_vel')
         if self.stamped:
             self._message = TwistStamped()
             self._message.header.frame_id = value('cmd_vel_frame_id')

@@ -11,7 +11,7 @@ from rclpy.node import Node
 from rclpy.task import Future
 from turtlesim.srv import SetPen
 
-from turtle_traj.core.turtlesim_contract import PenStyle
+from turtle_traj.core.turtlesim_contract import PenStyle, turtle_topic
 
 SET_PEN_TIMEOUT_S = 2.0  # wall clock: a simulator that does not answer set_pen has vanished
 
@@ -21,7 +21,7 @@ class PenClient:
 
     def __init__(self, node: Node, turtle: str, *, callback_group: CallbackGroup | None = None,
                  timeout_s: float = SET_PEN_TIMEOUT_S) -> None:
-        self._client = node.create_client(SetPen, f'{turtle}/set_pen',
+        self._client = node.create_client(SetPen, turtle_topic(turtle, 'set_pen'),
                                           callback_group=callback_group)
         self.timeout_s = timeout_s
         self._call: Future | None = None

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 WEB_HOST, WEB_PORT = '127.0.0.1', 8080
+MAX_TURTLES = 8  # at the start, on a ring 3 m round turtle1: each 2.6 m from the next at most
 
 
 class SimUnavailable(RuntimeError):
@@ -31,6 +32,10 @@ def add_sim_options(parser: argparse.ArgumentParser, prefix: str = '') -> None:
                         help=f'{prefix}its port (default {WEB_PORT}; 0: any free one)')
     parser.add_argument('--snapshot', type=Path, metavar='PNG',
                         help=f'{prefix}save the canvas to this PNG file on exit')
+    parser.add_argument('--turtles', type=int, default=1, metavar='N',
+                        help=f'{prefix}start with N turtles, turtle1 to turtleN, placed apart '
+                             f'(1 to {MAX_TURTLES}); beside the node, a trajectory node drives '
+                             'each from its namespace (/turtle2/turtle_traj)')
 
 
 @dataclass(frozen=True)
@@ -45,6 +50,7 @@ class SimOptions:
     web: bool = False
     web_host: str = WEB_HOST
     web_port: int = WEB_PORT
+    turtles: int = 1  # turtle1 to turtleN at the start
 
     def problem(self) -> str | None:
         """Why these options cannot run, or None."""
@@ -56,7 +62,14 @@ class SimOptions:
             return f'--web-port must be within 0 and 65535, got {self.web_port}'
         if not self.web and (self.web_host, self.web_port) != (WEB_HOST, WEB_PORT):
             return '--web-host and --web-port need --web'
+        if not 1 <= self.turtles <= MAX_TURTLES:
+            return f'--turtles must be within 1 and {MAX_TURTLES}, got {self.turtles}'
         return None
+
+    @property
+    def turtle_names(self) -> list[str]:
+        """The turtles at the start, by name."""
+        return [f'turtle{number}' for number in range(1, self.turtles + 1)]
 
 
 def options_from(parsed: argparse.Namespace) -> SimOptions:
@@ -64,4 +77,5 @@ def options_from(parsed: argparse.Namespace) -> SimOptions:
     return SimOptions(time_scale=parsed.time_scale, gui=parsed.gui, snapshot=parsed.snapshot,
                       holonomic=getattr(parsed, 'holonomic', False),
                       output_dir=getattr(parsed, 'output_dir', None), web=parsed.web,
-                      web_host=parsed.web_host, web_port=parsed.web_port)
+                      web_host=parsed.web_host, web_port=parsed.web_port,
+                      turtles=getattr(parsed, 'turtles', 1))

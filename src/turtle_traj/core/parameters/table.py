@@ -19,7 +19,8 @@ NO_WALLS_M = 100.0  # with arena 'none': how far from the origin paths may go
 
 
 PARAMETERS = (
-    Spec('turtle_name', 'turtle1', 'Turtle to drive: topics <turtle_name>/pose and /cmd_vel',
+    Spec('turtle_name', 'turtle1', 'Turtle to drive: topics <turtle_name>/pose and /cmd_vel '
+         "(empty: the node's namespace's own pose and cmd_vel, a turtle's node in its namespace)",
          read_only=True),
     Spec('pose_source', 'turtlesim', "Where the pose comes from: 'turtlesim' "
          "(turtlesim/Pose on <turtle_name>/pose) or 'odometry' (nav_msgs/Odometry on "
