@@ -95,6 +95,9 @@ class State:
     # the limits in effect now: the node's parameters may change them during a stroke (None:
     # those the stroke started with)
     limits: Limits | None = None
+    # where the measured pose is along the stroke, as the node measures progress: the index of
+    # the nearest segment (points[i] to points[i + 1]) and the fraction along it (0 to 1)
+    nearest: tuple[int, float] | None = None
 
 
 @runtime_checkable

@@ -105,7 +105,8 @@ class _Along:
         self.arc = 0.0
         self.last = 0.0  # the fraction last found
 
-    def fraction(self, pose: Pose2D) -> float:
+    def nearest(self, pose: Pose2D) -> tuple[int, float]:
+        """The segment nearest `pose` and the fraction along it; `last` becomes its place."""
         cumulative, count = self.cumulative, self.segments.count
         total, ahead = cumulative[-1], self.arc + self.AHEAD_M
         first = max(bisect_left(cumulative, self.arc - self.BEHIND_M) - 1, 0)
@@ -116,7 +117,7 @@ class _Along:
         index, along, _ = self.segments.project(pose.x, pose.y, candidates)
         self.arc = cumulative[index] + along * (cumulative[index + 1] - cumulative[index])
         self.last = self.arc / max(total, 1e-12)
-        return self.last
+        return index, along
 
 
 class PlanWalker:
@@ -229,13 +230,13 @@ class PlanWalker:
         flip = math.pi if stroke.reverse else 0.0
         if self._along is None:
             self._start(stroke, config)
-        self._along.fraction(pose)
+        nearest = self._along.nearest(pose)
         velocity = prediction.velocity
         state = State(Pose2D(prediction.pose.x, prediction.pose.y, prediction.pose.theta + flip),
                       Command(-velocity.linear if flip else velocity.linear, velocity.angular),
                       Pose2D(pose.x, pose.y, pose.theta + flip), self._periods * config.period_s,
                       prediction.late_steps, prediction.overrun, prediction.braking_overrun,
-                      prediction.still, prediction.turns_first, self._limits_of(config))
+                      prediction.still, prediction.turns_first, self._limits_of(config), nearest)
         self._periods += 1
         answer = self._call('command', state, period_s=config.period_s)
         if answer is None:
