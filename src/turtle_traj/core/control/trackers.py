@@ -168,16 +168,19 @@ class PolylineTracker:
             segment == len(self.polyline.points) - 2
             and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
 
+    def locate(self, pose: Pose2D) -> tuple[int, float]:
+        """The segment nearest `pose`, near the last one, and the fraction along it."""
+        return self._project(pose)[:2]
+
     def update(self, pose: Pose2D, prediction: Prediction, config: ControlConfig,
-               nearest: tuple[int, float] | None = None) -> Command | None:
+               nearest: tuple[int, float]) -> Command | None:
         """Steer from the predicted pose; progress and arrival are the actual pose's.
 
-        :param nearest: the segment nearest the actual pose and the fraction along it, when
-            measured already (`State.nearest`); else projected here.
+        :param nearest: the segment nearest the actual pose and the fraction along it
+            (`State.nearest`, or `locate`).
         """
         polyline, predicted = self.polyline, prediction.pose
-        actual_segment, actual_fraction = (nearest if nearest is not None
-                                           else self._project(pose)[:2])
+        actual_segment, actual_fraction = nearest
         self.fraction = (polyline.cumulative_length[actual_segment] + actual_fraction
                          * polyline.segment_lengths[actual_segment]) / max(polyline.length, 1e-12)
         self.segment, fraction, offset = self._project(predicted)

@@ -48,7 +48,9 @@ class ExactFollower(ExactTuning):
             self._configure(state.limits)  # the node's parameters changed them
         prediction = Prediction(state.pose, state.velocity, state.late_steps, state.overrun,
                                 state.standing, state.turns_first, state.braking_overrun)
-        command = self._tracker.update(state.measured, prediction, self._config, state.nearest)
+        nearest = state.nearest if state.nearest is not None else self._tracker.locate(
+            state.measured)
+        command = self._tracker.update(state.measured, prediction, self._config, nearest)
         return None if command is None else within_reach(command, state.velocity, self._config)
 
     def _configure(self, limits: Limits) -> None:

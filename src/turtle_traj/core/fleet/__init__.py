@@ -1,0 +1,1 @@
+"""Several turtles on one drawing: its strokes shared out (`sharing`). Pure Python."""

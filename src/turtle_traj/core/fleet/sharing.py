@@ -1,0 +1,194 @@
+"""A drawing's pieces shared out among several turtles, for the least makespan. Pure Python.
+
+The drawing is planned as for one turtle: its pen-down pieces, between two corners or pen-up
+moves, in the order and direction the planner draws them, are one tour that already keeps the
+pen-up travel short (`strokes_in`; a star is ten pieces, not one outline, so that one long
+outline can be shared too). Each piece is timed as the exact follower draws it
+(`duration.least_time_s`), and getting from one pose to the next as a turn to face it, the
+drive there and the turn onto it (`travel_s`).
+
+Sharing them out is a min-max multiple travelling salesman problem (NP-hard). We split the tour
+(Frederickson, Hecht and Kim's k-SPLITOUR, "Approximation algorithms for some routing problems",
+SIAM J. Computing 7(2), 1978): each turtle draws one contiguous part of it, so each keeps the
+tour's short travel, and only the travel to its part's first piece is new. The parts are cut
+for the least makespan by a binary search over it (each trial fills the parts greedily in tour
+order), for every order of the turtles along the tour (up to `EXHAUSTIVE_TURTLES`; beyond, each
+part takes the nearest turtle left).
+
+A lower bound of the makespan is the larger of the longest piece (with the travel to it from
+the nearest start) and all the drawing shared evenly (`lower_bound_s`): where a drawing cannot
+be shared that finely, the bench shows how close the sharing comes to it.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.duration import least_time_s, ramp_s
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
+
+
+@dataclass(frozen=True)
+class Stroke:
+    """A piece drawn with the pen down, between two corners or pen-up moves, and how long the
+    exact follower takes to draw it."""
+
+    polyline: Polyline
+    time_s: float
+
+    def ends(self, reverse: bool) -> tuple[Pose2D, Pose2D]:
+        """The pose it is started in and the pose it ends in, drawn forwards or backwards."""
+        points, headings = self.polyline.points, self.polyline.headings
+        if reverse:
+            return (Pose2D(*points[-1], wrap_angle(float(headings[-1]) + math.pi)),
+                    Pose2D(*points[0], wrap_angle(float(headings[0]) + math.pi)))
+        return Pose2D(*points[0], float(headings[0])), Pose2D(*points[-1], float(headings[-1]))
+
+
+def strokes_in(path: Path, config: ControlConfig) -> list[Stroke]:
+    """The pen-down pieces of a drawing's path, in its order."""
+    return [Stroke(leg, least_time_s(Path((leg,)), config)) for leg in path.legs
+            if isinstance(leg, Polyline) and leg.pen]
+
+
+def _turn_s(sweep: float, config: ControlConfig) -> float:
+    return ramp_s(abs(sweep), config.angular_speed, config.max_angular_accel,
+                  config.max_angular_accel)
+
+
+def travel_s(start: Pose2D, to: Pose2D, config: ControlConfig) -> float:
+    """About how long a turtle at `start` takes to stand at `to`: turn to face it, drive there,
+    turn to its heading."""
+    dx, dy = to.x - start.x, to.y - start.y
+    distance = math.hypot(dx, dy)
+    if distance < 1e-9:
+        return _turn_s(wrap_angle(to.theta - start.theta), config)
+    towards = math.atan2(dy, dx)
+    return (_turn_s(wrap_angle(towards - start.theta), config)
+            + ramp_s(distance, config.linear_speed, config.max_linear_accel,
+                     config.linear_braking if config.max_linear_accel else 0.0)
+            + _turn_s(wrap_angle(to.theta - towards), config))
+
+
+@dataclass(frozen=True)
+class Share:
+    """One turtle's part: the pieces it draws, by index in the tour, in order."""
+
+    strokes: tuple[int, ...]
+    time_s: float  # travel included, from the turtle's start to its last stroke's end
+
+
+@dataclass(frozen=True)
+class Sharing:
+    """The strokes shared out: a part for each turtle, in the order the turtles were given."""
+
+    shares: tuple[Share, ...]
+    lower_bound_s: float
+
+    @property
+    def makespan_s(self) -> float:
+        return max(share.time_s for share in self.shares)
+
+
+EXHAUSTIVE_TURTLES = 5  # every order of up to this many turtles along the tour is tried
+_SEARCH_STEPS = 30  # halvings of the bracket: to a millionth of its width
+
+
+def _part_s(tour: Sequence[Stroke], first: int, stop: int, start: Pose2D,
+            config: ControlConfig) -> float:
+    """A turtle at `start` drawing tour[first:stop]: the travel to it, then the part itself."""
+    total, here = 0.0, start
+    for stroke in tour[first:stop]:
+        begin, end = stroke.ends(False)
+        total += travel_s(here, begin, config) + stroke.time_s
+        here = end
+    return total
+
+
+def _cuts(tour: Sequence[Stroke], starts: Sequence[Pose2D], limit: float,
+          config: ControlConfig) -> list[int] | None:
+    """Where the tour is cut so that each turtle in `starts`' order draws one part within
+    `limit` (greedily, as far as each can reach), or None if it cannot be."""
+    cuts, stop = [0], 0
+    for index, start in enumerate(starts):
+        last = index == len(starts) - 1
+        total, here = 0.0, start
+        while stop < len(tour):
+            begin, end = tour[stop].ends(False)
+            more = total + travel_s(here, begin, config) + tour[stop].time_s
+            if more > limit and not last:
+                break
+            total, here, stop = more, end, stop + 1
+        if total > limit:
+            return None
+        cuts.append(stop)
+    return cuts
+
+
+def _split(tour: Sequence[Stroke], starts: Sequence[Pose2D], low: float, high: float,
+           config: ControlConfig) -> tuple[float, list[int]]:
+    """The least makespan within [low, high] found by halving, and its cuts."""
+    best = _cuts(tour, starts, high, config)
+    for _ in range(_SEARCH_STEPS):
+        middle = 0.5 * (low + high)
+        cuts = _cuts(tour, starts, middle, config)
+        if cuts is None:
+            low = middle
+        else:
+            high, best = middle, cuts
+    return max(_part_s(tour, a, b, start, config)
+               for a, b, start in zip(best[:-1], best[1:], starts, strict=True)), best
+
+
+def _orders(starts: Sequence[Pose2D], tour: Sequence[Stroke]) -> Iterator[tuple[int, ...]]:
+    """The orders of the turtles along the tour to try: all of them for a few turtles; else
+    each part in turn takes the turtle left nearest the tour's next stretch."""
+    if len(starts) <= EXHAUSTIVE_TURTLES:
+        yield from itertools.permutations(range(len(starts)))
+        return
+    left, order = set(range(len(starts))), []
+    for part in range(len(starts)):
+        anchor = tour[min(part * len(tour) // len(starts), len(tour) - 1)].ends(False)[0]
+        nearest = min(sorted(left), key=lambda k: math.dist((starts[k].x, starts[k].y),
+                                                            (anchor.x, anchor.y)))
+        order.append(nearest)
+        left.remove(nearest)
+    yield tuple(order)
+
+
+def share(strokes: Sequence[Stroke], starts: Sequence[Pose2D],
+          config: ControlConfig) -> Sharing:
+    """The pieces of one turtle's tour (`strokes`, in its order) shared out among turtles
+    standing at `starts` (see the module)."""
+    if not starts:
+        raise ValueError('no turtle to share the strokes with')
+    bound = lower_bound_s(strokes, starts, config)
+    alone = max(_part_s(strokes, 0, len(strokes), start, config) for start in starts)
+    best: tuple[float, tuple[int, ...], list[int]] | None = None
+    for order in _orders(starts, strokes):
+        makespan, cuts = _split(strokes, [starts[k] for k in order], bound, alone, config)
+        if best is None or makespan < best[0] - 1e-9:
+            best = (makespan, order, cuts)
+    _, order, cuts = best
+    parts = dict(zip(order, zip(cuts, cuts[1:], strict=False), strict=True))
+    return Sharing(tuple(
+        Share(tuple(range(*parts[turtle])), _part_s(strokes, *parts[turtle], starts[turtle],
+                                                    config))
+        for turtle in range(len(starts))), bound)
+
+
+def lower_bound_s(strokes: Sequence[Stroke], starts: Sequence[Pose2D],
+                  config: ControlConfig) -> float:
+    """No sharing ends sooner: the longest stroke, reached from the nearest start at the
+    earliest, or all the drawing shared evenly."""
+    if not strokes:
+        return 0.0
+    longest = max(stroke.time_s + min(travel_s(start, stroke.ends(reverse)[0], config)
+                                      for start in starts for reverse in (False, True))
+                  for stroke in strokes)
+    return max(longest, sum(stroke.time_s for stroke in strokes) / len(starts))

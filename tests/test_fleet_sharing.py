@@ -1,0 +1,97 @@
+"""A drawing's pieces shared out among turtles (`core.fleet.sharing`), against brute force."""
+
+import itertools
+
+import numpy as np
+import pytest
+
+from turtle_traj.api.ros_interface import make_request
+from turtle_traj.core.fleet.sharing import Stroke, lower_bound_s, share, strokes_in, travel_s
+from turtle_traj.core.geometry.path import Polyline, Pose2D
+from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+from turtle_traj.core.planning import planner
+from turtle_traj.core.registry import BY_NAME
+
+CONFIG = DEFAULT_SETTINGS.control
+ANCHOR = Pose2D(1.5, 4.0, 0.0)
+
+
+def _text_plan():
+    return planner.plan('text', make_request(BY_NAME['text'], {'text': 'ROS 2', 'height': 1.5}),
+                        ANCHOR, DEFAULT_SETTINGS)
+
+
+def test_the_pieces_are_the_drawings_pen_down_legs_in_its_order():
+    plan = _text_plan()
+    pieces = strokes_in(plan.path, CONFIG)
+    drawn = [leg for leg in plan.path.legs if isinstance(leg, Polyline) and leg.pen]
+    assert [piece.polyline for piece in pieces] == drawn
+    assert all(piece.time_s >= piece.polyline.length / CONFIG.linear_speed for piece in pieces)
+
+
+def test_one_turtle_draws_the_planners_tour_in_the_planners_time():
+    """One turtle's share is the whole tour, timed within 2% of what the planner says the
+    drawing takes (its pen-up moves are turns and drives as `travel_s` times them)."""
+    plan = _text_plan()
+    pieces = strokes_in(plan.path, CONFIG)
+    alone = share(pieces, [ANCHOR], CONFIG)
+    assert alone.shares[0].strokes == tuple(range(len(pieces)))
+    assert alone.makespan_s == pytest.approx(plan.least_time_s(CONFIG), rel=0.02)
+
+
+def _pieces(count: int, seed: int) -> list[Stroke]:
+    rng = np.random.default_rng(seed)
+    pieces = []
+    for _ in range(count):
+        start = rng.uniform(2.0, 9.0, 2)
+        end = start + rng.uniform(-1.5, 1.5, 2)
+        line = Polyline(np.array([start, end]))
+        pieces.append(Stroke(line, line.length / CONFIG.linear_speed))
+    return pieces
+
+
+def _brute_force(pieces, starts) -> float:
+    """The least makespan over every cut of the tour into contiguous parts and every order of
+    the turtles along it, each part timed independently here."""
+    def part_s(part, start):
+        total, here = 0.0, start
+        for piece in part:
+            begin, end = piece.ends(False)
+            total += travel_s(here, begin, CONFIG) + piece.time_s
+            here = end
+        return total
+    best = float('inf')
+    for cuts in itertools.combinations_with_replacement(range(len(pieces) + 1), len(starts) - 1):
+        bounds = [0, *cuts, len(pieces)]
+        parts = [pieces[a:b] for a, b in zip(bounds, bounds[1:], strict=False)]
+        for order in itertools.permutations(starts):
+            best = min(best, max(part_s(part, start)
+                                 for part, start in zip(parts, order, strict=True)))
+    return best
+
+
+@pytest.mark.parametrize('seed', range(3))
+@pytest.mark.parametrize('turtles', [2, 3])
+def test_the_split_is_the_best_contiguous_one(seed, turtles):
+    pieces = _pieces(7, seed)
+    starts = [Pose2D(1.0 + 4.0 * k, 1.0, 0.0) for k in range(turtles)]
+    sharing = share(pieces, starts, CONFIG)
+    assert sorted(i for s in sharing.shares for i in s.strokes) == list(range(len(pieces)))
+    assert all(list(s.strokes) == list(range(s.strokes[0], s.strokes[0] + len(s.strokes)))
+               for s in sharing.shares if s.strokes)  # each a contiguous part
+    assert sharing.makespan_s == pytest.approx(_brute_force(pieces, starts), rel=1e-5)
+    assert sharing.lower_bound_s <= sharing.makespan_s
+
+
+def test_another_turtle_never_makes_the_drawing_slower():
+    pieces = strokes_in(_text_plan().path, CONFIG)
+    starts = [ANCHOR, Pose2D(8.5, 5.5, 0.0), Pose2D(5.5, 8.5, 0.0), Pose2D(5.5, 2.5, 0.0)]
+    makespans = [share(pieces, starts[:count], CONFIG).makespan_s for count in range(1, 5)]
+    assert all(b <= a + 1e-6 for a, b in zip(makespans, makespans[1:], strict=False))
+    assert makespans[-1] < 0.5 * makespans[0]
+    assert lower_bound_s(pieces, starts, CONFIG) <= makespans[-1]
+
+
+def test_no_turtle_is_refused_with_a_reason():
+    with pytest.raises(ValueError, match='no turtle'):
+        share(_pieces(2, 0), [], CONFIG)
