@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from turtle_traj.api.ros_interface import make_request
-from turtle_traj.core.fleet.sharing import Stroke, lower_bound_s, share, strokes_in, travel_s
+from turtle_traj.core.fleet.sharing import Piece, lower_bound_s, pieces_in, share, travel_s
 from turtle_traj.core.geometry.path import Polyline, Pose2D
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.planning import planner
@@ -23,7 +23,7 @@ def _text_plan():
 
 def test_the_pieces_are_the_drawings_pen_down_legs_in_its_order():
     plan = _text_plan()
-    pieces = strokes_in(plan.path, CONFIG)
+    pieces = pieces_in(plan.path, CONFIG)
     drawn = [leg for leg in plan.path.legs if isinstance(leg, Polyline) and leg.pen]
     assert [piece.polyline for piece in pieces] == drawn
     assert all(piece.time_s >= piece.polyline.length / CONFIG.linear_speed for piece in pieces)
@@ -33,20 +33,20 @@ def test_one_turtle_draws_the_planners_tour_in_the_planners_time():
     """One turtle's share is the whole tour, timed within 2% of what the planner says the
     drawing takes (its pen-up moves are turns and drives as `travel_s` times them)."""
     plan = _text_plan()
-    pieces = strokes_in(plan.path, CONFIG)
+    pieces = pieces_in(plan.path, CONFIG)
     alone = share(pieces, [ANCHOR], CONFIG)
-    assert alone.shares[0].strokes == tuple(range(len(pieces)))
+    assert alone.shares[0].pieces == tuple(range(len(pieces)))
     assert alone.makespan_s == pytest.approx(plan.least_time_s(CONFIG), rel=0.02)
 
 
-def _pieces(count: int, seed: int) -> list[Stroke]:
+def _pieces(count: int, seed: int) -> list[Piece]:
     rng = np.random.default_rng(seed)
     pieces = []
     for _ in range(count):
         start = rng.uniform(2.0, 9.0, 2)
         end = start + rng.uniform(-1.5, 1.5, 2)
         line = Polyline(np.array([start, end]))
-        pieces.append(Stroke(line, line.length / CONFIG.linear_speed))
+        pieces.append(Piece(line, line.length / CONFIG.linear_speed))
     return pieces
 
 
@@ -76,15 +76,15 @@ def test_the_split_is_the_best_contiguous_one(seed, turtles):
     pieces = _pieces(7, seed)
     starts = [Pose2D(1.0 + 4.0 * k, 1.0, 0.0) for k in range(turtles)]
     sharing = share(pieces, starts, CONFIG)
-    assert sorted(i for s in sharing.shares for i in s.strokes) == list(range(len(pieces)))
-    assert all(list(s.strokes) == list(range(s.strokes[0], s.strokes[0] + len(s.strokes)))
-               for s in sharing.shares if s.strokes)  # each a contiguous part
+    assert sorted(i for s in sharing.shares for i in s.pieces) == list(range(len(pieces)))
+    assert all(list(s.pieces) == list(range(s.pieces[0], s.pieces[0] + len(s.pieces)))
+               for s in sharing.shares if s.pieces)  # each a contiguous part
     assert sharing.makespan_s == pytest.approx(_brute_force(pieces, starts), rel=1e-5)
     assert sharing.lower_bound_s <= sharing.makespan_s
 
 
 def test_another_turtle_never_makes_the_drawing_slower():
-    pieces = strokes_in(_text_plan().path, CONFIG)
+    pieces = pieces_in(_text_plan().path, CONFIG)
     starts = [ANCHOR, Pose2D(8.5, 5.5, 0.0), Pose2D(5.5, 8.5, 0.0), Pose2D(5.5, 2.5, 0.0)]
     makespans = [share(pieces, starts[:count], CONFIG).makespan_s for count in range(1, 5)]
     assert all(b <= a + 1e-6 for a, b in zip(makespans, makespans[1:], strict=False))

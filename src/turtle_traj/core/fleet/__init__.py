@@ -1,1 +1,1 @@
-"""Several turtles on one drawing: its strokes shared out (`sharing`). Pure Python."""
+"""Several turtles on one drawing: its pieces shared out (`sharing`). Pure Python."""

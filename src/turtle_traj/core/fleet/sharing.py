@@ -2,7 +2,7 @@
 
 The drawing is planned as for one turtle: its pen-down pieces, between two corners or pen-up
 moves, in the order and direction the planner draws them, are one tour that already keeps the
-pen-up travel short (`strokes_in`; a star is ten pieces, not one outline, so that one long
+pen-up travel short (`pieces_in`; a star is ten pieces, not one outline, so that one long
 outline can be shared too). Each piece is timed as the exact follower draws it
 (`duration.least_time_s`), and getting from one pose to the next as a turn to face it, the
 drive there and the turn onto it (`travel_s`).
@@ -34,7 +34,7 @@ from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
 
 
 @dataclass(frozen=True)
-class Stroke:
+class Piece:
     """A piece drawn with the pen down, between two corners or pen-up moves, and how long the
     exact follower takes to draw it."""
 
@@ -50,9 +50,9 @@ class Stroke:
         return Pose2D(*points[0], float(headings[0])), Pose2D(*points[-1], float(headings[-1]))
 
 
-def strokes_in(path: Path, config: ControlConfig) -> list[Stroke]:
+def pieces_in(path: Path, config: ControlConfig) -> list[Piece]:
     """The pen-down pieces of a drawing's path, in its order."""
-    return [Stroke(leg, least_time_s(Path((leg,)), config)) for leg in path.legs
+    return [Piece(leg, least_time_s(Path((leg,)), config)) for leg in path.legs
             if isinstance(leg, Polyline) and leg.pen]
 
 
@@ -79,13 +79,13 @@ def travel_s(start: Pose2D, to: Pose2D, config: ControlConfig) -> float:
 class Share:
     """One turtle's part: the pieces it draws, by index in the tour, in order."""
 
-    strokes: tuple[int, ...]
-    time_s: float  # travel included, from the turtle's start to its last stroke's end
+    pieces: tuple[int, ...]
+    time_s: float  # travel included, from the turtle's start to its last piece's end
 
 
 @dataclass(frozen=True)
 class Sharing:
-    """The strokes shared out: a part for each turtle, in the order the turtles were given."""
+    """The pieces shared out: a part for each turtle, in the order the turtles were given."""
 
     shares: tuple[Share, ...]
     lower_bound_s: float
@@ -99,18 +99,18 @@ EXHAUSTIVE_TURTLES = 5  # every order of up to this many turtles along the tour 
 _SEARCH_STEPS = 30  # halvings of the bracket: to a millionth of its width
 
 
-def _part_s(tour: Sequence[Stroke], first: int, stop: int, start: Pose2D,
+def _part_s(tour: Sequence[Piece], first: int, stop: int, start: Pose2D,
             config: ControlConfig) -> float:
     """A turtle at `start` drawing tour[first:stop]: the travel to it, then the part itself."""
     total, here = 0.0, start
-    for stroke in tour[first:stop]:
-        begin, end = stroke.ends(False)
-        total += travel_s(here, begin, config) + stroke.time_s
+    for piece in tour[first:stop]:
+        begin, end = piece.ends(False)
+        total += travel_s(here, begin, config) + piece.time_s
         here = end
     return total
 
 
-def _cuts(tour: Sequence[Stroke], starts: Sequence[Pose2D], limit: float,
+def _cuts(tour: Sequence[Piece], starts: Sequence[Pose2D], limit: float,
           config: ControlConfig) -> list[int] | None:
     """Where the tour is cut so that each turtle in `starts`' order draws one part within
     `limit` (greedily, as far as each can reach), or None if it cannot be."""
@@ -130,7 +130,7 @@ def _cuts(tour: Sequence[Stroke], starts: Sequence[Pose2D], limit: float,
     return cuts
 
 
-def _split(tour: Sequence[Stroke], starts: Sequence[Pose2D], low: float, high: float,
+def _split(tour: Sequence[Piece], starts: Sequence[Pose2D], low: float, high: float,
            config: ControlConfig) -> tuple[float, list[int]]:
     """The least makespan within [low, high] found by halving, and its cuts."""
     best = _cuts(tour, starts, high, config)
@@ -145,7 +145,7 @@ def _split(tour: Sequence[Stroke], starts: Sequence[Pose2D], low: float, high: f
                for a, b, start in zip(best[:-1], best[1:], starts, strict=True)), best
 
 
-def _orders(starts: Sequence[Pose2D], tour: Sequence[Stroke]) -> Iterator[tuple[int, ...]]:
+def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[int, ...]]:
     """The orders of the turtles along the tour to try: all of them for a few turtles; else
     each part in turn takes the turtle left nearest the tour's next stretch."""
     if len(starts) <= EXHAUSTIVE_TURTLES:
@@ -161,34 +161,34 @@ def _orders(starts: Sequence[Pose2D], tour: Sequence[Stroke]) -> Iterator[tuple[
     yield tuple(order)
 
 
-def share(strokes: Sequence[Stroke], starts: Sequence[Pose2D],
+def share(pieces: Sequence[Piece], starts: Sequence[Pose2D],
           config: ControlConfig) -> Sharing:
-    """The pieces of one turtle's tour (`strokes`, in its order) shared out among turtles
+    """The pieces of one turtle's tour (`pieces`, in its order) shared out among turtles
     standing at `starts` (see the module)."""
     if not starts:
-        raise ValueError('no turtle to share the strokes with')
-    bound = lower_bound_s(strokes, starts, config)
-    alone = max(_part_s(strokes, 0, len(strokes), start, config) for start in starts)
+        raise ValueError('no turtle to share the pieces with')
+    bound = lower_bound_s(pieces, starts, config)
+    alone = max(_part_s(pieces, 0, len(pieces), start, config) for start in starts)
     best: tuple[float, tuple[int, ...], list[int]] | None = None
-    for order in _orders(starts, strokes):
-        makespan, cuts = _split(strokes, [starts[k] for k in order], bound, alone, config)
+    for order in _orders(starts, pieces):
+        makespan, cuts = _split(pieces, [starts[k] for k in order], bound, alone, config)
         if best is None or makespan < best[0] - 1e-9:
             best = (makespan, order, cuts)
     _, order, cuts = best
     parts = dict(zip(order, zip(cuts, cuts[1:], strict=False), strict=True))
     return Sharing(tuple(
-        Share(tuple(range(*parts[turtle])), _part_s(strokes, *parts[turtle], starts[turtle],
+        Share(tuple(range(*parts[turtle])), _part_s(pieces, *parts[turtle], starts[turtle],
                                                     config))
         for turtle in range(len(starts))), bound)
 
 
-def lower_bound_s(strokes: Sequence[Stroke], starts: Sequence[Pose2D],
+def lower_bound_s(pieces: Sequence[Piece], starts: Sequence[Pose2D],
                   config: ControlConfig) -> float:
-    """No sharing ends sooner: the longest stroke, reached from the nearest start at the
+    """No sharing ends sooner: the longest piece, reached from the nearest start at the
     earliest, or all the drawing shared evenly."""
-    if not strokes:
+    if not pieces:
         return 0.0
-    longest = max(stroke.time_s + min(travel_s(start, stroke.ends(reverse)[0], config)
+    longest = max(piece.time_s + min(travel_s(start, piece.ends(reverse)[0], config)
                                       for start in starts for reverse in (False, True))
-                  for stroke in strokes)
-    return max(longest, sum(stroke.time_s for stroke in strokes) / len(starts))
+                  for piece in pieces)
+    return max(longest, sum(piece.time_s for piece in pieces) / len(starts))
