@@ -81,3 +81,18 @@ def test_the_command_line_names_a_turtles_node_or_a_node_not_both(capsys):
     assert 'give --turtle or --node, not both' in capsys.readouterr().err
     options = build_parser().parse_args(['--turtle', 'turtle2', 'stop'])
     assert options.turtle == 'turtle2'
+
+
+def test_a_fleet_turtles_bag_records_its_namespaces_topics(monkeypatch):
+    """`turtle-traj --turtle turtle2 record` records turtle2's topics and its node's."""
+    from turtle_traj.apps import bags
+    from turtle_traj.bags.recorder import default_topics
+    from turtle_traj.cli.main import main
+
+    asked = {}
+    monkeypatch.setattr(bags, 'record', lambda output, topics, node, turtle: asked.update(
+        node=node, topics=default_topics(turtle, node)) or 0)
+    assert main(['--turtle', 'turtle2', 'record']) == 0
+    assert asked['node'] == '/turtle2/turtle_traj'
+    assert asked['topics'][:4] == ['/turtle2/pose', '/turtle2/cmd_vel', '/turtle2/color_sensor',
+                                   '/turtle2/turtle_traj/plan']

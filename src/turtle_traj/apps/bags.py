@@ -30,14 +30,14 @@ def new_bag_path(name: str, folder: Path = BAGS) -> Path:
 class _Recording:
     """The recorder node's life: look for the topics, then record until stopped."""
 
-    def __init__(self, output: Path, topics: list[str], node_name: str) -> None:
-        self.output, self.asked, self.node_name = output, topics, node_name
+    def __init__(self, output: Path, topics: list[str], node_name: str, turtle: str) -> None:
+        self.output, self.asked, self.node_name, self.turtle = output, topics, node_name, turtle
         self.error: str | None = None
         self.counts: dict[str, int] = {}
 
     def create(self, stop: Callable[[], None]) -> list[Node]:
         node = rclpy.create_node('turtle_traj_recorder')
-        recorder = TopicRecorder(node, self.asked or default_topics(node=self.node_name))
+        recorder = TopicRecorder(node, self.asked or default_topics(self.turtle, self.node_name))
         parameters = AsyncParameterClient(node, self.node_name)
         asked: list[Future] = []  # the node's speed limits, noted in the bag for the plots
         began = time.monotonic()
@@ -72,11 +72,13 @@ class _Recording:
             self.error = str(error)
 
 
-def record(output: Path | None, topics: list[str], node_name: str) -> int:
+def record(output: Path | None, topics: list[str], node_name: str,
+           turtle: str = 'turtle1') -> int:
+    """Record `topics`, or by default `turtle`'s and the node's, until stopped."""
     output = output or new_bag_path('run')
     if output.exists():
         return fail(f'{output} exists: a bag is never written over')
-    recording = _Recording(output, topics, node_name)
+    recording = _Recording(output, topics, node_name, turtle)
     code = run_nodes(recording.create, on_exit=recording.finish)
     if recording.error is not None:
         return fail(recording.error)

@@ -27,7 +27,9 @@ def teleop(_parser: argparse.ArgumentParser, _options: argparse.Namespace) -> in
 def bags(parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
     from turtle_traj.apps import bags as programs
     if options.command == 'record':
-        return programs.record(options.output, options.topics, options.node)
+        turtle = getattr(options, 'turtle', None)  # a fleet's turtle: its namespace's topics
+        return programs.record(options.output, options.topics, options.node,
+                               turtle=f"/{turtle.strip('/')}" if turtle else 'turtle1')
     if options.command == 'play':
         return programs.play(options.bag, options.topics, options.rate)
     if options.bag is not None and options.last:
