@@ -95,3 +95,20 @@ def test_another_turtle_never_makes_the_drawing_slower():
 def test_no_turtle_is_refused_with_a_reason():
     with pytest.raises(ValueError, match='no turtle'):
         share(_pieces(2, 0), [], CONFIG)
+
+
+def test_shared_with_a_clearance_the_turtles_keep_it_at_every_instant():
+    """The sharing chosen with a clearance comes with the waits that keep the turtles that far
+    apart: their motion, sampled from its timing, never brings two closer."""
+    from tests.test_fleet_timing import _tracks
+    from turtle_traj.core.fleet.sharing import routes
+    from turtle_traj.core.fleet.timing import closest_approach
+
+    pieces = pieces_in(_text_plan().path, CONFIG)
+    starts = [ANCHOR, Pose2D(8.5, 5.5, 0.0), Pose2D(5.5, 8.5, 0.0)]
+    sharing = share(pieces, starts, CONFIG, clearance=0.6)
+    moves = routes(sharing, pieces, starts, CONFIG)
+    assert closest_approach(_tracks(moves, starts, sharing.timing, step_s=0.01)) >= 0.6 - 1e-9
+    assert sharing.timing.makespan_s >= sharing.makespan_s - 1e-6
+    alone = share(pieces, [ANCHOR], CONFIG).makespan_s
+    assert sharing.timing.makespan_s < 0.6 * alone

@@ -25,10 +25,13 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+
+import numpy as np
 
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.duration import least_time_s, ramp_s
+from turtle_traj.core.fleet.timing import Deadlock, Move, Timing, simulate
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
 
@@ -89,6 +92,8 @@ class Sharing:
 
     shares: tuple[Share, ...]
     lower_bound_s: float
+    timing: Timing | None = None  # with a clearance: when each turtle starts each move
+
 
     @property
     def makespan_s(self) -> float:
@@ -161,25 +166,57 @@ def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[i
     yield tuple(order)
 
 
-def share(pieces: Sequence[Piece], starts: Sequence[Pose2D],
-          config: ControlConfig) -> Sharing:
+def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
+          clearance: float | None = None) -> Sharing:
     """The pieces of one turtle's tour (`pieces`, in its order) shared out among turtles
-    standing at `starts` (see the module)."""
+    standing at `starts` (see the module). With a `clearance`, each candidate is judged by when
+    its turtles end with the waits that keep them that far apart (`timing.simulate`), and one
+    that would deadlock is passed over.
+
+    :raises Deadlock: with a clearance, every candidate would deadlock.
+    """
     if not starts:
         raise ValueError('no turtle to share the pieces with')
     bound = lower_bound_s(pieces, starts, config)
     alone = max(_part_s(pieces, 0, len(pieces), start, config) for start in starts)
-    best: tuple[float, tuple[int, ...], list[int]] | None = None
+    best: tuple[float, Sharing] | None = None
     for order in _orders(starts, pieces):
-        makespan, cuts = _split(pieces, [starts[k] for k in order], bound, alone, config)
-        if best is None or makespan < best[0] - 1e-9:
-            best = (makespan, order, cuts)
-    _, order, cuts = best
-    parts = dict(zip(order, zip(cuts, cuts[1:], strict=False), strict=True))
-    return Sharing(tuple(
-        Share(tuple(range(*parts[turtle])), _part_s(pieces, *parts[turtle], starts[turtle],
-                                                    config))
-        for turtle in range(len(starts))), bound)
+        _, cuts = _split(pieces, [starts[k] for k in order], bound, alone, config)
+        parts = dict(zip(order, zip(cuts, cuts[1:], strict=False), strict=True))
+        sharing = Sharing(tuple(
+            Share(tuple(range(*parts[turtle])), _part_s(pieces, *parts[turtle],
+                                                        starts[turtle], config))
+            for turtle in range(len(starts))), bound)
+        if clearance is not None:
+            try:
+                timing = simulate(routes(sharing, pieces, starts, config), starts, clearance)
+            except Deadlock:
+                continue
+            sharing = replace(sharing, timing=timing)
+        judged = sharing.timing.makespan_s if sharing.timing else sharing.makespan_s
+        if best is None or judged < best[0] - 1e-9:
+            best = (judged, sharing)
+    if best is None:
+        raise Deadlock(f'every way of sharing the drawing among {len(starts)} turtles has two '
+                       'of them wait for each other for ever')
+    return best[1]
+
+
+def routes(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
+           config: ControlConfig) -> list[list[Move]]:
+    """Each turtle's moves, in order: the travel to each of its pieces (a turn where it stands
+    there already), then the piece."""
+    moves: list[list[Move]] = []
+    for part, start in zip(sharing.shares, starts, strict=True):
+        route, here = [], start
+        for index in part.pieces:
+            begin, end = pieces[index].ends(False)
+            route.append(Move(np.array([(here.x, here.y), (begin.x, begin.y)]),
+                              travel_s(here, begin, config)))
+            route.append(Move(pieces[index].polyline.points, pieces[index].time_s))
+            here = end
+        moves.append(route)
+    return moves
 
 
 def lower_bound_s(pieces: Sequence[Piece], starts: Sequence[Pose2D],

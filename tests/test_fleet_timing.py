@@ -1,0 +1,81 @@
+"""Turtles kept apart by timing alone (`core.fleet.timing`), checked by sampling their motion."""
+
+import numpy as np
+import pytest
+
+from turtle_traj.core.fleet.timing import Deadlock, Move, closest_approach, simulate
+from turtle_traj.core.geometry.path import Pose2D
+
+CLEARANCE = 0.6
+
+
+def _line(a, b, speed: float = 1.0) -> Move:
+    points = np.array([a, b], dtype=float)
+    return Move(points, float(np.hypot(*(points[1] - points[0]))) / speed)
+
+
+def _tracks(routes, starts, timing, step_s: float = 0.005) -> list[np.ndarray]:
+    """Each turtle's position every `step_s`, moving along each move at an even speed from
+    when the timing starts it, standing between moves (computed here, from the timing)."""
+    times = np.arange(0.0, timing.makespan_s + step_s, step_s)
+    tracks = []
+    for route, start, begun in zip(routes, starts, timing.starts_s, strict=True):
+        track = np.repeat([[start.x, start.y]], len(times), axis=0)
+        for move, at in zip(route, begun, strict=True):
+            points = move.points
+            lengths = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))))
+            share = np.clip((times - at) / max(move.duration_s, 1e-9), 0.0, 1.0)
+            along = share * lengths[-1]
+            moving = times >= at
+            track[moving, 0] = np.interp(along[moving], lengths, points[:, 0])
+            track[moving, 1] = np.interp(along[moving], lengths, points[:, 1])
+        tracks.append(track)
+    return tracks
+
+
+def test_two_crossing_turtles_take_turns():
+    starts = [Pose2D(0.0, 5.0, 0.0), Pose2D(5.0, 0.0, 0.0)]
+    routes = [[_line((0, 5), (10, 5))], [_line((5, 0), (5, 10))]]
+    timing = simulate(routes, starts, CLEARANCE)
+    assert timing.starts_s == ((0.0,), (10.0,))  # the second waits for the first to pass
+    assert timing.makespan_s == pytest.approx(20.0)
+    assert closest_approach(_tracks(routes, starts, timing)) >= CLEARANCE
+
+
+def test_turtles_on_paths_apart_never_wait():
+    starts = [Pose2D(0.0, 0.0, 0.0), Pose2D(0.0, 2.0, 0.0)]
+    routes = [[_line((0, 0), (5, 0))], [_line((0, 2), (5, 2))]]
+    timing = simulate(routes, starts, CLEARANCE)
+    assert timing.waited_s == (0.0, 0.0) and timing.makespan_s == pytest.approx(5.0)
+
+
+def test_two_turtles_swapping_places_are_a_deadlock_found_before_they_move():
+    starts = [Pose2D(0.0, 0.0, 0.0), Pose2D(3.0, 0.0, 0.0)]
+    routes = [[_line((0, 0), (3, 0))], [_line((3, 0), (0, 0))]]
+    with pytest.raises(Deadlock, match='turtles 1, 2 each wait'):
+        simulate(routes, starts, CLEARANCE)
+
+
+def test_random_routes_keep_their_clearance_at_every_instant():
+    """Of 20 random fleets of three, those that do not block each other for good (most) keep
+    their clearance at every sampled instant, and start every move."""
+    completed = 0
+    for seed in range(20):
+        rng = np.random.default_rng(seed)
+        starts = [Pose2D(float(x), 0.0, 0.0) for x in (0.0, 4.0, 8.0)]
+        routes = []
+        for start in starts:
+            here, route = (start.x, start.y), []
+            for _ in range(4):
+                there = tuple(rng.uniform(0.0, 8.0, 2))
+                route.append(_line(here, there, speed=rng.uniform(0.5, 2.0)))
+                here = there
+            routes.append(route)
+        try:
+            timing = simulate(routes, starts, CLEARANCE)
+        except Deadlock:
+            continue
+        completed += 1
+        assert closest_approach(_tracks(routes, starts, timing)) >= CLEARANCE - 1e-9
+        assert [len(begun) for begun in timing.starts_s] == [4, 4, 4]
+    assert completed >= 10
