@@ -243,6 +243,20 @@ def test_another_threads_garbage_collection_does_not_excuse_a_slow_controller():
     assert _reported_late_s(run.run.ending[1]) >= 0.05
 
 
+def test_the_cpu_wait_is_read_afresh_from_the_file_kept_open():
+    """The thread's CPU wait, read from the schedstat file it keeps open, is the kernel's
+    figure now: between two readings of the file opened anew (it only grows)."""
+    from turtle_traj.node import answer_timer
+
+    def fresh() -> float:
+        with open('/proc/thread-self/schedstat') as stats:
+            return int(stats.read().split()[1]) * 1e-9
+    for _ in range(3):
+        before = fresh()
+        kept = answer_timer._waited_s()
+        assert before <= kept <= fresh()
+
+
 def test_a_cpu_wait_as_the_answer_is_timed_is_not_taken_off_the_controllers_time(monkeypatch):
     """The slow controller's 50 ms still read as 50 ms when the thread waits 30 ms for a CPU
     as its answer is timed, inside the excuse's own reading (a loaded full run reported a 1 s

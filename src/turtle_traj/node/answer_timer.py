@@ -6,13 +6,14 @@ schedstat; nothing elsewhere) or collected garbage.
 from __future__ import annotations
 
 import gc
+import os
 import threading
 import time
 
-# Per thread: the collector's total time so far in it (`total`), and its last start. A
-# collection holds up the thread that runs it; one run by another thread while a controller
-# sleeps or computes is not the controller's excuse (counted for every thread, other threads'
-# collections would be taken off a slow controller's time).
+# Per thread: its schedstat file (`schedstat`), the collector's total time so far in it
+# (`total`), and its last start. A collection holds up the thread that runs it; one run by
+# another thread while a controller sleeps or computes is not the controller's excuse (counted
+# for every thread, other threads' collections would be taken off a slow controller's time).
 _collecting = threading.local()
 
 
@@ -28,15 +29,27 @@ def _on_collection(phase: str, _info: dict) -> None:
 gc.callbacks.append(_on_collection)
 
 
+def _waited_s() -> float:
+    """This thread's time so far waiting for a CPU (0 where Linux's schedstat is missing). The
+    file stays open, one per thread, and is read again from its start: twice a control period,
+    a read costs 1.3 us where opening it costs 13 us."""
+    schedstat = getattr(_collecting, 'schedstat', None)
+    if schedstat is None:
+        try:
+            schedstat = os.open('/proc/thread-self/schedstat', os.O_RDONLY)
+        except OSError:
+            schedstat = -1
+        _collecting.schedstat = schedstat
+    try:
+        return int(os.pread(schedstat, 128, 0).split()[1]) * 1e-9
+    except (OSError, IndexError, ValueError):
+        return 0.0
+
+
 def not_the_controllers_s() -> float:
     """Time so far that no controller is to blame for: this thread waiting for a CPU and
     collecting garbage."""
-    try:
-        with open('/proc/thread-self/schedstat') as stats:
-            waited = int(stats.read().split()[1]) * 1e-9
-    except (OSError, IndexError, ValueError):
-        waited = 0.0
-    return waited + getattr(_collecting, 'total', 0.0)
+    return _waited_s() + getattr(_collecting, 'total', 0.0)
 
 
 class ProcessAnswerTimer:
