@@ -100,9 +100,8 @@ def test_no_turtle_is_refused_with_a_reason():
 def test_shared_with_a_clearance_the_turtles_keep_it_at_every_instant():
     """The sharing chosen with a clearance comes with the waits that keep the turtles that far
     apart: their motion, sampled from its timing, never brings two closer."""
-    from tests.test_fleet_timing import _tracks
+    from tests.test_fleet_timing import _tracks, closest_approach
     from turtle_traj.core.fleet.sharing import routes
-    from turtle_traj.core.fleet.timing import closest_approach
 
     pieces = pieces_in(_text_plan().path, CONFIG)
     starts = [ANCHOR, Pose2D(8.5, 5.5, 0.0), Pose2D(5.5, 8.5, 0.0)]

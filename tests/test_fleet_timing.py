@@ -1,12 +1,28 @@
 """Turtles kept apart by timing alone (`core.fleet.timing`), checked by sampling their motion."""
 
+import math
+
 import numpy as np
 import pytest
 
-from turtle_traj.core.fleet.timing import Deadlock, Move, closest_approach, simulate
+from turtle_traj.core.fleet.timing import Deadlock, Move, simulate
 from turtle_traj.core.geometry.path import Pose2D
 
 CLEARANCE = 0.6
+
+
+def closest_approach(tracks: list[np.ndarray]) -> float:
+    """The least distance between two turtles' centres at the same instant, over tracks sampled
+    at the same times ((T, 2) each, the shorter ones standing at their last point)."""
+    length = max(len(track) for track in tracks)
+    padded = [np.concatenate([track, np.repeat(track[-1:], length - len(track), axis=0)])
+              for track in tracks]
+    nearest = math.inf
+    for first in range(len(padded)):
+        for second in range(first + 1, len(padded)):
+            gaps = np.hypot(*(padded[first] - padded[second]).T)
+            nearest = min(nearest, float(gaps.min()))
+    return nearest
 
 
 def _line(a, b, speed: float = 1.0) -> Move:

@@ -30,19 +30,15 @@ def grid_path(start: tuple[float, float], goal: tuple[float, float],
     """
     low, high = bounds
     count = round((high - low) / cell) + 1
-
-    def free(i: int, j: int) -> bool:
-        return 0 <= i < count and 0 <= j < count and not blocked(low + i * cell, low + j * cell)
-
+    cells = [(i, j) for i in range(count) for j in range(count)]
+    free = {(i, j) for i, j in cells if not blocked(low + i * cell, low + j * cell)}
     grid = nx.Graph()
-    for i in range(count):
-        for j in range(count):
-            if free(i, j):
-                grid.add_edges_from(((i, j), (i + di, j + dj), {'weight': math.hypot(di, dj)})
-                                    for di, dj in _NEIGHBOURS if free(i + di, j + dj))
-    cells = nx.astar_path(grid, _cell(start, low, cell), _cell(goal, low, cell),
+    grid.add_edges_from(((i, j), (i + di, j + dj), {'weight': math.hypot(di, dj)})
+                        for i, j in cells if (i, j) in free
+                        for di, dj in _NEIGHBOURS if (i + di, j + dj) in free)
+    route = nx.astar_path(grid, _cell(start, low, cell), _cell(goal, low, cell),
                           heuristic=_straight, weight='weight')
-    return low + cell * np.array(cells, dtype=float)
+    return low + cell * np.array(route, dtype=float)
 
 
 def _cell(point: tuple[float, float], low: float, cell: float) -> tuple[int, int]:

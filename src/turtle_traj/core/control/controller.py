@@ -27,14 +27,14 @@ A minimal controller (a proportional go-to-goal)::
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.profile import SpeedProfile
-from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.geometry.path import Polyline, Pose2D
 
 
 @dataclass(frozen=True)
@@ -70,6 +70,10 @@ class Stroke:
     # planned it with the request (`profile.SpeedProfile.speed_at(arc length)`); None: none
     # planned (no limits, a straight line, a stroke of several legs)
     profile: SpeedProfile | None = None
+    # the same stroke as the node planned it, its headings, curvatures and segments computed
+    # once for the node and the controller (its `reverse` is the node's: the pose is turned
+    # round already); None: a controller makes one from `points` if it needs one
+    polyline: Polyline | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ control period, so the turtle stops on the end point. A turtle facing more than
 
 On a base with acceleration limits (`ControlConfig.limited`) braking follows the limits, curves
 follow their time-optimal speed profile (`profile`), and a leg ends only once a stop is within
-reach.
+reach. A polyline is driven forwards: the walker shows one driven backwards as a forward one.
 """
 
 from __future__ import annotations
@@ -24,7 +24,6 @@ from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile, profile_for
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
-from turtle_traj.core.geometry.projection import PolylineSegments
 
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
@@ -133,7 +132,7 @@ class PolylineTracker:
         self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
         self._profile = profile  # with acceleration limits: None on a straight line
         self.landed = False  # the one landing command is sent (`_lands`)
-        self._segments = PolylineSegments(polyline.points)
+        self._segments = polyline.segments
 
     def _candidates(self) -> list[int] | range:
         """The segments searched: a window around the last match (wrapping on a loop)."""
@@ -194,7 +193,7 @@ class PolylineTracker:
             self.landed = landing = True
         pose = predicted
 
-        facing = pose.theta + (math.pi if polyline.reverse else 0.0)
+        facing = pose.theta
         path_heading = float(polyline.headings[self.segment])
         # With limits, steer to the curve's tangent, which turns along each chord, not at its
         # ends. A base that changes its turn rate gradually beat against its angular
@@ -220,8 +219,7 @@ class PolylineTracker:
         target = path_heading - lead - math.atan(config.cross_track_gain * offset)
         steering = _steering(wrap_angle(target - facing), config)
         angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
-        linear = -speed if polyline.reverse else speed
-        return Command(linear, angular)
+        return Command(speed, angular)
 
 
     def _speed(self, fraction: float, remaining: float, curvature: float,

@@ -31,7 +31,6 @@ from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.trackers import TurnTracker
 from turtle_traj.core.control.tuning import tune
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
-from turtle_traj.core.geometry.projection import PolylineSegments
 
 _JOIN_M = 1e-6  # polylines whose ends meet this closely join into one stroke
 # Answers later than the control period in a row that end the run. One late answer can be the
@@ -98,10 +97,10 @@ class _Along:
 
     BEHIND_M, AHEAD_M = 0.05, 0.25
 
-    def __init__(self, points: np.ndarray, endless: bool) -> None:
-        self.segments = PolylineSegments(points)
-        self.cumulative = [0.0, *np.cumsum(np.hypot(*np.diff(points, axis=0).T)).tolist()]
-        self.endless = endless
+    def __init__(self, stroke: Polyline) -> None:
+        self.segments = stroke.segments
+        self.cumulative = stroke.cumulative_length.tolist()
+        self.endless = stroke.repeat
         self.arc = 0.0
         self.last = 0.0  # the fraction last found
 
@@ -252,15 +251,15 @@ class PlanWalker:
 
     def _start(self, stroke: Polyline, config: ControlConfig) -> None:
         """The controller's tuning set, and the stroke handed to it."""
-        self._along, self._periods = _Along(stroke.points, stroke.repeat), 0
+        self._along, self._periods = _Along(stroke), 0
         values = {**vars(config), **(self.tuning() if self.tuning is not None else {})}
         tune(self.controller, values)
         last = self.step_index == len(self.steps) - 1
         tolerance = (self.plan.end_tolerance if last and self.plan.end_tolerance is not None
                      else config.position_tolerance)
         profile = self._profiles[self.step_index] if self._profiles else None
-        self._call('start', Stroke(stroke.points, self._lap, stroke.repeat, tolerance, profile),
-                   self._limits_of(config))
+        self._call('start', Stroke(stroke.points, self._lap, stroke.repeat, tolerance, profile,
+                                   stroke), self._limits_of(config))
 
     def _limits_of(self, config: ControlConfig) -> Limits:
         """The limits of `config`, made again only when the settings change."""

@@ -104,50 +104,60 @@ EXHAUSTIVE_TURTLES = 5  # every order of up to this many turtles along the tour 
 _SEARCH_STEPS = 30  # halvings of the bracket: to a millionth of its width
 
 
-def _part_s(tour: Sequence[Piece], first: int, stop: int, start: Pose2D,
-            config: ControlConfig) -> float:
-    """A turtle at `start` drawing tour[first:stop]: the travel to it, then the part itself."""
-    total, here = 0.0, start
-    for piece in tour[first:stop]:
-        begin, end = piece.ends(False)
-        total += travel_s(here, begin, config) + piece.time_s
-        here = end
-    return total
+class _Tour:
+    """The pieces in tour order, with what each costs drawn right after the one before it (the
+    travel from there included): computed once, for every cut tried."""
 
+    def __init__(self, pieces: Sequence[Piece], config: ControlConfig) -> None:
+        self.pieces, self.config = pieces, config
+        ends = [piece.ends(False) for piece in pieces]
+        self.begins = [begin for begin, _ in ends]
+        self.after = [0.0, *(travel_s(ends[index - 1][1], ends[index][0], config)
+                             + pieces[index].time_s for index in range(1, len(pieces)))]
 
-def _cuts(tour: Sequence[Piece], starts: Sequence[Pose2D], limit: float,
-          config: ControlConfig) -> list[int] | None:
-    """Where the tour is cut so that each turtle in `starts`' order draws one part within
-    `limit` (greedily, as far as each can reach), or None if it cannot be."""
-    cuts, stop = [0], 0
-    for index, start in enumerate(starts):
-        last = index == len(starts) - 1
-        total, here = 0.0, start
-        while stop < len(tour):
-            begin, end = tour[stop].ends(False)
-            more = total + travel_s(here, begin, config) + tour[stop].time_s
-            if more > limit and not last:
-                break
-            total, here, stop = more, end, stop + 1
-        if total > limit:
-            return None
-        cuts.append(stop)
-    return cuts
+    def first_s(self, start: Pose2D, index: int) -> float:
+        """A turtle at `start` getting to piece `index` and drawing it."""
+        return travel_s(start, self.begins[index], self.config) + self.pieces[index].time_s
 
+    def part_s(self, first: int, stop: int, start: Pose2D) -> float:
+        """A turtle at `start` drawing pieces[first:stop]."""
+        if first >= stop:
+            return 0.0
+        total = self.first_s(start, first)
+        for index in range(first + 1, stop):  # summed as `cuts` sums, to the last bit
+            total += self.after[index]
+        return total
 
-def _split(tour: Sequence[Piece], starts: Sequence[Pose2D], low: float, high: float,
-           config: ControlConfig) -> tuple[float, list[int]]:
-    """The least makespan within [low, high] found by halving, and its cuts."""
-    best = _cuts(tour, starts, high, config)
-    for _ in range(_SEARCH_STEPS):
-        middle = 0.5 * (low + high)
-        cuts = _cuts(tour, starts, middle, config)
-        if cuts is None:
-            low = middle
-        else:
-            high, best = middle, cuts
-    return max(_part_s(tour, a, b, start, config)
-               for a, b, start in zip(best[:-1], best[1:], starts, strict=True)), best
+    def cuts(self, starts: Sequence[Pose2D], limit: float) -> list[int] | None:
+        """Where the tour is cut so that each turtle in `starts`' order draws one part within
+        `limit` (greedily, as far as each can reach), or None if it cannot be."""
+        cuts, stop = [0], 0
+        for index, start in enumerate(starts):
+            last, first, total = index == len(starts) - 1, stop, 0.0
+            while stop < len(self.pieces):
+                more = total + (self.first_s(start, stop) if stop == first
+                                else self.after[stop])
+                if more > limit and not last:
+                    break
+                total, stop = more, stop + 1
+            if total > limit:
+                return None
+            cuts.append(stop)
+        return cuts
+
+    def split(self, starts: Sequence[Pose2D], low: float,
+              high: float) -> tuple[float, list[int]]:
+        """The least makespan within [low, high] found by halving, and its cuts."""
+        best = self.cuts(starts, high)
+        for _ in range(_SEARCH_STEPS):
+            middle = 0.5 * (low + high)
+            cuts = self.cuts(starts, middle)
+            if cuts is None:
+                low = middle
+            else:
+                high, best = middle, cuts
+        return max(self.part_s(a, b, start)
+                   for a, b, start in zip(best[:-1], best[1:], starts, strict=True)), best
 
 
 def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[int, ...]]:
@@ -177,16 +187,16 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
     """
     if not starts:
         raise ValueError('no turtle to share the pieces with')
+    tour = _Tour(pieces, config)
     bound = lower_bound_s(pieces, starts, config)
-    alone = max(_part_s(pieces, 0, len(pieces), start, config) for start in starts)
+    alone = max(tour.part_s(0, len(pieces), start) for start in starts)
     best: tuple[float, Sharing] | None = None
     for order in _orders(starts, pieces):
-        _, cuts = _split(pieces, [starts[k] for k in order], bound, alone, config)
+        _, cuts = tour.split([starts[k] for k in order], bound, alone)
         parts = dict(zip(order, zip(cuts, cuts[1:], strict=False), strict=True))
-        sharing = Sharing(tuple(
-            Share(tuple(range(*parts[turtle])), _part_s(pieces, *parts[turtle],
-                                                        starts[turtle], config))
-            for turtle in range(len(starts))), bound)
+        sharing = Sharing(tuple(Share(tuple(range(*parts[turtle])),
+                                      tour.part_s(*parts[turtle], starts[turtle]))
+                                for turtle in range(len(starts))), bound)
         if clearance is not None:
             try:
                 timing = simulate(routes(sharing, pieces, starts, config), starts, clearance)

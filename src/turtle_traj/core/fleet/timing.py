@@ -9,18 +9,18 @@ is driving, or the pose it stands at between moves (its start, or its last move'
 This is velocity tuning in the sense of path-velocity decomposition (Kant and Zucker, 1986):
 the paths are fixed, only the timing is chosen. Read on a coordination diagram (Siméon, Leroy
 and Laumond, IEEE T-RA 18(1), 2002), it crosses the diagram's obstacle boxes never: a move is a
-box edge, and two moves run at once only when their paths are apart. The rule holds whatever
-the speeds: the coordinator applies it to the moves as they really end, and `simulate` applies
-it to their nominal durations to predict the makespan and find a deadlock (two turtles each
-waiting where the other's next move goes) before a turtle moves. Turtles are served in their
-order: the first waiting turtle whose move is clear starts.
+box edge, and two moves run at once only when their paths are apart. The rule needs no speeds,
+so it holds applied to moves as they really end; `simulate` applies it to their nominal
+durations to predict the makespan and find a deadlock (two turtles each waiting where the
+other's next move goes) before a turtle moves. Turtles are served in their order: the first
+waiting turtle whose move is clear starts.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -39,9 +39,11 @@ class Move:
     def end(self) -> tuple[float, float]:
         return float(self.points[-1][0]), float(self.points[-1][1])
 
-
-def _shape(points: np.ndarray) -> shapely.Geometry:
-    return shapely.LineString(points) if len(points) > 1 else shapely.Point(points[0])
+    @cached_property
+    def shape(self) -> shapely.Geometry:
+        """Its path as shapely measures it (made once: a waiting move is asked about again)."""
+        points = self.points
+        return shapely.LineString(points) if len(points) > 1 else shapely.Point(points[0])
 
 
 class Whereabouts:
@@ -51,7 +53,7 @@ class Whereabouts:
         self.shapes: list[shapely.Geometry] = [shapely.Point(s.x, s.y) for s in starts]
 
     def driving(self, turtle: int, move: Move) -> None:
-        self.shapes[turtle] = _shape(move.points)
+        self.shapes[turtle] = move.shape
 
     def standing(self, turtle: int, at: tuple[float, float]) -> None:
         self.shapes[turtle] = shapely.Point(at)
@@ -59,8 +61,7 @@ class Whereabouts:
     def clear(self, turtle: int, move: Move, clearance: float) -> bool:
         """Whether `turtle` may drive `move` now: its path keeps `clearance` from every other
         turtle's whereabouts."""
-        path = _shape(move.points)
-        return all(other == turtle or shapely.distance(path, shape) >= clearance
+        return all(other == turtle or shapely.distance(move.shape, shape) >= clearance
                    for other, shape in enumerate(self.shapes))
 
 
@@ -119,17 +120,3 @@ def simulate(routes: Sequence[Sequence[Move]], starts: Sequence[Pose2D],
     ends = tuple(begun[t][-1] + routes[t][-1].duration_s if routes[t] else 0.0
                  for t in range(len(routes)))
     return Timing(tuple(map(tuple, begun)), ends, tuple(waited))
-
-
-def closest_approach(tracks: Sequence[np.ndarray]) -> float:
-    """The least distance between two turtles' centres at the same instant, over tracks sampled
-    at the same times ((T, 2) each, the shorter ones standing at their last point)."""
-    length = max(len(track) for track in tracks)
-    padded = [np.concatenate([track, np.repeat(track[-1:], length - len(track), axis=0)])
-              for track in tracks]
-    nearest = math.inf
-    for first in range(len(padded)):
-        for second in range(first + 1, len(padded)):
-            gaps = np.hypot(*(padded[first] - padded[second]).T)
-            nearest = min(nearest, float(gaps.min()))
-    return nearest

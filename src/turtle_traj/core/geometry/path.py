@@ -14,6 +14,7 @@ from functools import cached_property
 import numpy as np
 
 from turtle_traj.core.geometry.angles import shortest_angular_distance, wrap_angle, wrap_angles
+from turtle_traj.core.geometry.projection import PolylineSegments
 
 
 @dataclass(frozen=True)
@@ -39,6 +40,11 @@ class Polyline:
     reverse: bool = False
     repeat: bool = False
     pen: bool = True
+
+    @cached_property
+    def segments(self) -> PolylineSegments:
+        """Its segments as plain floats, for the searches along it (`projection`)."""
+        return PolylineSegments(self.points)
 
     @cached_property
     def segment_lengths(self) -> np.ndarray:

@@ -40,8 +40,8 @@ class ExactFollower(ExactTuning):
         self._tolerance = stroke.tolerance
         self._configure(limits)
         profile = stroke.profile if stroke.profile is not None else UNPLANNED
-        self._tracker = PolylineTracker(Polyline(stroke.points, repeat=stroke.endless),
-                                        stroke.tolerance, profile)
+        polyline = stroke.polyline or Polyline(stroke.points, repeat=stroke.endless)
+        self._tracker = PolylineTracker(polyline, stroke.tolerance, profile)
 
     def command(self, state: State) -> Command | None:
         if state.limits is not None and state.limits is not self._limits:
