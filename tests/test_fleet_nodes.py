@@ -96,3 +96,23 @@ def test_a_fleet_turtles_bag_records_its_namespaces_topics(monkeypatch):
     assert asked['node'] == '/turtle2/turtle_traj'
     assert asked['topics'][:4] == ['/turtle2/pose', '/turtle2/cmd_vel', '/turtle2/color_sensor',
                                    '/turtle2/turtle_traj/plan']
+
+
+def test_turtles_on_the_command_line_ask_the_fleet_coordinator_for_the_same_drawing(capsys):
+    from turtle_traj.api.ros_interface import make_goal
+    from turtle_traj.cli.main import build_parser, main, to_goal
+    from turtle_traj.core.registry import BY_NAME
+
+    parser = build_parser()
+    goal = to_goal(parser.parse_args(['write', 'ROS 2', '--height', '1', '--turtles', '3']))
+    assert list(goal.turtles) == ['turtle1', 'turtle2', 'turtle3']
+    alone = make_goal(BY_NAME['text'], {'text': 'ROS 2', 'height': 1.0})
+    assert all(getattr(goal.drawing, name) == getattr(alone, name)
+               for name in alone.get_fields_and_field_types())
+    with pytest.raises(SystemExit):
+        main(['write', 'ROS 2', '--turtles', '2', '--turtle', 'turtle2'])
+    assert 'not with --turtle or --node' in capsys.readouterr().err
+    with pytest.raises(SystemExit):  # a go-to is not shared
+        parser.parse_args(['go-to', '2', '2', '--turtles', '2'])
+    with pytest.raises(SystemExit):
+        parser.parse_args(['draw', 'star', '--turtles', str(MAX_TURTLES + 1)])

@@ -23,10 +23,29 @@ def _text_plan():
 
 def test_the_pieces_are_the_drawings_pen_down_legs_in_its_order():
     plan = _text_plan()
-    pieces = pieces_in(plan.path, CONFIG)
     drawn = [leg for leg in plan.path.legs if isinstance(leg, Polyline) and leg.pen]
-    assert [piece.polyline for piece in pieces] == drawn
-    assert all(piece.time_s >= piece.polyline.length / CONFIG.linear_speed for piece in pieces)
+    whole = pieces_in(plan.path, CONFIG, longest=np.inf)
+    assert [piece.polyline for piece in whole] == drawn
+    assert all(piece.time_s >= piece.polyline.length / CONFIG.linear_speed for piece in whole)
+
+
+def test_long_legs_are_cut_into_even_pieces_that_join_into_them():
+    plan = planner.plan('star', make_request(BY_NAME['star'], {'size': 1.2}), ANCHOR,
+                        DEFAULT_SETTINGS)
+    drawn = [leg for leg in plan.path.legs if isinstance(leg, Polyline) and leg.pen]
+    pieces = pieces_in(plan.path, CONFIG, longest=0.4)
+    assert len(pieces) > len(drawn) and all(p.polyline.length <= 0.4 + 1e-9 for p in pieces)
+    joined = iter(pieces)
+    for leg in drawn:
+        parts, length = [], 0.0
+        while length < leg.length - 1e-9:
+            parts.append(next(joined).polyline)
+            length += parts[-1].length
+        assert [p.length for p in parts] == pytest.approx([leg.length / len(parts)] * len(parts))
+        assert np.allclose(parts[0].points[0], leg.points[0])
+        assert np.allclose(parts[-1].points[-1], leg.points[-1])
+        assert all(np.allclose(a.points[-1], b.points[0])
+                   for a, b in zip(parts, parts[1:], strict=False))
 
 
 def test_one_turtle_draws_the_planners_tour_in_the_planners_time():
@@ -108,6 +127,6 @@ def test_shared_with_a_clearance_the_turtles_keep_it_at_every_instant():
     sharing = share(pieces, starts, CONFIG, clearance=0.6)
     moves = routes(sharing, pieces, starts, CONFIG)
     assert closest_approach(_tracks(moves, starts, sharing.timing, step_s=0.01)) >= 0.6 - 1e-9
-    assert sharing.timing.makespan_s >= sharing.makespan_s - 1e-6
+    assert sharing.timing.makespan_s >= sharing.timing.drawn_s >= sharing.makespan_s - 1e-6
     alone = share(pieces, [ANCHOR], CONFIG).makespan_s
-    assert sharing.timing.makespan_s < 0.6 * alone
+    assert sharing.timing.drawn_s < 0.6 * alone

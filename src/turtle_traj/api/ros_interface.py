@@ -40,7 +40,19 @@ def make_goal(trajectory: TrajectoryKind, given: Mapping[str, Any]):
                                             **_message_values(trajectory, given))
 
 
+def make_fleet_goal(trajectory: TrajectoryKind, given: Mapping[str, Any], turtles: list[str]):
+    """The fleet coordinator's goal: the same drawing, drawn by `turtles` together."""
+    return interface(FLEET_ACTION_TYPE).Goal(
+        drawing=interface(DRAWING_TYPE)(trajectory=trajectory.name,
+                                        **_message_values(trajectory, given)),
+        turtles=turtles)
+
+
 DRAW_ACTION, DRAW_ACTION_TYPE = 'draw', 'turtle_traj_interfaces/action/Draw'
+# The fleet coordinator (`up --turtles N`) serves its own draw action: FleetDraw, whose goal
+# carries a Drawing (Draw's goal, field for field).
+FLEET_NODE, FLEET_ACTION_TYPE = '/fleet', 'turtle_traj_interfaces/action/FleetDraw'
+DRAWING_TYPE = 'turtle_traj_interfaces/msg/Drawing'
 COMMAND_SERVICES = {'stop': 'std_srvs/srv/Trigger', 'reset': 'std_srvs/srv/Trigger'}
 SERVICE_TYPES: dict[str, type] = {
     **{trajectory.service: service_type(trajectory) for trajectory in TRAJECTORIES},

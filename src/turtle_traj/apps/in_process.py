@@ -17,6 +17,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from turtlesim.msg import Pose
 
+from turtle_traj.fleet.coordinator import FleetCoordinator
 from turtle_traj.node.trajectory_node import TrajectoryNode
 from turtle_traj.rosutils.lockstep import LockstepExecutor
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
@@ -184,3 +185,36 @@ class InProcessSystem(LockstepSim):
         if not name.startswith('/'):
             self.poses.clear()
         return super().start(service_type, name, request)
+
+
+class InProcessFleet(LockstepSim):
+    """LockstepSim with `turtles` turtles at `places` (x, y, theta each; turtle1 first), a
+    trajectory node for each in its namespace and the fleet coordinator; the client records
+    every turtle's poses in `poses`, by name."""
+
+    def __init__(self, places: list[tuple[float, float, float]], *,
+                 context: Context | None = None, output_dir: Path = Path('output'),
+                 **node_parameters: object) -> None:
+        super().__init__(context=context, output_dir=output_dir)
+        with self._closed_on_error():
+            self.names = [f'turtle{number}' for number in range(1, len(places) + 1)]
+            self.poses: dict[str, list[Pose]] = {name: [] for name in self.names}
+            self.sim.world.teleport_absolute('turtle1', *places[0])
+            for name, place in zip(self.names[1:], places[1:], strict=True):
+                self.sim.spawn_turtle(name, *place)
+            self.turtle_nodes = {}
+            for name in self.names:
+                self.turtle_nodes[name] = TrajectoryNode(
+                    context=context, namespace=f'/{name}', parameter_overrides=[
+                        SIM_TIME, Parameter('turtle_name', value=''),
+                        *(Parameter(key, value=value) for key, value in node_parameters.items())])
+                self.add_node(self.turtle_nodes[name])
+                self.client.create_subscription(Pose, f'/{name}/pose', self.poses[name].append,
+                                                TURTLE_TOPIC_QOS)
+            self.coordinator = FleetCoordinator(context=context, parameter_overrides=[SIM_TIME])
+            self.add_node(self.coordinator)
+            if not self.spin_until(lambda: all(node.ready for node in self.turtle_nodes.values())
+                                   and all(self.poses.values()),
+                                   timeout_s=_DISCOVERY_TIMEOUT_S):
+                raise RuntimeError(f'the fleet did not come up within {_DISCOVERY_TIMEOUT_S:g} s')
+            self.sim.canvas.clear()  # turtle1's teleport drew its way to its place

@@ -96,6 +96,9 @@ def run(options: Options) -> int:
             raise
         if priority is not None:
             priority.report(controllers[0].get_logger())
+        if len(controllers) > 1:  # a fleet: its coordinator too
+            from turtle_traj.fleet.coordinator import FleetCoordinator
+            nodes.append(FleetCoordinator(parameter_overrides=overrides))
         return [*nodes, *controllers]
 
     def on_exit() -> list[Future | None]:
@@ -121,7 +124,8 @@ def run(options: Options) -> int:
 
 def _trajectory_nodes(options: Options, overrides: list[Parameter]) -> list[TrajectoryNode]:
     """The trajectory node; with several turtles, one for each, in the turtle's namespace
-    (`/turtle2/turtle_traj` drives `/turtle2/pose` and `/turtle2/cmd_vel`)."""
+    (`/turtle2/turtle_traj` drives `/turtle2/pose` and `/turtle2/cmd_vel`), whom the fleet
+    coordinator (`/fleet`) drives together."""
     names = options.sim.turtle_names if options.sim is not None else []
     if len(names) < 2:
         return [TrajectoryNode(parameter_overrides=overrides)]

@@ -12,12 +12,20 @@ BAR_WIDTH = 24
 
 
 def progress_text(name: str, feedback, *, endless: bool) -> str:
-    """One line for a Draw.Feedback: bar, percent, distance, elapsed, deviation."""
+    """One line for a Draw.Feedback (bar, percent, distance, elapsed, deviation), or a
+    FleetDraw.Feedback (bar, percent, elapsed, turtles driving, closest two)."""
     filled = round(feedback.progress * BAR_WIDTH)
     bar = '#' * filled + '-' * (BAR_WIDTH - filled)
     lap = ' lap' if endless else ''
-    text = (f'{name}{lap} [{bar}] {feedback.progress * 100:3.0f}%  {feedback.distance:6.2f} m  '
-            f'{feedback.elapsed:6.1f} s  deviation {feedback.deviation * 1000:5.1f} mm')
+    text = f'{name}{lap} [{bar}] {feedback.progress * 100:3.0f}%  '
+    if hasattr(feedback, 'turtles'):
+        driving = sum(state == 'driving' for state in feedback.state)
+        closest = (f'closest {feedback.min_distance:.2f} m' if math.isfinite(feedback.min_distance)
+                   else '')
+        return (text + f'{feedback.elapsed:6.1f} s  {driving} of {len(feedback.turtles)} '
+                       f'turtles driving  {closest}')
+    text += (f'{feedback.distance:6.2f} m  {feedback.elapsed:6.1f} s  deviation '
+             f'{feedback.deviation * 1000:5.1f} mm')
     return text + ('  (Ctrl-C stops it)' if endless else '')
 
 
@@ -58,6 +66,15 @@ def report(result, cancelled: str = '') -> str:
                      f'max deviation {result.max_deviation:.4f} m, final error '
                      f'{result.final_error:.4f} m, heading error '
                      f'{math.degrees(result.final_heading_error):.2f} deg')
+    if hasattr(result, 'makespan') and result.turtles:  # a fleet's
+        lines.append(f'  makespan {result.makespan:.2f} s (planned {result.planned_makespan:.2f} '
+                     f's, lower bound {result.lower_bound:.2f} s), closest two turtles '
+                     f'{result.min_distance:.3f} m')
+        lines += [f'  {name}: {pieces} pieces, max deviation {deviation:.4f} m'
+                  + (f', lost: {lost}' if lost else '')
+                  for name, pieces, deviation, lost in zip(
+                      result.turtles, result.pieces, result.max_deviation, result.lost,
+                      strict=True)]
     if getattr(result, 'pen_up_length', 0.0) > 0.0:
         lines.append(f'  pen up {result.pen_up_length:.2f} m between strokes (in the order '
                      f'given: {result.pen_up_unordered:.2f} m)')

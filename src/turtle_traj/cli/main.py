@@ -25,9 +25,9 @@ from turtle_traj.core.fields import (
     parse_point,
     parse_points,
 )
-from turtle_traj.core.registry import TRAJECTORIES, TrajectoryKind
+from turtle_traj.core.registry import NOT_DRAWINGS, TRAJECTORIES, TrajectoryKind
 from turtle_traj.rosutils.priority import add_priority_option
-from turtle_traj.sim.options import add_sim_options
+from turtle_traj.sim.options import MAX_TURTLES, add_sim_options
 
 if TYPE_CHECKING:
     from turtle_traj.client.traj_client import TrajClient
@@ -110,8 +110,20 @@ def _add_trajectory(groups: dict[tuple[str, ...], argparse._SubParsersAction],
                                             description=trajectory.summary)
     for item in trajectory.fields:
         _add_field(parser, item)
+    if trajectory.name not in NOT_DRAWINGS:
+        parser.add_argument('--turtles', type=_parser_of(_fleet_size), metavar='N',
+                            help='draw it with turtle1 to turtleN together, through the fleet '
+                                 'coordinator (`up --turtles N`), placed as turtle1 would '
+                                 'draw it alone')
     _add_connection_options(parser)
     parser.set_defaults(trajectory=trajectory)
+
+
+def _fleet_size(text: str) -> int:
+    count = int(text)
+    if not 1 <= count <= MAX_TURTLES:
+        raise ValueError(f'--turtles must be within 1 and {MAX_TURTLES}')
+    return count
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -190,10 +202,16 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def to_goal(options: argparse.Namespace):
-    """The draw action's goal for parsed options (None for the other commands)."""
-    from turtle_traj.api.ros_interface import make_goal
+    """The draw action's goal for parsed options (None for the other commands): the fleet
+    coordinator's, with --turtles."""
+    from turtle_traj.api.ros_interface import make_fleet_goal, make_goal
     trajectory = getattr(options, 'trajectory', None)
-    return None if trajectory is None else make_goal(trajectory, vars(options))
+    if trajectory is None:
+        return None
+    if getattr(options, 'turtles', None):
+        return make_fleet_goal(trajectory, vars(options),
+                               [f'turtle{number}' for number in range(1, options.turtles + 1)])
+    return make_goal(trajectory, vars(options))
 
 
 def _read_points(path: Path) -> list[tuple[float, float]]:
@@ -221,6 +239,12 @@ def _main(args: Sequence[str] | None) -> int:
         if options.node != '/turtle_traj':
             parser.error('--turtle names the node: give --turtle or --node, not both')
         options.node = f"/{options.turtle.strip('/')}/turtle_traj"
+    if getattr(options, 'turtles', None):
+        if options.turtle or options.node != '/turtle_traj':
+            parser.error('--turtles draws through the fleet coordinator: not with --turtle or '
+                         '--node')
+        from turtle_traj.api.ros_interface import FLEET_NODE
+        options.node = FLEET_NODE
     # Our programs' Fast DDS settings (fastdds.xml), for the command line's requests too: by
     # UDP, a request lost at a busy node's full socket buffer waits for the sender's next
     # heartbeat, 3 s by Fast DDS's default, a few milliseconds by ours.
@@ -262,7 +286,9 @@ def _ask_the_node(options: argparse.Namespace, trajectory: TrajectoryKind | None
         TrajClientError,
     )
     try:
-        with TrajClient(node=options.node, connect_timeout_s=options.wait) as client:
+        from turtle_traj.api.ros_interface import FLEET_ACTION_TYPE
+        fleet = {'action_type': FLEET_ACTION_TYPE} if getattr(options, 'turtles', None) else {}
+        with TrajClient(node=options.node, connect_timeout_s=options.wait, **fleet) as client:
             if options.command == 'save':
                 response = client.save_canvas(options.filename)
                 print(response.message, file=sys.stdout if response.success else sys.stderr)
@@ -292,9 +318,11 @@ def _draw(client: TrajClient, trajectory: TrajectoryKind, options: argparse.Name
     from turtle_traj.cli.console import ProgressLine, report
     from turtle_traj.client.traj_client import INTERRUPTED
     goal = to_goal(options)
-    line = ProgressLine(trajectory.name, endless=goal.forever)
+    drawing = getattr(goal, 'drawing', goal)  # a fleet's goal carries the drawing
+    line = ProgressLine(trajectory.name, endless=drawing.forever)
     try:
-        outcome = client.draw(goal, on_feedback=line.show, timeout_s=options.timeout)
+        outcome = client.draw(goal, on_feedback=line.show, timeout_s=options.timeout,
+                              what=trajectory.name)
     finally:
         line.clear()
     result = outcome.result

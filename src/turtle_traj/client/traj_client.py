@@ -86,8 +86,10 @@ class TrajClient:
     `/turtle_traj`)."""
 
     def __init__(self, *, node: str = '/turtle_traj', connect_timeout_s: float = 3.0,
-                 context: Context | None = None) -> None:
+                 context: Context | None = None, action_type: str = DRAW_ACTION_TYPE) -> None:
         """
+        :param action_type: the type of the node's `draw` action (the fleet coordinator's is
+            FleetDraw's).
         :param context: the rclpy context to use; by default the process's own
             (`runtime.process_context`), initialised here if no one did and then shut down by
             `close`.
@@ -105,6 +107,7 @@ class TrajClient:
         self._executor = events_executor(context=self._context)
         self._executor.add_node(self._node)
         self._action: ActionClient | None = None
+        self._action_type = action_type
         self._parameters: RemoteParameters | None = None
 
     def __enter__(self) -> TrajClient:
@@ -154,13 +157,14 @@ class TrajClient:
             self._node.destroy_client(client)
 
     def draw(self, goal, *, on_feedback: Callable[[object], None] | None = None,
-             timeout_s: float | None = None) -> DrawOutcome:
+             timeout_s: float | None = None, what: str | None = None) -> DrawOutcome:
         """Run a goal of the node's draw action to its end and return how it ended.
 
         Ctrl-C (KeyboardInterrupt) while it runs, or `timeout_s` wall seconds, cancel the goal:
         the turtle stops and the outcome says why it was cancelled.
 
         :param on_feedback: called with each Draw.Feedback (at least 5 Hz of the node's clock).
+        :param what: the goal's name in messages (default: its trajectory).
         :raises TrajClientError: no node, the goal rejected (a trajectory node accepts every goal:
             the node's reason for one that cannot run is in the outcome's result), or the
             node gone mid-run (noticed within about `FEEDBACK_SILENCE_S + PROBE_TIMEOUT_S`).
@@ -192,7 +196,7 @@ class TrajClient:
             if not handle.accepted:
                 raise GoalRejected(f'{self.node_name} rejected the goal')
             liveness.heard()  # the acceptance: the silence counts from here, not the request
-            result = self._follow(goal.trajectory, handle, liveness, timeout_s)
+            result = self._follow(what or goal.trajectory, handle, liveness, timeout_s)
         except KeyboardInterrupt:
             return self._cancel(action, goal_id, sent, INTERRUPTED)
         except TimeoutError:
@@ -250,7 +254,7 @@ class TrajClient:
 
     def _draw_action(self) -> ActionClient:
         if self._action is None:
-            self._action = ActionClient(self._node, interface(DRAW_ACTION_TYPE),
+            self._action = ActionClient(self._node, interface(self._action_type),
                                         f'{self.node_name}/{DRAW_ACTION}')
         return self._action
 

@@ -235,3 +235,5 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
             'points': [(8.5, 2.5), (8.5, 8.5), (5.5, 5.5), (2.5, 8.5)], 'closed': True})),
 )
 BY_NAME = {trajectory.name: trajectory for trajectory in TRAJECTORIES}
+# Kinds that move the turtle without drawing a picture: a fleet has nothing to share in them.
+NOT_DRAWINGS = frozenset({'go_to', 'move', 'rotate'})

@@ -53,10 +53,31 @@ class Piece:
         return Pose2D(*points[0], float(headings[0])), Pose2D(*points[-1], float(headings[-1]))
 
 
-def pieces_in(path: Path, config: ControlConfig) -> list[Piece]:
-    """The pen-down pieces of a drawing's path, in its order."""
-    return [Piece(leg, least_time_s(Path((leg,)), config)) for leg in path.legs
-            if isinstance(leg, Polyline) and leg.pen]
+PIECE_M = 1.0  # pieces longer than this are cut into even parts no longer
+
+
+def pieces_in(path: Path, config: ControlConfig, longest: float = PIECE_M) -> list[Piece]:
+    """The pen-down pieces of a drawing's path, in its order, each at most `longest` long: a
+    long stroke is cut where it goes straight on, so that several turtles can share it and a
+    turtle waiting for another waits for a short stretch, not a whole stroke."""
+    return [Piece(part, least_time_s(Path((part,)), config)) for leg in path.legs
+            if isinstance(leg, Polyline) and leg.pen for part in _parts(leg, longest)]
+
+
+def _parts(leg: Polyline, longest: float) -> list[Polyline]:
+    """`leg` cut into the fewest even parts no longer than `longest`."""
+    count = max(1, math.ceil(leg.length / longest - 1e-9))
+    if count == 1:
+        return [leg]
+    along, points = leg.cumulative_length, leg.points
+    cuts = np.linspace(0.0, along[-1], count + 1)
+    parts = []
+    for begin, end in zip(cuts, cuts[1:], strict=False):
+        inside = (along > begin) & (along < end)
+        ends = np.array([[np.interp(at, along, points[:, axis]) for axis in (0, 1)]
+                         for at in (begin, end)])
+        parts.append(replace(leg, points=np.concatenate(([ends[0]], points[inside], [ends[1]]))))
+    return parts
 
 
 def _turn_s(sweep: float, config: ControlConfig) -> float:
@@ -160,6 +181,20 @@ class _Tour:
                    for a, b, start in zip(best[:-1], best[1:], starts, strict=True)), best
 
 
+LOOSER_STEPS, LOOSER_SLACK = 8, 0.04  # cuts also tried with the limit raised 4 %, 8 %, ...
+
+
+def _looser(tour: _Tour, starts: Sequence[Pose2D], least: float,
+            cuts: list[int]) -> list[list[int]]:
+    """`cuts`, then the different cuts the greedy fill makes with looser limits."""
+    tried = [cuts]
+    for step in range(1, LOOSER_STEPS + 1):
+        looser = tour.cuts(starts, least * (1.0 + LOOSER_SLACK * step))
+        if looser is not None and looser not in tried:
+            tried.append(looser)
+    return tried
+
+
 def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[int, ...]]:
     """The orders of the turtles along the tour to try: all of them for a few turtles; else
     each part in turn takes the turtle left nearest the tour's next stretch."""
@@ -177,11 +212,11 @@ def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[i
 
 
 def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
-          clearance: float | None = None) -> Sharing:
+          clearance: float | None = None, standing: Sequence[Pose2D] = ()) -> Sharing:
     """The pieces of one turtle's tour (`pieces`, in its order) shared out among turtles
     standing at `starts` (see the module). With a `clearance`, each candidate is judged by when
     its turtles end with the waits that keep them that far apart (`timing.simulate`), and one
-    that would deadlock is passed over.
+    that would deadlock is passed over; `standing` are turtles that do not draw, kept clear of.
 
     :raises Deadlock: with a clearance, every candidate would deadlock.
     """
@@ -192,20 +227,25 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
     alone = max(tour.part_s(0, len(pieces), start) for start in starts)
     best: tuple[float, Sharing] | None = None
     for order in _orders(starts, pieces):
-        _, cuts = tour.split([starts[k] for k in order], bound, alone)
-        parts = dict(zip(order, zip(cuts, cuts[1:], strict=False), strict=True))
-        sharing = Sharing(tuple(Share(tuple(range(*parts[turtle])),
-                                      tour.part_s(*parts[turtle], starts[turtle]))
-                                for turtle in range(len(starts))), bound)
-        if clearance is not None:
-            try:
-                timing = simulate(routes(sharing, pieces, starts, config), starts, clearance)
-            except Deadlock:
-                continue
-            sharing = replace(sharing, timing=timing)
-        judged = sharing.timing.makespan_s if sharing.timing else sharing.makespan_s
-        if best is None or judged < best[0] - 1e-9:
-            best = (judged, sharing)
+        ordered = [starts[k] for k in order]
+        least, cuts = tour.split(ordered, bound, alone)
+        # with waits, parts a little longer for the first turtles may end sooner
+        tried = [cuts] if clearance is None else _looser(tour, ordered, least, cuts)
+        for cuts in tried:
+            parts = dict(zip(order, zip(cuts, cuts[1:], strict=False), strict=True))
+            sharing = Sharing(tuple(Share(tuple(range(*parts[turtle])),
+                                          tour.part_s(*parts[turtle], starts[turtle]))
+                                    for turtle in range(len(starts))), bound)
+            if clearance is not None:
+                try:
+                    timing = simulate([*routes(sharing, pieces, starts, config),
+                                       *([] for _ in standing)], [*starts, *standing], clearance)
+                except Deadlock:
+                    continue
+                sharing = replace(sharing, timing=timing)
+            judged = sharing.timing.drawn_s if sharing.timing else sharing.makespan_s
+            if best is None or judged < best[0] - 1e-9:
+                best = (judged, sharing)
     if best is None:
         raise Deadlock(f'every way of sharing the drawing among {len(starts)} turtles has two '
                        'of them wait for each other for ever')
@@ -214,19 +254,35 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
 
 def routes(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
            config: ControlConfig) -> list[list[Move]]:
-    """Each turtle's moves, in order: the travel to each of its pieces (a turn where it stands
-    there already), then the piece."""
+    """Each turtle's moves, in order: for each of its pieces, a travel there (pen up) that ends
+    facing it, or where the turtle stands there already, a turn onto it (pen down: it
+    continues a stroke); then the piece. A turtle that drew goes back where it started, out of
+    the way of the others' pieces."""
     moves: list[list[Move]] = []
     for part, start in zip(sharing.shares, starts, strict=True):
-        route, here = [], start
+        route: list[Move] = []
+        here = start
         for index in part.pieces:
-            begin, end = pieces[index].ends(False)
-            route.append(Move(np.array([(here.x, here.y), (begin.x, begin.y)]),
-                              travel_s(here, begin, config)))
-            route.append(Move(pieces[index].polyline.points, pieces[index].time_s))
+            piece = pieces[index]
+            begin, end = piece.ends(False)
+            if math.hypot(begin.x - here.x, begin.y - here.y) > JOINED_M:
+                route.append(Move(np.array([(here.x, here.y), (begin.x, begin.y)]),
+                                  travel_s(here, begin, config), heading=begin.theta))
+            elif abs(wrap_angle(begin.theta - here.theta)) > JOINED_M:
+                route.append(Move(np.array([(begin.x, begin.y)]), travel_s(here, begin, config),
+                                  pen=True, heading=begin.theta))
+            route.append(Move(piece.polyline.points, piece.time_s, pen=True, heading=end.theta,
+                              pieces=(index,)))
             here = end
+        if route:
+            route.append(Move(np.array([(here.x, here.y), (start.x, start.y)]),
+                              travel_s(here, start, config), heading=start.theta))
         moves.append(route)
     return moves
+
+
+JOINED_M = 1e-6  # a piece beginning this near where the turtle stands (and as near its heading,
+# in radians) continues from there
 
 
 def lower_bound_s(pieces: Sequence[Piece], starts: Sequence[Pose2D],

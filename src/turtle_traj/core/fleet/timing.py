@@ -30,10 +30,15 @@ from turtle_traj.core.geometry.path import Pose2D
 
 @dataclass(frozen=True)
 class Move:
-    """A stretch a turtle drives without stopping: its path, and how long it takes."""
+    """A stretch a turtle drives as one request: its path, and how long it takes. A piece of
+    the drawing follows its path; any other move (a travel, a turn onto a piece) turns to face
+    its end, drives there and turns onto `heading`."""
 
     points: np.ndarray  # (N, 2), N >= 1
     duration_s: float
+    pen: bool = False  # driven with the pen down
+    heading: float = 0.0  # [rad] the heading it ends in
+    pieces: tuple[int, ...] = ()  # a piece: the drawing's pieces it draws
 
     @property
     def end(self) -> tuple[float, float]:
@@ -70,7 +75,9 @@ class Timing:
     """When each turtle starts each of its moves, as `simulate` predicts it."""
 
     starts_s: tuple[tuple[float, ...], ...]  # per turtle, per move
+    order: tuple[tuple[int, int], ...]  # (turtle, move) of every move, in the order they start
     ends_s: tuple[float, ...]  # per turtle: when its last move ends (0 without moves)
+    drawn_s: float  # when the last move that draws a piece ends: the drawing is complete
     waited_s: tuple[float, ...]  # per turtle: time spent waiting for others
 
     @property
@@ -93,6 +100,7 @@ def simulate(routes: Sequence[Sequence[Move]], starts: Sequence[Pose2D],
     busy_until: list[float | None] = [None] * len(routes)
     ready_at = [0.0] * len(routes)  # since when each has waited for its next move
     begun: list[list[float]] = [[] for _ in routes]
+    order: list[tuple[int, int]] = []
     waited = [0.0] * len(routes)
     now = 0.0
     while True:
@@ -106,6 +114,7 @@ def simulate(routes: Sequence[Sequence[Move]], starts: Sequence[Pose2D],
                 if where.clear(turtle, move, clearance):
                     waited[turtle] += now - ready_at[turtle]
                     begun[turtle].append(now)
+                    order.append((turtle, next_move[turtle]))
                     where.driving(turtle, move)
                     busy_until[turtle] = now + move.duration_s
                     next_move[turtle] += 1
@@ -119,4 +128,11 @@ def simulate(routes: Sequence[Sequence[Move]], starts: Sequence[Pose2D],
         now = min(pending)
     ends = tuple(begun[t][-1] + routes[t][-1].duration_s if routes[t] else 0.0
                  for t in range(len(routes)))
-    return Timing(tuple(map(tuple, begun)), ends, tuple(waited))
+    return Timing(tuple(map(tuple, begun)), tuple(order), ends, _drawn_s(routes, begun),
+                  tuple(waited))
+
+
+def _drawn_s(routes: Sequence[Sequence[Move]], begun: Sequence[Sequence[float]]) -> float:
+    """When the last move that draws a piece ends."""
+    return max((at + move.duration_s for route, starts_s in zip(routes, begun, strict=True)
+                for move, at in zip(route, starts_s, strict=True) if move.pieces), default=0.0)

@@ -171,12 +171,15 @@ def go_to(start: Pose2D, *, x: float, y: float, final_heading: float | None,
 
 
 def follow(start: Pose2D, *, points: Sequence[tuple[float, float]], closed: bool,
-           corner_angle_rad: float) -> Path:
-    """A polyline through `points`, reached from the current position."""
+           corner_angle_rad: float, reached: float = 0.0) -> Path:
+    """A polyline through `points`, reached from the current position unless that is within
+    `reached` of the first point (a turtle standing there needs no leg to it)."""
     waypoints = np.array(points, dtype=float).reshape(-1, 2)
     if closed:
         waypoints = np.vstack((waypoints, waypoints[:1]))
-    route = np.vstack((_start_xy(start), waypoints))
+    here = _start_xy(start)
+    route = (waypoints if float(np.hypot(*(waypoints[0] - here))) <= reached
+             else np.vstack((here, waypoints)))
     legs = legs_from_polyline(start, route, corner_angle_rad=corner_angle_rad)
     return Path(tuple(legs), closed=closed)
 

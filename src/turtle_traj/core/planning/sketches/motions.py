@@ -172,13 +172,14 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
             raise PlanError(f'points[{index}] = ({x:g}, {y:g}) is outside the arena '
                             f'({arena.describe()}, after the wall margin)')
     corner_angle = settings.defaults.corner_angle
+    reached = settings.control.position_tolerance  # a turtle standing there: no leg to it
     given = shapes.follow(start, points=points, closed=request.closed,
-                          corner_angle_rad=corner_angle)
+                          corner_angle_rad=corner_angle, reached=reached)
     driven, spent = given, 0.0
     share = SIMPLIFY_SHARE * corner_tolerance(request, settings, drawing=False)
     if share:
         simpler = shapes.follow(start, points=simplified(points, share), closed=request.closed,
-                                corner_angle_rad=corner_angle)
+                                corner_angle_rad=corner_angle, reached=reached)
         if _stops(simpler) < _stops(given):
             driven = simpler  # the tolerance it took is not the corners' to use
             spent = float(NearestOnPolyline(driven.points()).distances(given.points()).max())

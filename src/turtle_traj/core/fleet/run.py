@@ -1,0 +1,158 @@
+"""One drawing by a fleet, as it happens: which turtle drives which move next, what each drew,
+and the drawing shared again among the others when a turtle is lost. Pure.
+
+The node tells it what happens (`start`, `end`, `lose`); it answers what may start (`ready`).
+A turtle that is lost (its node gone, its turtle gone, a move that fails) keeps nothing: every
+piece it had not finished, the one it was drawing included, goes back to the drawing. The others
+finish the moves they drive, and once none drives, what is left is shared among them from where
+they stand, kept clear of lost turtles that still stand in the arena.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.fleet.schedule import Schedule
+from turtle_traj.core.fleet.sharing import Piece, Sharing, routes, share
+from turtle_traj.core.fleet.timing import Move
+from turtle_traj.core.geometry.path import Pose2D
+
+
+@dataclass
+class TurtleRecord:
+    """What one turtle of the fleet did."""
+
+    name: str
+    pieces: int = 0  # pieces it drew
+    max_deviation: float = 0.0  # [m] its largest distance from the pieces it drew
+    lost: str = ''  # why it was lost ('' while it serves)
+
+
+class FleetRun:
+    """The pieces of one drawing (`pieces`, in tour order) drawn by the turtles `names`,
+    standing at `starts`, at least `clearance` apart; `standing`: turtles that do not draw.
+
+    :raises Deadlock: no sharing of the drawing keeps the turtles apart without a deadlock.
+    """
+
+    def __init__(self, pieces: Sequence[Piece], names: Sequence[str], starts: Sequence[Pose2D],
+                 config: ControlConfig, clearance: float,
+                 standing: Sequence[Pose2D] = ()) -> None:
+        self.pieces, self.config, self.clearance = pieces, config, clearance
+        self.turtles = [TurtleRecord(name) for name in names]
+        self.drawn: set[int] = set()  # the pieces drawn, by index
+        self.first_sharing: Sharing | None = None
+        self._share(list(range(len(names))), starts, standing)
+
+    def _share(self, serving: list[int], starts: Sequence[Pose2D],
+               standing: Sequence[Pose2D]) -> None:
+        """Share the pieces not yet drawn among the turtles `serving` (indices), at `starts`."""
+        left = [index for index in range(len(self.pieces)) if index not in self.drawn]
+        pieces = [self.pieces[index] for index in left]
+        sharing = share(pieces, starts, self.config, self.clearance, standing)
+        if self.first_sharing is None:
+            self.first_sharing = sharing
+        moves = [[_renumbered(move, left) for move in route]
+                 for route in routes(sharing, pieces, starts, self.config)]
+        self._serving = serving
+        self._schedule = Schedule(moves, sharing.timing, self.clearance)
+        self._replan_due = False
+
+    @property
+    def planned_makespan_s(self) -> float:
+        assert self.first_sharing is not None and self.first_sharing.timing is not None
+        return self.first_sharing.timing.drawn_s
+
+    def ready(self) -> list[int]:
+        """The turtles (by index in `names`) whose next move may start now."""
+        if self._replan_due:
+            return []
+        return [self._serving[slot] for slot in self._schedule.ready()]
+
+    def start(self, turtle: int) -> Move:
+        return self._schedule.start(self._serving.index(turtle))
+
+    def end(self, turtle: int, deviation: float) -> None:
+        """`turtle`'s move ended as planned, at most `deviation` from its path (an end heard
+        of a move no longer driven is ignored)."""
+        if not self.driving(turtle):
+            return
+        slot = self._serving.index(turtle)
+        move = self._schedule.routes[slot][self._schedule.next_move[slot]]
+        self._schedule.end(slot)
+        if move.pen:
+            record = self.turtles[turtle]
+            record.pieces += len(move.pieces)
+            record.max_deviation = max(record.max_deviation, deviation)
+            self.drawn.update(move.pieces)
+
+    def end_failed(self, turtle: int) -> None:
+        """`turtle`'s move ended short of its end (or will never be heard of again)."""
+        if self.driving(turtle):
+            self._schedule.abandon(self._serving.index(turtle))
+
+    def lose(self, turtle: int, why: str) -> None:
+        """`turtle` serves no more; what it had not drawn is shared again."""
+        if turtle not in self._serving or self.turtles[turtle].lost:
+            return
+        self.turtles[turtle].lost = why
+        self._replan_due = not self.done
+
+    def driving(self, turtle: int) -> bool:
+        return turtle in self._serving and self._schedule.driving[self._serving.index(turtle)]
+
+    @property
+    def replan_due(self) -> bool:
+        """A turtle was lost and no turtle that serves is driving: share what is left."""
+        return self._replan_due and not any(
+            self.driving(turtle) for turtle in self._serving if not self.turtles[turtle].lost)
+
+    def replan(self, poses: dict[int, Pose2D], standing: Sequence[Pose2D]) -> None:
+        """Share what is left among the turtles that serve, standing at `poses` (by index).
+
+        :raises Deadlock: they cannot finish it without blocking each other.
+        :raises ValueError: no turtle serves any more.
+        """
+        serving = [turtle for turtle in range(len(self.turtles)) if not self.turtles[turtle].lost]
+        self._share(serving, [poses[turtle] for turtle in serving], standing)
+
+    @property
+    def serving(self) -> list[int]:
+        return [turtle for turtle in self._serving if not self.turtles[turtle].lost]
+
+    @property
+    def done(self) -> bool:
+        return len(self.drawn) == len(self.pieces)
+
+    def progress(self) -> float:
+        """The share of the drawing's time drawn, 0 to 1."""
+        total = sum(piece.time_s for piece in self.pieces)
+        return (sum(self.pieces[index].time_s for index in self.drawn) / total
+                if total > 0.0 else 1.0)
+
+    def turtle_progress(self, turtle: int) -> float:
+        """The share of `turtle`'s current route it has driven, 0 to 1 (1 once lost or idle)."""
+        if turtle not in self._serving or self.turtles[turtle].lost:
+            return 1.0
+        slot = self._serving.index(turtle)
+        route = self._schedule.routes[slot]
+        total = sum(move.duration_s for move in route)
+        driven = sum(move.duration_s for move in route[:self._schedule.next_move[slot]])
+        return driven / total if total > 0.0 else 1.0
+
+
+def _renumbered(move: Move, left: Sequence[int]) -> Move:
+    """`move` with its pieces numbered as in the whole drawing (not in `left`)."""
+    if not move.pieces:
+        return move
+    return Move(move.points, move.duration_s, move.pen, move.heading,
+                tuple(left[index] for index in move.pieces))
+
+
+def closest(poses: Sequence[tuple[float, float]]) -> float:
+    """The least distance between two of `poses` (inf for fewer than two)."""
+    return min((math.dist(a, b) for i, a in enumerate(poses) for b in poses[i + 1:]),
+               default=math.inf)

@@ -1,0 +1,1 @@
+"""The fleet coordinator: several turtles, each with its trajectory node, draw one request."""

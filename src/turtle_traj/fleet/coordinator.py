@@ -1,0 +1,325 @@
+"""The fleet coordinator: one drawing shared out among several turtles, each driven by its own
+trajectory node, kept apart by timing.
+
+`~/draw` (turtle_traj_interfaces/action/FleetDraw) plans the drawing as the first turtle's node
+would (with that node's parameters, from its pose), shares its pieces out (`core.fleet`), and
+sends each turtle its moves one Draw goal at a time, each when the schedule allows. A timer
+(`TICK_S`, node clock) starts the moves, watches the turtles and completes the future the
+goal's handler awaits; goal results and poses answer through callbacks.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.action.server import ServerGoalHandle
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.node import Node
+from rclpy.parameter import parameter_value_to_python
+from rclpy.task import Future
+from turtle_traj_interfaces.action import FleetDraw
+
+from turtle_traj.core.control.ending import Ending
+from turtle_traj.core.fleet.run import FleetRun, closest
+from turtle_traj.core.fleet.sharing import pieces_in
+from turtle_traj.core.fleet.timing import Deadlock
+from turtle_traj.core.parameters.settings import Settings, settings_from_values
+from turtle_traj.core.parameters.table import PARAMETERS
+from turtle_traj.core.planning.planner import PlanError, plan
+from turtle_traj.core.registry import NOT_DRAWINGS
+from turtle_traj.core.turtlesim_contract import PenStyle
+from turtle_traj.fleet.link import MoveEnd, TurtleLink, node_of
+from turtle_traj.node.outcomes import ending_message
+from turtle_traj.node.waiting import completion, wait_until
+
+TICK_S = 0.02  # node clock: how often moves are started and turtles watched
+FEEDBACK_EVERY = 5  # ticks: 10 Hz
+READY_TIMEOUT_S = 10.0  # wall: for the turtles' nodes to be found
+_TURTLE_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*')
+
+
+class Refused(Exception):
+    """A goal that cannot be drawn: the message says why, `reason` is the Ending."""
+
+    def __init__(self, message: str, reason: Ending) -> None:
+        super().__init__(message)
+        self.reason = reason
+
+
+@dataclass
+class _Drawing:
+    """The drawing under way: its run, its turtles and how to report it."""
+
+    run: FleetRun
+    links: list[TurtleLink]
+    pen: PenStyle
+    linear_speed: float
+    goal: ServerGoalHandle
+    started_s: float
+    left_out: list[str]
+    finished: Future = field(default_factory=Future)
+    min_distance: float = math.inf
+    drawn_s: float = 0.0  # when the last piece was drawn (0 until then)
+    ticks: int = 0
+    failure: tuple[str, Ending] | None = None
+
+
+class FleetCoordinator(Node):
+    """`fleet`: serves `~/draw` for the turtles whose trajectory nodes it finds."""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__('fleet', **kwargs)
+        self.declare_parameter('clearance', 0.6, ParameterDescriptor(
+            description='Least distance between two turtles\' centres, when a goal leaves it 0 '
+                        '[m]', floating_point_range=[FloatingPointRange(from_value=0.05,
+                                                                          to_value=5.0)]))
+        self._links: dict[str, TurtleLink] = {}
+        self._drawing: _Drawing | None = None
+        self._claimed = False  # a goal is being prepared or drawn
+        group = ReentrantCallbackGroup()
+        self._server = ActionServer(self, FleetDraw, '~/draw', self._execute,
+                                    goal_callback=lambda _: GoalResponse.ACCEPT,
+                                    cancel_callback=self._on_cancel, callback_group=group)
+        self._timer = self.create_timer(TICK_S, self._tick)
+
+    def destroy_node(self) -> None:
+        self._server.destroy()
+        for link in self._links.values():
+            link.destroy()
+        super().destroy_node()
+
+    # -- the goal ---------------------------------------------------------------------------
+
+    async def _execute(self, goal_handle: ServerGoalHandle) -> FleetDraw.Result:
+        if self._claimed:
+            goal_handle.abort()
+            return _refusal('the fleet is drawing another request', Ending.BUSY)
+        self._claimed = True
+        try:
+            drawing = await self._prepare(goal_handle)
+            self._drawing = drawing
+            self._tick()
+            await completion(self, drawing.finished)
+            return self._result(drawing)
+        except Refused as refusal:
+            if goal_handle.is_cancel_requested:
+                goal_handle.canceled()
+            else:
+                goal_handle.abort()
+            return _refusal(str(refusal), refusal.reason)
+        finally:
+            self._drawing, self._claimed = None, False
+
+    async def _prepare(self, goal_handle: ServerGoalHandle) -> _Drawing:
+        """The drawing planned and shared out, its turtles ready; Refused if it cannot be."""
+        goal = goal_handle.request
+        names, clearance = self._asked(goal)
+        links = [self._link(name) for name in names]
+        await wait_until(self, lambda: all(link.serves() for link in links), READY_TIMEOUT_S)
+        left_out = [f'{link.name}: {why}' for link in links if (why := _unfit(link))]
+        drawers = [link for link in links if not _unfit(link)]
+        if not drawers:
+            raise Refused('no turtle can draw: ' + '; '.join(left_out), Ending.NO_SIMULATOR)
+        settings = await self._settings_of(drawers[0])
+        try:
+            planned = plan(goal.drawing.trajectory, goal.drawing, drawers[0].pose, settings)
+            config = planned.control(settings.control)
+            run = FleetRun(pieces_in(planned.path, config), [link.name for link in drawers],
+                           [link.pose for link in drawers], config, clearance,
+                           standing=[link.pose for link in links
+                                     if link not in drawers and link.pose is not None])
+        except (PlanError, Deadlock) as error:
+            raise Refused(str(error), Ending.INVALID_REQUEST) from None
+        if goal_handle.is_cancel_requested:
+            raise Refused('cancelled before it started', Ending.CANCELLED)
+        return _Drawing(run, drawers, planned.pen or settings.pen, config.linear_speed,
+                        goal_handle, self._now_s(), left_out)
+
+    def _asked(self, goal: FleetDraw.Goal) -> tuple[list[str], float]:
+        """The turtles and the clearance the goal asks for; Refused if they will not do."""
+        names = list(goal.turtles) or self._turtles_found()
+        problem = _names_problem(names, goal.drawing.trajectory)
+        if problem:
+            raise Refused(problem, Ending.INVALID_REQUEST)
+        clearance = goal.clearance or self.get_parameter('clearance').value
+        if not (0.05 <= clearance <= 5.0):
+            raise Refused(f'clearance must be within 0.05 and 5 m, got {clearance:g}',
+                          Ending.INVALID_REQUEST)
+        return names, clearance
+
+    def _turtles_found(self) -> list[str]:
+        """The turtles whose trajectory node is in the graph, turtle1 first."""
+        found = [namespace.strip('/') for name, namespace in
+                 self.get_node_names_and_namespaces()
+                 if name == 'turtle_traj' and namespace.count('/') == 1 and namespace != '/']
+        return sorted(set(found), key=lambda n: (not n.startswith('turtle'), len(n), n))
+
+    def _link(self, name: str) -> TurtleLink:
+        if name not in self._links:
+            self._links[name] = TurtleLink(self, name)
+        link = self._links[name]
+        link.on_pose = self._measure
+        return link
+
+    async def _settings_of(self, link: TurtleLink) -> Settings:
+        """The settings of `link`'s trajectory node: the drawing is planned as it plans."""
+        names = [spec.name for spec in PARAMETERS]
+        answer = await completion(self, link.parameters(names), timeout_s=5.0)
+        if answer is None or len(answer.values) != len(names):
+            raise Refused(f'{node_of(link.name)} did not tell its parameters', Ending.NO_SIMULATOR)
+        return settings_from_values({name: parameter_value_to_python(value)
+                                     for name, value in zip(names, answer.values, strict=True)})
+
+    def _on_cancel(self, _: ServerGoalHandle) -> CancelResponse:
+        drawing = self._drawing
+        if drawing is not None:
+            drawing.failure = ('cancelled', Ending.CANCELLED)
+            for link in drawing.links:
+                link.cancel()
+        return CancelResponse.ACCEPT
+
+    # -- the timer: moves started, turtles watched --------------------------------------------
+
+    def _tick(self) -> None:
+        drawing = self._drawing
+        if drawing is None or drawing.finished.done():
+            return
+        run = drawing.run
+        for index, link in enumerate(drawing.links):
+            if run.driving(index) and link.liveness.gone():
+                run.end_failed(index)
+                run.lose(index, f'its node {node_of(link.name)} stopped answering')
+                link.cancel()
+        self._dispatch(drawing)
+        drawing.ticks += 1
+        if drawing.ticks % FEEDBACK_EVERY == 0:
+            drawing.goal.publish_feedback(self._feedback(drawing))
+        if not any(run.driving(index) for index in range(len(drawing.links))) and (
+                run.done or drawing.failure is not None or not run.serving):
+            drawing.finished.set_result(True)
+
+    def _dispatch(self, drawing: _Drawing) -> None:
+        """Start every move the schedule allows now."""
+        run = drawing.run
+        if run.replan_due and drawing.failure is None:
+            self._replan(drawing)
+        if drawing.failure is None:
+            for index in run.ready():
+                move = run.start(index)
+                drawing.links[index].drive(move, drawing.pen, drawing.linear_speed,
+                                           lambda end, index=index: self._move_ended(index, end))
+
+    def _move_ended(self, index: int, end: MoveEnd) -> None:
+        drawing = self._drawing
+        if drawing is None:
+            return
+        if end.ok:
+            drawing.run.end(index, end.deviation)
+            if drawing.run.done and not drawing.drawn_s:
+                drawing.drawn_s = self._now_s()
+        else:
+            drawing.run.end_failed(index)
+            if drawing.failure is None:
+                drawing.run.lose(index, end.why)
+        self._dispatch(drawing)
+
+    def _replan(self, drawing: _Drawing) -> None:
+        run = drawing.run
+        poses = {index: drawing.links[index].pose for index in run.serving}
+        standing = [link.pose for index, link in enumerate(drawing.links)
+                    if index not in run.serving and link.pose is not None and link.serves()]
+        try:
+            run.replan(poses, standing)
+        except (Deadlock, ValueError) as error:
+            drawing.failure = (f'the drawing cannot be finished: {error}', Ending.NO_PROGRESS)
+
+    def _measure(self) -> None:
+        """The least distance between two turtles of the drawing, from their latest poses."""
+        drawing = self._drawing
+        if drawing is None or drawing.finished.done():
+            return
+        poses = [(link.pose.x, link.pose.y) for link in drawing.links if link.pose is not None]
+        drawing.min_distance = min(drawing.min_distance, closest(poses))
+
+    def _now_s(self) -> float:
+        return self.get_clock().now().nanoseconds * 1e-9
+
+    # -- what the client reads ----------------------------------------------------------------
+
+    def _feedback(self, drawing: _Drawing) -> FleetDraw.Feedback:
+        run = drawing.run
+        return FleetDraw.Feedback(
+            progress=run.progress(), elapsed=self._now_s() - drawing.started_s,
+            min_distance=drawing.min_distance,
+            turtles=[link.name for link in drawing.links],
+            turtle_progress=[run.turtle_progress(index) for index in range(len(drawing.links))],
+            state=[_state(run, index) for index in range(len(drawing.links))])
+
+    def _result(self, drawing: _Drawing) -> FleetDraw.Result:
+        run, goal = drawing.run, drawing.goal
+        goal.publish_feedback(self._feedback(drawing))
+        lost = [record.lost for record in run.turtles]
+        if drawing.failure is None and run.done:
+            success, reason, what = True, Ending.SUCCEEDED, 'drawn'
+        elif drawing.failure is not None:
+            success, (what, reason) = False, drawing.failure
+        else:
+            success, reason, what = False, Ending.NO_PROGRESS, 'every turtle was lost'
+        parts = [what] + [f'{r.name} lost ({r.lost})' for r in run.turtles if r.lost]
+        parts += [f'left out {why}' for why in drawing.left_out]
+        sharing = run.first_sharing
+        result = FleetDraw.Result(
+            success=success, message='; '.join(parts), ending=ending_message(reason),
+            makespan=(drawing.drawn_s or self._now_s()) - drawing.started_s,
+            planned_makespan=run.planned_makespan_s,
+            lower_bound=sharing.lower_bound_s if sharing else 0.0,
+            min_distance=drawing.min_distance if math.isfinite(drawing.min_distance) else 0.0,
+            turtles=[r.name for r in run.turtles], pieces=[r.pieces for r in run.turtles],
+            max_deviation=[r.max_deviation for r in run.turtles], lost=lost,
+            left_out=drawing.left_out)
+        if goal.is_cancel_requested:
+            goal.canceled()
+        elif success:
+            goal.succeed()
+        else:
+            goal.abort()
+        return result
+
+
+def _state(run: FleetRun, index: int) -> str:
+    if run.turtles[index].lost:
+        return 'lost'
+    if run.driving(index):
+        return 'driving'
+    return 'done' if run.turtle_progress(index) >= 1.0 else 'waiting'
+
+
+def _unfit(link: TurtleLink) -> str:
+    """Why `link`'s turtle cannot take part ('' if it can)."""
+    if not link.serves():
+        return f'no trajectory node {node_of(link.name)} with its turtle answers'
+    if link.moving:
+        return 'busy with a request of its own (it is moving)'
+    return ''
+
+
+def _names_problem(names: list[str], trajectory: str) -> str:
+    if trajectory in NOT_DRAWINGS:
+        return (f'{trajectory!r} is not a drawing: a fleet draws shapes, curves, text, svg '
+                'and paths')
+    if not names:
+        return 'no turtle: name some, or start trajectory nodes in turtles\' namespaces'
+    bad = [name for name in names if not _TURTLE_NAME.fullmatch(name)]
+    if bad:
+        return f'not a turtle name: {bad[0]!r}'
+    if len(set(names)) != len(names):
+        return 'a turtle is named twice'
+    return ''
+
+
+def _refusal(message: str, reason: Ending) -> FleetDraw.Result:
+    return FleetDraw.Result(success=False, message=message, ending=ending_message(reason))

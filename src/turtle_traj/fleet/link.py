@@ -1,0 +1,148 @@
+"""The coordinator's line to one turtle: its pose, its pen, and its trajectory node's Draw action.
+
+A move is driven as one Draw goal: a travel as a go-to that ends facing the piece (pen up), a
+piece as a follow-path through its points (pen down in the drawing's pen). Each step answers
+through a future's callback; nothing here waits.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from action_msgs.msg import GoalStatus
+from geometry_msgs.msg import Point
+from rcl_interfaces.srv import GetParameters
+from rclpy.action import ActionClient
+from rclpy.node import Node
+from rclpy.task import Future
+from turtle_traj_interfaces.action import Draw
+from turtlesim.msg import Pose
+from turtlesim.srv import SetPen
+
+from turtle_traj.api.ros_interface import DRAW_ACTION
+from turtle_traj.client.liveness import Liveness
+from turtle_traj.core.fleet.timing import Move
+from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.turtlesim_contract import PenStyle
+from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
+
+TRAVEL_TOLERANCE_M = 0.001  # a travel's go-to arrives this near its piece (the least it takes)
+
+
+@dataclass(frozen=True)
+class MoveEnd:
+    """How a move ended: whether as planned, its deviation, and if not, why."""
+
+    ok: bool
+    deviation: float = 0.0
+    why: str = ''
+
+
+def node_of(turtle: str) -> str:
+    """The trajectory node that drives `turtle` in a fleet."""
+    return f'/{turtle}/turtle_traj'
+
+
+class TurtleLink:
+    """One turtle, seen and driven from the coordinator `node`."""
+
+    def __init__(self, node: Node, name: str) -> None:
+        self.name, self._node = name, node
+        self.pose: Pose2D | None = None
+        self.moving = False  # its last pose had a velocity
+        self.on_pose: Callable[[], None] = lambda: None
+        self._poses = node.create_subscription(Pose, f'/{name}/pose', self._pose,
+                                               TURTLE_TOPIC_QOS)
+        self._pen = node.create_client(SetPen, f'/{name}/set_pen')
+        self._draw = ActionClient(node, Draw, f'{node_of(name)}/{DRAW_ACTION}')
+        self._parameters = node.create_client(GetParameters, f'{node_of(name)}/get_parameters')
+        self.liveness = Liveness(node, node_of(name), now=self._now_s)
+        self._goal = None  # the Draw goal it drives
+        self._pen_down: bool | None = None  # as last set (None: not set yet)
+        self._cancelled = False
+
+    def _now_s(self) -> float:
+        return self._node.get_clock().now().nanoseconds * 1e-9
+
+    def _pose(self, message: Pose) -> None:
+        self.pose = Pose2D(message.x, message.y, message.theta)
+        self.moving = message.linear_velocity != 0.0 or message.angular_velocity != 0.0
+        self.on_pose()
+
+    def serves(self) -> bool:
+        """Its node's Draw action and its pen are there, and its pose comes."""
+        return (self.pose is not None and self._draw.server_is_ready()
+                and self._pen.service_is_ready())
+
+    def parameters(self, names: list[str]) -> Future:
+        """Its node's values of the parameters `names` (a GetParameters answer)."""
+        return self._parameters.call_async(GetParameters.Request(names=names))
+
+    def drive(self, move: Move, pen: PenStyle, linear_speed: float,
+              done: Callable[[MoveEnd], None]) -> None:
+        """Set the pen for `move`, then drive it as a Draw goal; `done` is called once, with
+        how it ended."""
+        self._cancelled = False
+        self.liveness.heard()
+        goal = _goal(move, linear_speed)
+        if self._pen_down == move.pen:
+            self._send(goal, done)
+            return
+        self._pen_down = move.pen
+        request = SetPen.Request(r=pen.r, g=pen.g, b=pen.b, width=pen.width,
+                                 off=0 if move.pen else 1)
+        self._pen.call_async(request).add_done_callback(lambda _: self._send(goal, done))
+
+    def _send(self, goal: Draw.Goal, done: Callable[[MoveEnd], None]) -> None:
+        if self._cancelled:
+            done(MoveEnd(False, why='cancelled'))
+            return
+        future = self._draw.send_goal_async(goal,
+                                            feedback_callback=lambda _: self.liveness.heard())
+        future.add_done_callback(lambda sent: self._accepted(sent, done))
+
+    def _accepted(self, sent: Future, done: Callable[[MoveEnd], None]) -> None:
+        handle = sent.result()
+        if handle is None or not handle.accepted:
+            done(MoveEnd(False, why='its node refused the move'))
+            return
+        self._goal = handle
+        if self._cancelled:
+            handle.cancel_goal_async()
+        handle.get_result_async().add_done_callback(lambda answer: self._ended(answer, done))
+
+    def _ended(self, answer: Future, done: Callable[[MoveEnd], None]) -> None:
+        self._goal = None
+        response = answer.result()
+        result = response.result
+        if response.status == GoalStatus.STATUS_SUCCEEDED and result.success:
+            done(MoveEnd(True, result.max_deviation))
+        else:
+            done(MoveEnd(False, result.max_deviation,
+                         f'{result.ending.label}: {result.message}' if result.message
+                         else 'its move did not end'))
+
+    def cancel(self) -> None:
+        """Stop the move it drives (its goal is cancelled: the turtle stops at once)."""
+        self._cancelled = True
+        if self._goal is not None:
+            self._goal.cancel_goal_async()
+
+    def destroy(self) -> None:
+        self._draw.destroy()
+        self._node.destroy_subscription(self._poses)
+        self._node.destroy_client(self._pen)
+        self._node.destroy_client(self._parameters)
+
+
+def _goal(move: Move, linear_speed: float) -> Draw.Goal:
+    """The Draw goal that drives `move`: a piece's follow-path, or a travel's go-to."""
+    if move.pieces:
+        return Draw.Goal(trajectory='follow_path', linear_speed=linear_speed, points=[
+            Point(x=float(x), y=float(y)) for x, y in move.points])
+    x, y = move.end
+    return Draw.Goal(trajectory='go_to', x=x, y=y, use_theta=True,
+                     theta=math.remainder(move.heading, 2 * math.pi),
+                     tolerance=TRAVEL_TOLERANCE_M, linear_speed=linear_speed)

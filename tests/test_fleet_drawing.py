@@ -1,0 +1,103 @@
+"""Several turtles draw one request together through the fleet coordinator, in lock-step."""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from turtle_traj_interfaces.action import Draw, FleetDraw
+from turtle_traj_interfaces.msg import Drawing, Ending
+
+from turtle_traj.apps.in_process import InProcessFleet, InProcessSystem
+from turtle_traj.apps.sim import starting_places
+
+CLEARANCE_M = 0.6
+TEXT = {'trajectory': 'text', 'text': 'ROS 2', 'height': 1.0}
+
+
+def _finish(system, client, goal, timeout_s: float = 300.0):
+    """Send `goal` on `client` and spin until its result; (status, result, feedback)."""
+    feedback = []
+    sent = client.send_goal_async(goal, feedback_callback=lambda m: feedback.append(m.feedback))
+    assert system.spin_until(sent.done, timeout_s=30.0)
+    answer = sent.result().get_result_async()
+    assert system.spin_until(answer.done, timeout_s=timeout_s)
+    return answer.result().status, answer.result().result, feedback
+
+
+def _inked(system) -> np.ndarray:
+    return system.sim.canvas.trails[..., 3] > 0
+
+
+def _closest_approach(poses: dict) -> float:
+    """The least distance between two turtles' centres, pose by pose (every turtle's pose of
+    one step comes with the same index)."""
+    count = min(len(log) for log in poses.values())
+    tracks = [np.array([(pose.x, pose.y) for pose in log[:count]]) for log in poses.values()]
+    return min(float(np.hypot(*(a - b).T).min()) for a, b in itertools.combinations(tracks, 2))
+
+
+@pytest.fixture(scope='module')
+def alone(rclpy_context, tmp_path_factory):
+    """One turtle writing the text with its own Draw action: its result and its ink."""
+    system = InProcessSystem(context=rclpy_context, output_dir=tmp_path_factory.mktemp('one'))
+    try:
+        client = system.action_client(Draw, 'draw')
+        _, result, _ = _finish(system, client, Draw.Goal(**TEXT))
+        assert result.success
+        return result, _inked(system)
+    finally:
+        system.close()
+
+
+def test_three_turtles_write_the_text_apart_faster_with_the_same_ink(rclpy_context, tmp_path,
+                                                                     alone):
+    single, single_ink = alone
+    system = InProcessFleet(starting_places(3), context=rclpy_context, output_dir=tmp_path)
+    try:
+        for log in system.poses.values():
+            log.clear()
+        client = system.action_client(FleetDraw, '/fleet/draw')
+        status, result, feedback = _finish(system, client, FleetDraw.Goal(
+            drawing=Drawing(**TEXT), turtles=system.names))
+        assert result.success, result.message
+        assert result.ending.code == Ending.SUCCEEDED
+        assert list(result.turtles) == system.names and all(result.pieces)
+        assert max(result.max_deviation) < 2e-3
+        # kept apart, as measured here from the poses; the coordinator's figure agrees
+        closest = _closest_approach(system.poses)
+        assert closest >= CLEARANCE_M
+        assert result.min_distance == pytest.approx(closest, abs=0.02)
+        # the same drawing, in less than half the time
+        ink = _inked(system)
+        assert np.count_nonzero(ink ^ single_ink) <= 0.01 * np.count_nonzero(single_ink)
+        assert result.lower_bound <= result.makespan < 0.5 * single.elapsed
+        progress = [message.progress for message in feedback]
+        assert progress == sorted(progress) and progress[-1] == 1.0
+        assert set(feedback[-1].state) == {'done'}
+    finally:
+        system.close()
+
+
+def test_requests_it_cannot_draw_are_refused_with_a_reason(rclpy_context, tmp_path):
+    system = InProcessFleet(starting_places(2), context=rclpy_context, output_dir=tmp_path)
+    try:
+        client = system.action_client(FleetDraw, '/fleet/draw')
+        for goal, reason, words in (
+                (FleetDraw.Goal(drawing=Drawing(trajectory='go_to', x=2.0, y=2.0)),
+                 Ending.INVALID_REQUEST, 'not a drawing'),
+                (FleetDraw.Goal(drawing=Drawing(**TEXT), turtles=['turtle1', 'turtle1']),
+                 Ending.INVALID_REQUEST, 'named twice'),
+                (FleetDraw.Goal(drawing=Drawing(**TEXT), clearance=math.nan),
+                 Ending.INVALID_REQUEST, 'clearance'),
+                (FleetDraw.Goal(drawing=Drawing(trajectory='text', text='X', height=99.0)),
+                 Ending.INVALID_REQUEST, 'largest that fits')):
+            _, result, _ = _finish(system, client, goal)
+            assert not result.success and result.ending.code == reason, result.message
+            assert words in result.message
+        # and it still draws
+        _, result, _ = _finish(system, client, FleetDraw.Goal(
+            drawing=Drawing(trajectory='square', size=1.0)))
+        assert result.success and list(result.turtles) == system.names
+    finally:
+        system.close()
