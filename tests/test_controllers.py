@@ -458,3 +458,14 @@ def test_dwpp_brakes_within_the_deceleration_the_node_clamps_with(decel, braking
     moving = Pose2D(0.04, 0.0, 0.0)  # 1 cm before the end at 0.5 m/s: it must brake hard
     command = controller.command(State(moving, Command(0.5, 0.0), moving, 1.0))
     assert command.linear == pytest.approx(0.5 - braking * config.period_s)
+
+
+
+def test_a_turn_of_no_sweep_is_made_as_soon_as_it_begins():
+    """A go-to asked to end in the heading it drives in ends with such a turn; the supervisor
+    reads how much of it is made on every tick (it divided by the sweep)."""
+    from turtle_traj.core.control.trackers import TurnTracker
+    from turtle_traj.core.geometry.path import Pose2D, Turn
+
+    tracker = TurnTracker(Turn(7.5, 5.5, 0.25, 0.0), Pose2D(7.5, 5.5, 0.25))
+    assert tracker.fraction == 1.0

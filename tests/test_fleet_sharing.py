@@ -6,7 +6,14 @@ import numpy as np
 import pytest
 
 from turtle_traj.api.ros_interface import make_request
-from turtle_traj.core.fleet.sharing import Piece, lower_bound_s, pieces_in, share, travel_s
+from turtle_traj.core.fleet.sharing import (
+    Piece,
+    lower_bound_s,
+    pieces_in,
+    request_s,
+    share,
+    travel_s,
+)
 from turtle_traj.core.geometry.path import Polyline, Pose2D
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.planning import planner
@@ -50,12 +57,14 @@ def test_long_legs_are_cut_into_even_pieces_that_join_into_them():
 
 def test_one_turtle_draws_the_planners_tour_in_the_planners_time():
     """One turtle's share is the whole tour, timed within 2% of what the planner says the
-    drawing takes (its pen-up moves are turns and drives as `travel_s` times them)."""
+    drawing takes (its pen-up moves are turns and drives as `travel_s` times them), and two
+    requests for each piece (the way there, the piece)."""
     plan = _text_plan()
     pieces = pieces_in(plan.path, CONFIG)
     alone = share(pieces, [ANCHOR], CONFIG)
     assert alone.shares[0].pieces == tuple(range(len(pieces)))
-    assert alone.makespan_s == pytest.approx(plan.least_time_s(CONFIG), rel=0.02)
+    requests_s = 2 * len(pieces) * request_s(CONFIG)
+    assert alone.makespan_s == pytest.approx(plan.least_time_s(CONFIG) + requests_s, rel=0.02)
 
 
 def _pieces(count: int, seed: int) -> list[Piece]:
@@ -71,12 +80,12 @@ def _pieces(count: int, seed: int) -> list[Piece]:
 
 def _brute_force(pieces, starts) -> float:
     """The least makespan over every cut of the tour into contiguous parts and every order of
-    the turtles along it, each part timed independently here."""
+    the turtles along it, each part timed independently here (two requests a piece)."""
     def part_s(part, start):
         total, here = 0.0, start
         for piece in part:
             begin, end = piece.ends(False)
-            total += travel_s(here, begin, CONFIG) + piece.time_s
+            total += travel_s(here, begin, CONFIG) + piece.time_s + 2 * request_s(CONFIG)
             here = end
         return total
     best = float('inf')
@@ -130,3 +139,24 @@ def test_shared_with_a_clearance_the_turtles_keep_it_at_every_instant():
     assert sharing.timing.makespan_s >= sharing.timing.drawn_s >= sharing.makespan_s - 1e-6
     alone = share(pieces, [ANCHOR], CONFIG).makespan_s
     assert sharing.timing.drawn_s < 0.6 * alone
+
+
+def test_refining_with_the_waits_counted_ends_the_svg_sooner_and_keeps_the_clearance():
+    """The demo's SVG among three turtles: the split cut for the least makespan without waits
+    is refined (cuts moved, parts reversed) to end sooner with them, still apart."""
+    from tests.test_fleet_timing import _tracks, closest_approach
+    from turtle_traj.apps.sim import starting_places
+    from turtle_traj.core.fleet.refine import refine
+    from turtle_traj.core.fleet.sharing import routes
+
+    example = BY_NAME['svg'].example
+    plan = planner.plan('svg', make_request(BY_NAME['svg'], dict(example.given)),
+                        Pose2D(*example.start), DEFAULT_SETTINGS)
+    pieces = pieces_in(plan.path, CONFIG)
+    starts = [Pose2D(*example.start), *(Pose2D(*p) for p in starting_places(3)[1:])]
+    split = share(pieces, starts, CONFIG, clearance=0.6)
+    refined = refine(split, pieces, starts, CONFIG, 0.6)
+    assert refined.timing.drawn_s < 0.95 * split.timing.drawn_s
+    assert sorted(i for s in refined.shares for i in s.pieces) == list(range(len(pieces)))
+    moves = routes(refined, pieces, starts, CONFIG)
+    assert closest_approach(_tracks(moves, starts, refined.timing, step_s=0.02)) >= 0.6 - 1e-9

@@ -98,7 +98,9 @@ class TurnTracker:
 
     @property
     def fraction(self) -> float:
-        """How much of the turn is made, 0 to 1."""
+        """How much of the turn is made, 0 to 1 (a turn of no sweep is made)."""
+        if self.turn.sweep_rad == 0.0:
+            return 1.0
         return min(max(self.turned / self.turn.sweep_rad, 0.0), 1.0)
 
     def update(self, pose: Pose2D, prediction: Prediction,

@@ -15,8 +15,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.fleet.refine import share_apart
 from turtle_traj.core.fleet.schedule import Schedule
-from turtle_traj.core.fleet.sharing import Piece, Sharing, routes, share
+from turtle_traj.core.fleet.sharing import Piece, Sharing, routes
 from turtle_traj.core.fleet.timing import Move
 from turtle_traj.core.geometry.path import Pose2D
 
@@ -52,7 +53,7 @@ class FleetRun:
         """Share the pieces not yet drawn among the turtles `serving` (indices), at `starts`."""
         left = [index for index in range(len(self.pieces)) if index not in self.drawn]
         pieces = [self.pieces[index] for index in left]
-        sharing = share(pieces, starts, self.config, self.clearance, standing)
+        sharing = share_apart(pieces, starts, self.config, self.clearance, standing)
         if self.first_sharing is None:
             self.first_sharing = sharing
         moves = [[_renumbered(move, left) for move in route]

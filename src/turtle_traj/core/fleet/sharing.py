@@ -73,7 +73,7 @@ def _parts(leg: Polyline, longest: float) -> list[Polyline]:
     cuts = np.linspace(0.0, along[-1], count + 1)
     parts = []
     for begin, end in zip(cuts, cuts[1:], strict=False):
-        inside = (along > begin) & (along < end)
+        inside = (along > begin + JOINED_M) & (along < end - JOINED_M)  # no sliver at a cut
         ends = np.array([[np.interp(at, along, points[:, axis]) for axis in (0, 1)]
                          for at in (begin, end)])
         parts.append(replace(leg, points=np.concatenate(([ends[0]], points[inside], [ends[1]]))))
@@ -83,6 +83,17 @@ def _parts(leg: Polyline, longest: float) -> list[Polyline]:
 def _turn_s(sweep: float, config: ControlConfig) -> float:
     return ramp_s(abs(sweep), config.angular_speed, config.max_angular_accel,
                   config.max_angular_accel)
+
+
+REQUEST_PERIODS = 3  # a move's request costs this many control periods besides its driving
+
+
+def request_s(config: ControlConfig) -> float:
+    """What driving a move as a request of its own costs besides the driving: its run ends a
+    period after the turtle stops (when it reports standing), and the next run's first command
+    goes out at the period after its request, which waits for that end (measured in lock-step:
+    2 to 3 periods)."""
+    return REQUEST_PERIODS * config.period_s
 
 
 def travel_s(start: Pose2D, to: Pose2D, config: ControlConfig) -> float:
@@ -101,10 +112,12 @@ def travel_s(start: Pose2D, to: Pose2D, config: ControlConfig) -> float:
 
 @dataclass(frozen=True)
 class Share:
-    """One turtle's part: the pieces it draws, by index in the tour, in order."""
+    """One turtle's part: the pieces it draws, by index in the tour, in the tour's order (or,
+    `reverse`, from the last back to the first, each drawn end to start)."""
 
     pieces: tuple[int, ...]
     time_s: float  # travel included, from the turtle's start to its last piece's end
+    reverse: bool = False
 
 
 @dataclass(frozen=True)
@@ -134,11 +147,13 @@ class _Tour:
         ends = [piece.ends(False) for piece in pieces]
         self.begins = [begin for begin, _ in ends]
         self.after = [0.0, *(travel_s(ends[index - 1][1], ends[index][0], config)
-                             + pieces[index].time_s for index in range(1, len(pieces)))]
+                             + pieces[index].time_s + 2 * request_s(config)
+                             for index in range(1, len(pieces)))]
 
     def first_s(self, start: Pose2D, index: int) -> float:
         """A turtle at `start` getting to piece `index` and drawing it."""
-        return travel_s(start, self.begins[index], self.config) + self.pieces[index].time_s
+        return (travel_s(start, self.begins[index], self.config) + self.pieces[index].time_s
+                + 2 * request_s(self.config))
 
     def part_s(self, first: int, stop: int, start: Pose2D) -> float:
         """A turtle at `start` drawing pieces[first:stop]."""
@@ -262,22 +277,40 @@ def routes(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
     for part, start in zip(sharing.shares, starts, strict=True):
         route: list[Move] = []
         here = start
-        for index in part.pieces:
+        order = reversed(part.pieces) if part.reverse else part.pieces
+        for index in order:
             piece = pieces[index]
-            begin, end = piece.ends(False)
+            begin, end = piece.ends(part.reverse)
             if math.hypot(begin.x - here.x, begin.y - here.y) > JOINED_M:
-                route.append(Move(np.array([(here.x, here.y), (begin.x, begin.y)]),
-                                  travel_s(here, begin, config), heading=begin.theta))
+                route += _travel(here, begin, config)
             elif abs(wrap_angle(begin.theta - here.theta)) > JOINED_M:
-                route.append(Move(np.array([(begin.x, begin.y)]), travel_s(here, begin, config),
-                                  pen=True, heading=begin.theta))
-            route.append(Move(piece.polyline.points, piece.time_s, pen=True, heading=end.theta,
+                route.append(Move(np.array([(begin.x, begin.y)]),
+                                  travel_s(here, begin, config) + request_s(config), pen=True,
+                                  heading=begin.theta))
+            points = piece.polyline.points
+            route.append(Move(points[::-1] if part.reverse else points,
+                              piece.time_s + request_s(config), pen=True, heading=end.theta,
                               pieces=(index,)))
             here = end
         if route:
-            route.append(Move(np.array([(here.x, here.y), (start.x, start.y)]),
-                              travel_s(here, start, config), heading=start.theta))
+            route += _travel(here, start, config)
         moves.append(route)
+    return moves
+
+
+def _travel(here: Pose2D, to: Pose2D, config: ControlConfig,
+            longest: float = PIECE_M) -> list[Move]:
+    """The pen-up way from `here` to `to`, in stretches no longer than `longest`: a turtle
+    that waits for another to pass waits for a stretch of the way, not all of it."""
+    count = max(1, math.ceil(math.hypot(to.x - here.x, to.y - here.y) / longest - 1e-9))
+    facing = math.atan2(to.y - here.y, to.x - here.x)
+    stops = [Pose2D(here.x + (to.x - here.x) * k / count, here.y + (to.y - here.y) * k / count,
+                    facing) for k in range(1, count)] + [to]
+    moves, at = [], here
+    for stop in stops:
+        moves.append(Move(np.array([(at.x, at.y), (stop.x, stop.y)]),
+                          travel_s(at, stop, config) + request_s(config), heading=stop.theta))
+        at = stop
     return moves
 
 

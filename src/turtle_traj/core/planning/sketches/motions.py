@@ -172,7 +172,7 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
             raise PlanError(f'points[{index}] = ({x:g}, {y:g}) is outside the arena '
                             f'({arena.describe()}, after the wall margin)')
     corner_angle = settings.defaults.corner_angle
-    reached = settings.control.position_tolerance  # a turtle standing there: no leg to it
+    reached = settings.defaults.goal_tolerance  # arrived there, as a go-to: no leg to it
     given = shapes.follow(start, points=points, closed=request.closed,
                           corner_angle_rad=corner_angle, reached=reached)
     driven, spent = given, 0.0

@@ -1,0 +1,130 @@
+"""Several turtles drawing one request, against one turtle drawing it alone, in lock-step.
+
+    .venv/bin/python bench/fleet_bench.py [--turtles 4] [--picture docs/_static/fleet.png]
+
+For the text "ROS 2" (1 m, from turtlesim's spawn point), the demo's SVG and the demo's star
+(the registry's examples, from their start poses), one turtle draws the request with its own
+Draw action, then 2 to N turtles draw it through the fleet coordinator: turtle1 where the one
+turtle started, the others where `up --turtles N` puts them (a 3 m ring round the spawn point).
+Every figure but the planned ones is measured here from what the simulator did:
+  makespan    the coordinator's (first move sent to last piece drawn), and its ratio to the one
+              turtle's elapsed time;
+  bound       the lower bound of the sharing (the longest piece, or all of it shared evenly);
+  closest     the least distance between two turtles' centres, from their poses, step by step;
+  deviation   the largest of the turtles' own figures (distance from the pieces they drew);
+  ink         the pixels inked by one but not the other, against the one turtle's inked pixels.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / 'src'))
+
+from turtle_traj.api.ros_interface import make_fleet_goal, make_goal  # noqa: E402
+from turtle_traj.apps.in_process import InProcessFleet, LockstepSim  # noqa: E402
+from turtle_traj.apps.sim import starting_places  # noqa: E402
+from turtle_traj.core.registry import BY_NAME  # noqa: E402
+from turtle_traj.testing.domain import claim_domain_id  # noqa: E402
+
+DRAWINGS = {  # name: (trajectory, values as entered, start pose)
+    'ROS 2': ('text', {'text': 'ROS 2', 'height': 1.0}, starting_places(1)[0]),
+    'svg': ('svg', BY_NAME['svg'].example.given, BY_NAME['svg'].example.start),
+    'star': ('star', BY_NAME['star'].example.given, BY_NAME['star'].example.start),
+}
+
+
+def _finish(system: LockstepSim, client, goal):
+    sent = client.send_goal_async(goal)
+    if not system.spin_until(sent.done, timeout_s=30.0):
+        raise RuntimeError('the goal was not answered')
+    answer = sent.result().get_result_async()
+    if not system.spin_until(answer.done, timeout_s=900.0):
+        raise RuntimeError('the goal did not end')
+    return answer.result().result
+
+
+def _closest(poses: dict) -> float:
+    count = min(len(log) for log in poses.values())
+    tracks = [np.array([(p.x, p.y) for p in log[:count]]) for log in poses.values()]
+    return min((float(np.hypot(*(a - b).T).min())
+                for a, b in itertools.combinations(tracks, 2)), default=float('inf'))
+
+
+def draw(name: str, count: int, output: Path) -> dict:
+    """`name` drawn by `count` turtles (1: alone, with its own Draw action)."""
+    from turtle_traj_interfaces.action import Draw, FleetDraw
+    trajectory, given, start = DRAWINGS[name]
+    kind = BY_NAME[trajectory]
+    system = InProcessFleet([start, *starting_places(count)[1:]], output_dir=output)
+    try:
+        for log in system.poses.values():
+            log.clear()
+        wall = time.perf_counter()
+        if count == 1:
+            client = system.action_client(Draw, '/turtle1/turtle_traj/draw')
+            result = _finish(system, client, make_goal(kind, given))
+            figures = {'makespan': result.elapsed, 'deviation': result.max_deviation,
+                       'planned': float('nan'), 'bound': float('nan'), 'ok': result.success}
+        else:
+            client = system.action_client(FleetDraw, '/fleet/draw')
+            result = _finish(system, client, make_fleet_goal(kind, given, system.names))
+            figures = {'makespan': result.makespan, 'deviation': max(result.max_deviation),
+                       'planned': result.planned_makespan, 'bound': result.lower_bound,
+                       'ok': result.success, 'reported_closest': result.min_distance,
+                       'message': result.message}
+        figures['wall'] = time.perf_counter() - wall
+        figures['closest'] = _closest(system.poses)
+        figures['trails'] = system.sim.canvas.trails.copy()
+        figures['picture'] = system.sim.render()
+        return figures
+    finally:
+        system.close()
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--turtles', type=int, default=4, help='up to this many (default 4)')
+    parser.add_argument('--drawings', nargs='*', default=list(DRAWINGS), choices=list(DRAWINGS))
+    parser.add_argument('--picture', type=Path, help='save the largest fleet\'s canvas of the '
+                        'first drawing here')
+    options = parser.parse_args()
+    claim_domain_id()
+    import rclpy
+    rclpy.init()
+    output = Path('output/fleet_bench')
+    print(f'{"drawing":8} {"turtles":>7} {"makespan":>9} {"ratio":>6} {"planned":>8} '
+          f'{"bound":>6} {"closest":>8} {"reported":>8} {"dev mm":>7} {"ink %":>6} '
+          f'{"wall s":>6}')
+    try:
+        for name in options.drawings:
+            alone = None
+            for count in range(1, options.turtles + 1):
+                row = draw(name, count, output)
+                alone = alone or row
+                ink = row['trails'][..., 3] > 0
+                single = alone['trails'][..., 3] > 0
+                differ = 100.0 * np.count_nonzero(ink ^ single) / np.count_nonzero(single)
+                print(f'{name:8} {count:7d} {row["makespan"]:9.2f} '
+                      f'{row["makespan"] / alone["makespan"]:6.3f} {row["planned"]:8.2f} '
+                      f'{row["bound"]:6.2f} {row["closest"]:8.3f} '
+                      f'{row.get("reported_closest", float("nan")):8.3f} '
+                      f'{row["deviation"] * 1000:7.2f} {differ:6.2f} {row["wall"]:6.1f}'
+                      + ('' if row['ok'] else f'  FAILED: {row.get("message", "")}'), flush=True)
+                if options.picture and name == options.drawings[0] and (
+                        count == options.turtles):
+                    options.picture.parent.mkdir(parents=True, exist_ok=True)
+                    row['picture'].save(options.picture)
+    finally:
+        rclpy.shutdown()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,126 @@
+"""A sharing improved with the waits counted: a local search over its cuts and directions. Pure.
+
+The tour split (`sharing.share`) cuts the tour for the least makespan without waits. The waits
+that keep the turtles apart depend on where the cuts fall and on which way each turtle draws its
+part, so the split is then refined by steepest descent: each round tries every cut moved by a
+few pieces either way and every part drawn the other way round, judges each by `simulate` (the
+times the turtles draw their last pieces, waits included), and keeps the best until none is
+better. Better compares those times from the latest (the drawing's end) down: a change that
+lets the second-last finish sooner without delaying the last is kept, so the search crosses
+the plateaus where only the last one counts.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, replace
+
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.fleet.sharing import Piece, Share, Sharing, routes, share
+from turtle_traj.core.fleet.timing import Deadlock, Timing, simulate
+from turtle_traj.core.geometry.path import Pose2D
+
+SHIFTS = (1, 2, 4, 8)  # pieces a cut is moved by, either way
+MAX_ROUNDS = 40
+
+
+@dataclass(frozen=True)
+class _Part:
+    turtle: int
+    first: int
+    stop: int
+    reverse: bool
+
+
+def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
+           config: ControlConfig, clearance: float,
+           standing: Sequence[Pose2D] = ()) -> Sharing:
+    """`sharing` (judged with `clearance`: its `timing` set) improved while a neighbour ends
+    the drawing sooner; `standing` as for `share`."""
+    assert sharing.timing is not None
+
+    def judged(parts: list[_Part]) -> tuple[tuple[float, ...], Sharing] | None:
+        candidate = _sharing(parts, sharing.lower_bound_s, len(starts))
+        moves = routes(candidate, pieces, starts, config)
+        try:
+            timing = simulate([*moves, *([] for _ in standing)], [*starts, *standing],
+                              clearance)
+        except Deadlock:
+            return None
+        return _finishes(moves, timing), replace(candidate, shares=tuple(
+            replace(part, time_s=_drawing_s(route)) for part, route in zip(
+                candidate.shares, moves, strict=True)), timing=timing)
+
+    parts = _parts_of(sharing)
+    first = judged(parts)
+    if first is None:
+        return sharing
+    (best_key, best) = first
+    for _ in range(MAX_ROUNDS):
+        found = [(judgement, neighbour) for neighbour in _neighbours(parts, len(pieces))
+                 if (judgement := judged(neighbour)) is not None]
+        if not found:
+            break
+        (key, candidate), neighbour = min(found, key=lambda pair: pair[0][0])
+        if key >= best_key:
+            break
+        best_key, best, parts = key, candidate, neighbour
+    return best
+
+
+def _finishes(moves: Sequence[Sequence], timing: Timing) -> tuple[float, ...]:
+    """When each turtle draws its last piece, latest first (to the microsecond: a change
+    smaller than that is no change)."""
+    return tuple(sorted((round(max((at + move.duration_s for move, at in zip(
+        route, begun, strict=True) if move.pieces), default=0.0), 6)
+        for route, begun in zip(moves, timing.starts_s, strict=False)), reverse=True))
+
+
+def _drawing_s(route: Sequence) -> float:
+    """A route's nominal time to its last piece's end (its way home left out)."""
+    last = max((index for index, move in enumerate(route) if move.pieces), default=-1)
+    return sum(move.duration_s for move in route[:last + 1])
+
+
+def _parts_of(sharing: Sharing) -> list[_Part]:
+    """The parts in tour order (a turtle without pieces holds an empty part where it was)."""
+    parts, at = [], 0
+    for turtle, part in sorted(enumerate(sharing.shares),
+                               key=lambda item: item[1].pieces[0] if item[1].pieces else -1):
+        first = part.pieces[0] if part.pieces else at
+        stop = part.pieces[-1] + 1 if part.pieces else at
+        parts.append(_Part(turtle, first, stop, part.reverse))
+        at = stop
+    return parts
+
+
+def _sharing(parts: list[_Part], bound: float, turtles: int) -> Sharing:
+    shares = [Share((), 0.0)] * turtles
+    for part in parts:
+        shares[part.turtle] = Share(tuple(range(part.first, part.stop)), 0.0, part.reverse)
+    return Sharing(tuple(shares), bound)
+
+
+def _neighbours(parts: list[_Part], count: int) -> Iterator[list[_Part]]:
+    """Every cut moved by each of SHIFTS either way (parts may empty), every part reversed."""
+    for index in range(len(parts) - 1):
+        left, right = parts[index], parts[index + 1]
+        for shift in (*SHIFTS, *(-s for s in SHIFTS)):
+            cut = left.stop + shift
+            if left.first <= cut <= right.stop and 0 <= cut <= count:
+                yield [*parts[:index], replace(left, stop=cut), replace(right, first=cut),
+                       *parts[index + 2:]]
+    for index, part in enumerate(parts):
+        if part.stop > part.first:
+            yield [*parts[:index], replace(part, reverse=not part.reverse), *parts[index + 1:]]
+
+
+def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
+                clearance: float, standing: Sequence[Pose2D] = ()) -> Sharing:
+    """The pieces shared out among turtles at `starts`, kept `clearance` apart (`share`), then
+    refined with the waits counted.
+
+    :raises Deadlock: every sharing tried would deadlock.
+    """
+    return refine(share(pieces, starts, config, clearance, standing), pieces, starts, config,
+                  clearance, standing)
