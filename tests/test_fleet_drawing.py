@@ -31,7 +31,7 @@ def _inked(system) -> np.ndarray:
 
 def _closest_approach(poses: dict) -> float:
     """The least distance between two turtles' centres, pose by pose (every turtle's pose of
-    one step comes with the same index)."""
+    one step comes with the same index), over the steps every turtle reported its pose."""
     count = min(len(log) for log in poses.values())
     tracks = [np.array([(pose.x, pose.y) for pose in log[:count]]) for log in poses.values()]
     return min(float(np.hypot(*(a - b).T).min()) for a, b in itertools.combinations(tracks, 2))
@@ -99,5 +99,74 @@ def test_requests_it_cannot_draw_are_refused_with_a_reason(rclpy_context, tmp_pa
         _, result, _ = _finish(system, client, FleetDraw.Goal(
             drawing=Drawing(trajectory='square', size=1.0)))
         assert result.success and list(result.turtles) == system.names
+    finally:
+        system.close()
+
+
+@pytest.mark.parametrize('fault', ['killed', 'node died'])
+def test_a_turtle_lost_halfway_leaves_its_pieces_to_the_others(rclpy_context, tmp_path, alone,
+                                                               fault):
+    """turtle2 removed with turtlesim's /kill, or its node gone, 8 s into a drawing of about
+    16 s: the others draw what it left, apart, and the ink is one turtle's within 2%."""
+    from turtlesim.srv import Kill
+    _, single_ink = alone
+    system = InProcessFleet(starting_places(3), context=rclpy_context, output_dir=tmp_path)
+    try:
+        for log in system.poses.values():
+            log.clear()
+        client = system.action_client(FleetDraw, '/fleet/draw')
+        sent = client.send_goal_async(FleetDraw.Goal(drawing=Drawing(**TEXT)))
+        assert system.spin_until(sent.done, timeout_s=30.0)
+        answer = sent.result().get_result_async()
+        started = system.sim_time_s
+        assert system.spin_until(lambda: system.sim_time_s > started + 8.0)
+        if fault == 'killed':
+            system.call(Kill, '/kill', Kill.Request(name='turtle2'))
+        else:
+            node = system.turtle_nodes['turtle2']
+            system.executor.remove_node(node)
+            system.nodes.remove(node)
+            node.destroy_node()
+        assert system.spin_until(answer.done, timeout_s=300.0)
+        result = answer.result().result
+        assert result.success, result.message
+        assert result.lost[1] and not result.lost[0] and not result.lost[2]
+        assert 'turtle2 lost' in result.message
+        ink = _inked(system)
+        assert np.count_nonzero(ink ^ single_ink) <= 0.02 * np.count_nonzero(single_ink)
+        assert _closest_approach(system.poses) >= CLEARANCE_M
+        assert max(result.max_deviation) < 2e-3
+    finally:
+        system.close()
+
+
+def test_cancelling_stops_every_turtle_and_a_turtle_busy_alone_is_left_out(rclpy_context,
+                                                                          tmp_path):
+    system = InProcessFleet(starting_places(3), context=rclpy_context, output_dir=tmp_path)
+    try:
+        # turtle3 circles on a request of its own: left out, and kept clear of
+        own = system.action_client(Draw, '/turtle3/turtle_traj/draw')
+        circling = own.send_goal_async(Draw.Goal(trajectory='circle', size=0.4, forever=True))
+        assert system.spin_until(lambda: circling.done() and system.poses['turtle3'][-1]
+                                 .linear_velocity > 0.0, timeout_s=30.0)
+        client = system.action_client(FleetDraw, '/fleet/draw')
+        sent = client.send_goal_async(FleetDraw.Goal(drawing=Drawing(**TEXT)))
+        assert system.spin_until(sent.done, timeout_s=30.0)
+        started = system.sim_time_s
+        assert system.spin_until(lambda: system.sim_time_s > started + 5.0)
+        cancelled = sent.result().cancel_goal_async()
+        answer = sent.result().get_result_async()
+        assert system.spin_until(lambda: cancelled.done() and answer.done(), timeout_s=10.0)
+        result = answer.result().result
+        assert not result.success and result.ending.code == Ending.CANCELLED
+        assert list(result.turtles) == ['turtle1', 'turtle2']
+        assert [why.split(':')[0] for why in result.left_out] == ['turtle3']
+        assert 'busy' in result.left_out[0]
+        # within a control period of the answer, the fleet's turtles stand still
+        system.spin_sim_seconds(0.1)
+        assert all(system.poses[name][-1].linear_velocity == 0.0
+                   and system.poses[name][-1].angular_velocity == 0.0
+                   for name in ('turtle1', 'turtle2'))
+        assert system.poses['turtle3'][-1].linear_velocity > 0.0  # its own run goes on
     finally:
         system.close()

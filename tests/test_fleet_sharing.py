@@ -6,14 +6,8 @@ import numpy as np
 import pytest
 
 from turtle_traj.api.ros_interface import make_request
-from turtle_traj.core.fleet.sharing import (
-    Piece,
-    lower_bound_s,
-    pieces_in,
-    request_s,
-    share,
-    travel_s,
-)
+from turtle_traj.core.fleet.pieces import Piece, pieces_in, request_s, travel_s
+from turtle_traj.core.fleet.sharing import lower_bound_s, share
 from turtle_traj.core.geometry.path import Polyline, Pose2D
 from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.planning import planner
@@ -129,12 +123,12 @@ def test_shared_with_a_clearance_the_turtles_keep_it_at_every_instant():
     """The sharing chosen with a clearance comes with the waits that keep the turtles that far
     apart: their motion, sampled from its timing, never brings two closer."""
     from tests.test_fleet_timing import _tracks, closest_approach
-    from turtle_traj.core.fleet.sharing import routes
+    from turtle_traj.core.fleet.moves import routes
 
     pieces = pieces_in(_text_plan().path, CONFIG)
     starts = [ANCHOR, Pose2D(8.5, 5.5, 0.0), Pose2D(5.5, 8.5, 0.0)]
     sharing = share(pieces, starts, CONFIG, clearance=0.6)
-    moves = routes(sharing, pieces, starts, CONFIG)
+    moves = routes(sharing.shares, pieces, starts, CONFIG)
     assert closest_approach(_tracks(moves, starts, sharing.timing, step_s=0.01)) >= 0.6 - 1e-9
     assert sharing.timing.makespan_s >= sharing.timing.drawn_s >= sharing.makespan_s - 1e-6
     alone = share(pieces, [ANCHOR], CONFIG).makespan_s
@@ -146,8 +140,8 @@ def test_refining_with_the_waits_counted_ends_the_svg_sooner_and_keeps_the_clear
     is refined (cuts moved, parts reversed) to end sooner with them, still apart."""
     from tests.test_fleet_timing import _tracks, closest_approach
     from turtle_traj.apps.sim import starting_places
+    from turtle_traj.core.fleet.moves import routes
     from turtle_traj.core.fleet.refine import refine
-    from turtle_traj.core.fleet.sharing import routes
 
     example = BY_NAME['svg'].example
     plan = planner.plan('svg', make_request(BY_NAME['svg'], dict(example.given)),
@@ -158,5 +152,5 @@ def test_refining_with_the_waits_counted_ends_the_svg_sooner_and_keeps_the_clear
     refined = refine(split, pieces, starts, CONFIG, 0.6)
     assert refined.timing.drawn_s < 0.95 * split.timing.drawn_s
     assert sorted(i for s in refined.shares for i in s.pieces) == list(range(len(pieces)))
-    moves = routes(refined, pieces, starts, CONFIG)
+    moves = routes(refined.shares, pieces, starts, CONFIG)
     assert closest_approach(_tracks(moves, starts, refined.timing, step_s=0.02)) >= 0.6 - 1e-9

@@ -10,9 +10,7 @@ goal's handler awaits; goal results and poses answer through callbacks.
 
 from __future__ import annotations
 
-import math
 import re
-from dataclasses import dataclass, field
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
@@ -20,25 +18,27 @@ from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from rclpy.parameter import parameter_value_to_python
-from rclpy.task import Future
 from turtle_traj_interfaces.action import FleetDraw
 
 from turtle_traj.core.control.ending import Ending
+from turtle_traj.core.fleet.pieces import pieces_in
 from turtle_traj.core.fleet.run import FleetRun, closest
-from turtle_traj.core.fleet.sharing import pieces_in
 from turtle_traj.core.fleet.timing import Deadlock
 from turtle_traj.core.parameters.settings import Settings, settings_from_values
 from turtle_traj.core.parameters.table import PARAMETERS
 from turtle_traj.core.planning.planner import PlanError, plan
 from turtle_traj.core.registry import NOT_DRAWINGS
-from turtle_traj.core.turtlesim_contract import PenStyle
 from turtle_traj.fleet.link import MoveEnd, TurtleLink, node_of
-from turtle_traj.node.outcomes import ending_message
+from turtle_traj.fleet.under_way import UnderWay, progress, refusal, report
 from turtle_traj.node.waiting import completion, wait_until
 
 TICK_S = 0.02  # node clock: how often moves are started and turtles watched
 FEEDBACK_EVERY = 5  # ticks: 10 Hz
 READY_TIMEOUT_S = 10.0  # wall: for the turtles' nodes to be found
+# node clock: a node that sends its turtle no command for this long while it drives a move has
+# stopped (it commands every control period); its turtle would run on with its last command for
+# turtlesim's 1 s command timeout, pen down, so it is stopped and its pen lifted at once
+COMMAND_SILENCE_S = 0.25
 _TURTLE_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*')
 
 
@@ -48,24 +48,6 @@ class Refused(Exception):
     def __init__(self, message: str, reason: Ending) -> None:
         super().__init__(message)
         self.reason = reason
-
-
-@dataclass
-class _Drawing:
-    """The drawing under way: its run, its turtles and how to report it."""
-
-    run: FleetRun
-    links: list[TurtleLink]
-    pen: PenStyle
-    linear_speed: float
-    goal: ServerGoalHandle
-    started_s: float
-    left_out: list[str]
-    finished: Future = field(default_factory=Future)
-    min_distance: float = math.inf
-    drawn_s: float = 0.0  # when the last piece was drawn (0 until then)
-    ticks: int = 0
-    failure: tuple[str, Ending] | None = None
 
 
 class FleetCoordinator(Node):
@@ -78,7 +60,7 @@ class FleetCoordinator(Node):
                         '[m]', floating_point_range=[FloatingPointRange(from_value=0.05,
                                                                           to_value=5.0)]))
         self._links: dict[str, TurtleLink] = {}
-        self._drawing: _Drawing | None = None
+        self._drawing: UnderWay | None = None
         self._claimed = False  # a goal is being prepared or drawn
         group = ReentrantCallbackGroup()
         self._server = ActionServer(self, FleetDraw, '~/draw', self._execute,
@@ -97,24 +79,25 @@ class FleetCoordinator(Node):
     async def _execute(self, goal_handle: ServerGoalHandle) -> FleetDraw.Result:
         if self._claimed:
             goal_handle.abort()
-            return _refusal('the fleet is drawing another request', Ending.BUSY)
+            return refusal('the fleet is drawing another request', Ending.BUSY)
         self._claimed = True
         try:
             drawing = await self._prepare(goal_handle)
             self._drawing = drawing
             self._tick()
             await completion(self, drawing.finished)
-            return self._result(drawing)
-        except Refused as refusal:
+            drawing.goal.publish_feedback(progress(drawing, self._now_s()))
+            return report(drawing, self._now_s())
+        except Refused as refused:
             if goal_handle.is_cancel_requested:
                 goal_handle.canceled()
             else:
                 goal_handle.abort()
-            return _refusal(str(refusal), refusal.reason)
+            return refusal(str(refused), refused.reason)
         finally:
             self._drawing, self._claimed = None, False
 
-    async def _prepare(self, goal_handle: ServerGoalHandle) -> _Drawing:
+    async def _prepare(self, goal_handle: ServerGoalHandle) -> UnderWay:
         """The drawing planned and shared out, its turtles ready; Refused if it cannot be."""
         goal = goal_handle.request
         names, clearance = self._asked(goal)
@@ -131,13 +114,14 @@ class FleetCoordinator(Node):
             run = FleetRun(pieces_in(planned.path, config), [link.name for link in drawers],
                            [link.pose for link in drawers], config, clearance,
                            standing=[link.pose for link in links
-                                     if link not in drawers and link.pose is not None])
+                                     if link not in drawers and link.present()])
         except (PlanError, Deadlock) as error:
             raise Refused(str(error), Ending.INVALID_REQUEST) from None
         if goal_handle.is_cancel_requested:
             raise Refused('cancelled before it started', Ending.CANCELLED)
-        return _Drawing(run, drawers, planned.pen or settings.pen, config.linear_speed,
-                        goal_handle, self._now_s(), left_out)
+        return UnderWay(run, drawers, planned.pen or settings.pen, config.linear_speed,
+                        goal_handle, self._now_s(), left_out, [link.pose for link in drawers],
+                        settings.arena)
 
     def _asked(self, goal: FleetDraw.Goal) -> tuple[list[str], float]:
         """The turtles and the clearance the goal asks for; Refused if they will not do."""
@@ -190,23 +174,34 @@ class FleetCoordinator(Node):
             return
         run = drawing.run
         for index, link in enumerate(drawing.links):
-            if run.driving(index) and link.liveness.gone():
-                run.end_failed(index)
-                run.lose(index, f'its node {node_of(link.name)} stopped answering')
-                link.cancel()
+            if not run.driving(index):
+                continue
+            if link.silent_s() > COMMAND_SILENCE_S:
+                link.halt()
+                why = (f'its node {node_of(link.name)} sent it no command for '
+                       f'{link.silent_s():.2f} s mid-move')
+            elif link.liveness.gone():
+                why = f'its node {node_of(link.name)} stopped answering'
+            else:
+                continue
+            run.end_failed(index)
+            link.cancel()
+            self._lose(drawing, index, why)
         self._dispatch(drawing)
         drawing.ticks += 1
         if drawing.ticks % FEEDBACK_EVERY == 0:
-            drawing.goal.publish_feedback(self._feedback(drawing))
+            drawing.goal.publish_feedback(progress(drawing, self._now_s()))
         if not any(run.driving(index) for index in range(len(drawing.links))) and (
                 run.done or drawing.failure is not None or not run.serving):
             drawing.finished.set_result(True)
 
-    def _dispatch(self, drawing: _Drawing) -> None:
+    def _dispatch(self, drawing: UnderWay) -> None:
         """Start every move the schedule allows now."""
         run = drawing.run
         if run.replan_due and drawing.failure is None:
-            self._replan(drawing)
+            self._carry_lost(drawing)
+            if not drawing.carrying:
+                self._replan(drawing)
         if drawing.failure is None:
             for index in run.ready():
                 move = run.start(index)
@@ -224,14 +219,35 @@ class FleetCoordinator(Node):
         else:
             drawing.run.end_failed(index)
             if drawing.failure is None:
-                drawing.run.lose(index, end.why)
+                self._lose(drawing, index, end.why)
         self._dispatch(drawing)
 
-    def _replan(self, drawing: _Drawing) -> None:
+    def _lose(self, drawing: UnderWay, index: int, why: str) -> None:
+        """`index` serves no more: carried back where it started, out of the others' way."""
+        drawing.run.lose(index, why)
+        drawing.to_carry.add(index)
+
+    def _carry_lost(self, drawing: UnderWay) -> None:
+        """Lost turtles still in the arena are put out of the way (no turtle that serves
+        drives now: none can come near them as they go)."""
+        run = drawing.run
+        for index in sorted(drawing.to_carry):
+            drawing.to_carry.discard(index)
+            link = drawing.links[index]
+            if not link.present():
+                continue
+            others = [pose for other in run.serving for pose in (
+                drawing.links[other].pose, drawing.homes[other]) if pose is not None]
+            drawing.homes[index] = run.out_of_the_way(drawing.homes[index], others,
+                                                      drawing.arena)
+            drawing.carrying.add(index)
+            link.carry(drawing.homes[index], lambda index=index: drawing.carrying.discard(index))
+
+    def _replan(self, drawing: UnderWay) -> None:
         run = drawing.run
         poses = {index: drawing.links[index].pose for index in run.serving}
-        standing = [link.pose for index, link in enumerate(drawing.links)
-                    if index not in run.serving and link.pose is not None and link.serves()]
+        standing = [drawing.homes[index] for index, link in enumerate(drawing.links)
+                    if index not in run.serving and link.present()]
         try:
             run.replan(poses, standing)
         except (Deadlock, ValueError) as error:
@@ -242,61 +258,11 @@ class FleetCoordinator(Node):
         drawing = self._drawing
         if drawing is None or drawing.finished.done():
             return
-        poses = [(link.pose.x, link.pose.y) for link in drawing.links if link.pose is not None]
+        poses = [(link.pose.x, link.pose.y) for link in drawing.links if link.present()]
         drawing.min_distance = min(drawing.min_distance, closest(poses))
 
     def _now_s(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
-
-    # -- what the client reads ----------------------------------------------------------------
-
-    def _feedback(self, drawing: _Drawing) -> FleetDraw.Feedback:
-        run = drawing.run
-        return FleetDraw.Feedback(
-            progress=run.progress(), elapsed=self._now_s() - drawing.started_s,
-            min_distance=drawing.min_distance,
-            turtles=[link.name for link in drawing.links],
-            turtle_progress=[run.turtle_progress(index) for index in range(len(drawing.links))],
-            state=[_state(run, index) for index in range(len(drawing.links))])
-
-    def _result(self, drawing: _Drawing) -> FleetDraw.Result:
-        run, goal = drawing.run, drawing.goal
-        goal.publish_feedback(self._feedback(drawing))
-        lost = [record.lost for record in run.turtles]
-        if drawing.failure is None and run.done:
-            success, reason, what = True, Ending.SUCCEEDED, 'drawn'
-        elif drawing.failure is not None:
-            success, (what, reason) = False, drawing.failure
-        else:
-            success, reason, what = False, Ending.NO_PROGRESS, 'every turtle was lost'
-        parts = [what] + [f'{r.name} lost ({r.lost})' for r in run.turtles if r.lost]
-        parts += [f'left out {why}' for why in drawing.left_out]
-        sharing = run.first_sharing
-        result = FleetDraw.Result(
-            success=success, message='; '.join(parts), ending=ending_message(reason),
-            makespan=(drawing.drawn_s or self._now_s()) - drawing.started_s,
-            planned_makespan=run.planned_makespan_s,
-            lower_bound=sharing.lower_bound_s if sharing else 0.0,
-            min_distance=drawing.min_distance if math.isfinite(drawing.min_distance) else 0.0,
-            turtles=[r.name for r in run.turtles], pieces=[r.pieces for r in run.turtles],
-            max_deviation=[r.max_deviation for r in run.turtles], lost=lost,
-            left_out=drawing.left_out)
-        if goal.is_cancel_requested:
-            goal.canceled()
-        elif success:
-            goal.succeed()
-        else:
-            goal.abort()
-        return result
-
-
-def _state(run: FleetRun, index: int) -> str:
-    if run.turtles[index].lost:
-        return 'lost'
-    if run.driving(index):
-        return 'driving'
-    return 'done' if run.turtle_progress(index) >= 1.0 else 'waiting'
-
 
 def _unfit(link: TurtleLink) -> str:
     """Why `link`'s turtle cannot take part ('' if it can)."""
@@ -321,5 +287,4 @@ def _names_problem(names: list[str], trajectory: str) -> str:
     return ''
 
 
-def _refusal(message: str, reason: Ending) -> FleetDraw.Result:
-    return FleetDraw.Result(success=False, message=message, ending=ending_message(reason))
+

@@ -12,14 +12,14 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from action_msgs.msg import GoalStatus
-from geometry_msgs.msg import Point
+from geometry_msgs.msg import Point, Twist
 from rcl_interfaces.srv import GetParameters
 from rclpy.action import ActionClient
 from rclpy.node import Node
 from rclpy.task import Future
 from turtle_traj_interfaces.action import Draw
 from turtlesim.msg import Pose
-from turtlesim.srv import SetPen
+from turtlesim.srv import SetPen, TeleportAbsolute
 
 from turtle_traj.api.ros_interface import DRAW_ACTION
 from turtle_traj.client.liveness import Liveness
@@ -55,13 +55,36 @@ class TurtleLink:
         self.on_pose: Callable[[], None] = lambda: None
         self._poses = node.create_subscription(Pose, f'/{name}/pose', self._pose,
                                                TURTLE_TOPIC_QOS)
+        # its node's commands: while it drives a move, they come every control period
+        self.commanded_s = -math.inf  # when its node last commanded it (node clock)
+        self._commands = node.create_subscription(
+            Twist, f'/{name}/cmd_vel', lambda _: self._commanded(), TURTLE_TOPIC_QOS)
+        self._stop = node.create_publisher(Twist, f'/{name}/cmd_vel', TURTLE_TOPIC_QOS)
         self._pen = node.create_client(SetPen, f'/{name}/set_pen')
+        self._teleport = node.create_client(TeleportAbsolute, f'/{name}/teleport_absolute')
         self._draw = ActionClient(node, Draw, f'{node_of(name)}/{DRAW_ACTION}')
         self._parameters = node.create_client(GetParameters, f'{node_of(name)}/get_parameters')
         self.liveness = Liveness(node, node_of(name), now=self._now_s)
         self._goal = None  # the Draw goal it drives
+        self._accepted_s = 0.0  # when that goal was accepted (node clock)
         self._pen_down: bool | None = None  # as last set (None: not set yet)
         self._cancelled = False
+
+    def _commanded(self) -> None:
+        self.commanded_s = self._now_s()
+
+    def silent_s(self) -> float:
+        """How long its node has sent no command while it drives a move (0 when it drives
+        none, or its run has not begun)."""
+        if self._goal is None:
+            return 0.0
+        return self._now_s() - max(self.commanded_s, self._accepted_s)
+
+    def halt(self) -> None:
+        """Stop it where it is and lift its pen, at once (its node no longer commands it)."""
+        self._stop.publish(Twist())
+        self._pen_down = False
+        self._pen.call_async(SetPen.Request(off=1))
 
     def _now_s(self) -> float:
         return self._node.get_clock().now().nanoseconds * 1e-9
@@ -70,6 +93,10 @@ class TurtleLink:
         self.pose = Pose2D(message.x, message.y, message.theta)
         self.moving = message.linear_velocity != 0.0 or message.angular_velocity != 0.0
         self.on_pose()
+
+    def present(self) -> bool:
+        """Its turtle stands in the simulator (its pose has come, its pen answers)."""
+        return self.pose is not None and self._pen.service_is_ready()
 
     def serves(self) -> bool:
         """Its node's Draw action and its pen are there, and its pose comes."""
@@ -108,7 +135,7 @@ class TurtleLink:
         if handle is None or not handle.accepted:
             done(MoveEnd(False, why='its node refused the move'))
             return
-        self._goal = handle
+        self._goal, self._accepted_s = handle, self._now_s()
         if self._cancelled:
             handle.cancel_goal_async()
         handle.get_result_async().add_done_callback(lambda answer: self._ended(answer, done))
@@ -124,6 +151,17 @@ class TurtleLink:
                          f'{result.ending.label}: {result.message}' if result.message
                          else 'its move did not end'))
 
+    def carry(self, to: Pose2D, done: Callable[[], None]) -> None:
+        """Lift its pen and put it at `to` (turtlesim's teleport: it is not driven there); then
+        `done`. A simulator without teleport leaves it where it stands."""
+        if not self._teleport.service_is_ready():
+            done()
+            return
+        self._pen_down = False
+        lifted = self._pen.call_async(SetPen.Request(off=1))
+        lifted.add_done_callback(lambda _: self._teleport.call_async(TeleportAbsolute.Request(
+            x=to.x, y=to.y, theta=to.theta)).add_done_callback(lambda _: done()))
+
     def cancel(self) -> None:
         """Stop the move it drives (its goal is cancelled: the turtle stops at once)."""
         self._cancelled = True
@@ -133,7 +171,10 @@ class TurtleLink:
     def destroy(self) -> None:
         self._draw.destroy()
         self._node.destroy_subscription(self._poses)
+        self._node.destroy_subscription(self._commands)
+        self._node.destroy_publisher(self._stop)
         self._node.destroy_client(self._pen)
+        self._node.destroy_client(self._teleport)
         self._node.destroy_client(self._parameters)
 
 

@@ -16,7 +16,9 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.fleet.sharing import Piece, Share, Sharing, routes, share
+from turtle_traj.core.fleet.moves import Share, routes
+from turtle_traj.core.fleet.pieces import Piece
+from turtle_traj.core.fleet.sharing import Sharing, share
 from turtle_traj.core.fleet.timing import Deadlock, Timing, simulate
 from turtle_traj.core.geometry.path import Pose2D
 
@@ -41,7 +43,7 @@ def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
 
     def judged(parts: list[_Part]) -> tuple[tuple[float, ...], Sharing] | None:
         candidate = _sharing(parts, sharing.lower_bound_s, len(starts))
-        moves = routes(candidate, pieces, starts, config)
+        moves = routes(candidate.shares, pieces, starts, config)
         try:
             timing = simulate([*moves, *([] for _ in standing)], [*starts, *standing],
                               clearance)

@@ -5,7 +5,9 @@ The node tells it what happens (`start`, `end`, `lose`); it answers what may sta
 A turtle that is lost (its node gone, its turtle gone, a move that fails) keeps nothing: every
 piece it had not finished, the one it was drawing included, goes back to the drawing. The others
 finish the moves they drive, and once none drives, what is left is shared among them from where
-they stand, kept clear of lost turtles that still stand in the arena.
+they stand, kept clear of lost turtles that still stand in the arena. A piece that passes within
+the clearance of such a turtle cannot be drawn without coming that near it: it is left undrawn
+(`blocked`), and the run says so.
 """
 
 from __future__ import annotations
@@ -14,12 +16,20 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
+import shapely
+
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.fleet.moves import routes
+from turtle_traj.core.fleet.pieces import Piece
 from turtle_traj.core.fleet.refine import share_apart
 from turtle_traj.core.fleet.schedule import Schedule
-from turtle_traj.core.fleet.sharing import Piece, Sharing, routes
+from turtle_traj.core.fleet.sharing import Sharing
 from turtle_traj.core.fleet.timing import Move
 from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.geometry.shapes import Arena
+
+BORDER_STEP_M = 0.25  # spots along the arena's border tried for a lost turtle
 
 
 @dataclass
@@ -45,22 +55,57 @@ class FleetRun:
         self.pieces, self.config, self.clearance = pieces, config, clearance
         self.turtles = [TurtleRecord(name) for name in names]
         self.drawn: set[int] = set()  # the pieces drawn, by index
+        self.blocked: set[int] = set()  # pieces within the clearance of a turtle standing still
         self.first_sharing: Sharing | None = None
         self._share(list(range(len(names))), starts, standing)
 
     def _share(self, serving: list[int], starts: Sequence[Pose2D],
                standing: Sequence[Pose2D]) -> None:
-        """Share the pieces not yet drawn among the turtles `serving` (indices), at `starts`."""
-        left = [index for index in range(len(self.pieces)) if index not in self.drawn]
+        """Share the pieces not yet drawn among the turtles `serving` (indices), at `starts`;
+        those within the clearance of a turtle `standing` still are set aside."""
+        self.blocked |= self._near(standing)
+        left = [index for index in range(len(self.pieces))
+                if index not in self.drawn and index not in self.blocked]
         pieces = [self.pieces[index] for index in left]
         sharing = share_apart(pieces, starts, self.config, self.clearance, standing)
         if self.first_sharing is None:
             self.first_sharing = sharing
         moves = [[_renumbered(move, left) for move in route]
-                 for route in routes(sharing, pieces, starts, self.config)]
+                 for route in routes(sharing.shares, pieces, starts, self.config)]
         self._serving = serving
         self._schedule = Schedule(moves, sharing.timing, self.clearance)
         self._replan_due = False
+
+    def _near(self, standing: Sequence[Pose2D]) -> set[int]:
+        """The pieces not drawn that pass within the clearance of a point in `standing`."""
+        if not standing:
+            return set()
+        points = shapely.points([(pose.x, pose.y) for pose in standing])
+        return {index for index, piece in enumerate(self.pieces) if index not in self.drawn
+                and shapely.distance(shapely.LineString(piece.polyline.points), points).min()
+                < self.clearance}
+
+    def out_of_the_way(self, preferred: Pose2D, others: Sequence[Pose2D], arena: Arena) -> Pose2D:
+        """Where to put a lost turtle: `preferred` (where it started), or else the spot along
+        the arena's border nearest it, that is twice the clearance from every piece not drawn
+        and from `others` (the turtles that serve, where they stand and started); `preferred`
+        when there is none."""
+        left = [shapely.LineString(piece.polyline.points)
+                for index, piece in enumerate(self.pieces) if index not in self.drawn]
+        keep = shapely.union_all([*left, *(shapely.Point(p.x, p.y) for p in others)])
+        low_x, low_y = arena.min_x + arena.margin, arena.min_y + arena.margin
+        high_x, high_y = arena.max_x - arena.margin, arena.max_y - arena.margin
+        border = shapely.LinearRing([(low_x, low_y), (high_x, low_y), (high_x, high_y),
+                                     (low_x, high_y)])
+        spots = [(preferred.x, preferred.y), *(
+            border.interpolate(at).coords[0]
+            for at in np.arange(0.0, border.length, BORDER_STEP_M))]
+        clear = [spot for spot in spots if keep.is_empty
+                 or shapely.distance(shapely.Point(spot), keep) >= 2.0 * self.clearance]
+        if not clear:
+            return preferred
+        x, y = min(clear, key=lambda spot: math.dist(spot, (preferred.x, preferred.y)))
+        return Pose2D(x, y, preferred.theta)
 
     @property
     def planned_makespan_s(self) -> float:
@@ -126,7 +171,8 @@ class FleetRun:
 
     @property
     def done(self) -> bool:
-        return len(self.drawn) == len(self.pieces)
+        """Every piece is drawn, or set aside."""
+        return len(self.drawn) + len(self.blocked) == len(self.pieces)
 
     def progress(self) -> float:
         """The share of the drawing's time drawn, 0 to 1."""

@@ -1,11 +1,6 @@
 """A drawing's pieces shared out among several turtles, for the least makespan. Pure Python.
 
-The drawing is planned as for one turtle: its pen-down pieces, between two corners or pen-up
-moves, in the order and direction the planner draws them, are one tour that already keeps the
-pen-up travel short (`pieces_in`; a star is ten pieces, not one outline, so that one long
-outline can be shared too). Each piece is timed as the exact follower draws it
-(`duration.least_time_s`), and getting from one pose to the next as a turn to face it, the
-drive there and the turn onto it (`travel_s`).
+The drawing's pieces, in the planner's order, are one tour (`pieces.pieces_in`).
 
 Sharing them out is a min-max multiple travelling salesman problem (NP-hard). We split the tour
 (Frederickson, Hecht and Kim's k-SPLITOUR, "Approximation algorithms for some routing problems",
@@ -27,97 +22,11 @@ import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 
-import numpy as np
-
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.duration import least_time_s, ramp_s
-from turtle_traj.core.fleet.timing import Deadlock, Move, Timing, simulate
-from turtle_traj.core.geometry.angles import wrap_angle
-from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
-
-
-@dataclass(frozen=True)
-class Piece:
-    """A piece drawn with the pen down, between two corners or pen-up moves, and how long the
-    exact follower takes to draw it."""
-
-    polyline: Polyline
-    time_s: float
-
-    def ends(self, reverse: bool) -> tuple[Pose2D, Pose2D]:
-        """The pose it is started in and the pose it ends in, drawn forwards or backwards."""
-        points, headings = self.polyline.points, self.polyline.headings
-        if reverse:
-            return (Pose2D(*points[-1], wrap_angle(float(headings[-1]) + math.pi)),
-                    Pose2D(*points[0], wrap_angle(float(headings[0]) + math.pi)))
-        return Pose2D(*points[0], float(headings[0])), Pose2D(*points[-1], float(headings[-1]))
-
-
-PIECE_M = 1.0  # pieces longer than this are cut into even parts no longer
-
-
-def pieces_in(path: Path, config: ControlConfig, longest: float = PIECE_M) -> list[Piece]:
-    """The pen-down pieces of a drawing's path, in its order, each at most `longest` long: a
-    long stroke is cut where it goes straight on, so that several turtles can share it and a
-    turtle waiting for another waits for a short stretch, not a whole stroke."""
-    return [Piece(part, least_time_s(Path((part,)), config)) for leg in path.legs
-            if isinstance(leg, Polyline) and leg.pen for part in _parts(leg, longest)]
-
-
-def _parts(leg: Polyline, longest: float) -> list[Polyline]:
-    """`leg` cut into the fewest even parts no longer than `longest`."""
-    count = max(1, math.ceil(leg.length / longest - 1e-9))
-    if count == 1:
-        return [leg]
-    along, points = leg.cumulative_length, leg.points
-    cuts = np.linspace(0.0, along[-1], count + 1)
-    parts = []
-    for begin, end in zip(cuts, cuts[1:], strict=False):
-        inside = (along > begin + JOINED_M) & (along < end - JOINED_M)  # no sliver at a cut
-        ends = np.array([[np.interp(at, along, points[:, axis]) for axis in (0, 1)]
-                         for at in (begin, end)])
-        parts.append(replace(leg, points=np.concatenate(([ends[0]], points[inside], [ends[1]]))))
-    return parts
-
-
-def _turn_s(sweep: float, config: ControlConfig) -> float:
-    return ramp_s(abs(sweep), config.angular_speed, config.max_angular_accel,
-                  config.max_angular_accel)
-
-
-REQUEST_PERIODS = 3  # a move's request costs this many control periods besides its driving
-
-
-def request_s(config: ControlConfig) -> float:
-    """What driving a move as a request of its own costs besides the driving: its run ends a
-    period after the turtle stops (when it reports standing), and the next run's first command
-    goes out at the period after its request, which waits for that end (measured in lock-step:
-    2 to 3 periods)."""
-    return REQUEST_PERIODS * config.period_s
-
-
-def travel_s(start: Pose2D, to: Pose2D, config: ControlConfig) -> float:
-    """About how long a turtle at `start` takes to stand at `to`: turn to face it, drive there,
-    turn to its heading."""
-    dx, dy = to.x - start.x, to.y - start.y
-    distance = math.hypot(dx, dy)
-    if distance < 1e-9:
-        return _turn_s(wrap_angle(to.theta - start.theta), config)
-    towards = math.atan2(dy, dx)
-    return (_turn_s(wrap_angle(towards - start.theta), config)
-            + ramp_s(distance, config.linear_speed, config.max_linear_accel,
-                     config.linear_braking if config.max_linear_accel else 0.0)
-            + _turn_s(wrap_angle(to.theta - towards), config))
-
-
-@dataclass(frozen=True)
-class Share:
-    """One turtle's part: the pieces it draws, by index in the tour, in the tour's order (or,
-    `reverse`, from the last back to the first, each drawn end to start)."""
-
-    pieces: tuple[int, ...]
-    time_s: float  # travel included, from the turtle's start to its last piece's end
-    reverse: bool = False
+from turtle_traj.core.fleet.moves import Share, routes
+from turtle_traj.core.fleet.pieces import Piece, request_s, travel_s
+from turtle_traj.core.fleet.timing import Deadlock, Timing, simulate
+from turtle_traj.core.geometry.path import Pose2D
 
 
 @dataclass(frozen=True)
@@ -253,7 +162,7 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
                                     for turtle in range(len(starts))), bound)
             if clearance is not None:
                 try:
-                    timing = simulate([*routes(sharing, pieces, starts, config),
+                    timing = simulate([*routes(sharing.shares, pieces, starts, config),
                                        *([] for _ in standing)], [*starts, *standing], clearance)
                 except Deadlock:
                     continue
@@ -265,57 +174,6 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
         raise Deadlock(f'every way of sharing the drawing among {len(starts)} turtles has two '
                        'of them wait for each other for ever')
     return best[1]
-
-
-def routes(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
-           config: ControlConfig) -> list[list[Move]]:
-    """Each turtle's moves, in order: for each of its pieces, a travel there (pen up) that ends
-    facing it, or where the turtle stands there already, a turn onto it (pen down: it
-    continues a stroke); then the piece. A turtle that drew goes back where it started, out of
-    the way of the others' pieces."""
-    moves: list[list[Move]] = []
-    for part, start in zip(sharing.shares, starts, strict=True):
-        route: list[Move] = []
-        here = start
-        order = reversed(part.pieces) if part.reverse else part.pieces
-        for index in order:
-            piece = pieces[index]
-            begin, end = piece.ends(part.reverse)
-            if math.hypot(begin.x - here.x, begin.y - here.y) > JOINED_M:
-                route += _travel(here, begin, config)
-            elif abs(wrap_angle(begin.theta - here.theta)) > JOINED_M:
-                route.append(Move(np.array([(begin.x, begin.y)]),
-                                  travel_s(here, begin, config) + request_s(config), pen=True,
-                                  heading=begin.theta))
-            points = piece.polyline.points
-            route.append(Move(points[::-1] if part.reverse else points,
-                              piece.time_s + request_s(config), pen=True, heading=end.theta,
-                              pieces=(index,)))
-            here = end
-        if route:
-            route += _travel(here, start, config)
-        moves.append(route)
-    return moves
-
-
-def _travel(here: Pose2D, to: Pose2D, config: ControlConfig,
-            longest: float = PIECE_M) -> list[Move]:
-    """The pen-up way from `here` to `to`, in stretches no longer than `longest`: a turtle
-    that waits for another to pass waits for a stretch of the way, not all of it."""
-    count = max(1, math.ceil(math.hypot(to.x - here.x, to.y - here.y) / longest - 1e-9))
-    facing = math.atan2(to.y - here.y, to.x - here.x)
-    stops = [Pose2D(here.x + (to.x - here.x) * k / count, here.y + (to.y - here.y) * k / count,
-                    facing) for k in range(1, count)] + [to]
-    moves, at = [], here
-    for stop in stops:
-        moves.append(Move(np.array([(at.x, at.y), (stop.x, stop.y)]),
-                          travel_s(at, stop, config) + request_s(config), heading=stop.theta))
-        at = stop
-    return moves
-
-
-JOINED_M = 1e-6  # a piece beginning this near where the turtle stands (and as near its heading,
-# in radians) continues from there
 
 
 def lower_bound_s(pieces: Sequence[Piece], starts: Sequence[Pose2D],

@@ -1,0 +1,77 @@
+"""What each turtle drives: its part of the pieces, as moves sent one request at a time. Pure.
+
+A turtle gets to each of its pieces by a pen-up travel (in stretches of at most `PIECE_M`) that
+ends facing the piece, or, standing at its start already, by a turn onto it; then draws it; and
+goes back where it started once it drew its part, out of the others' way.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.fleet.pieces import JOINED_M, PIECE_M, Piece, request_s, travel_s
+from turtle_traj.core.fleet.timing import Move
+from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.path import Pose2D
+
+
+@dataclass(frozen=True)
+class Share:
+    """One turtle's part: the pieces it draws, by index in the tour, in the tour's order (or,
+    `reverse`, from the last back to the first, each drawn end to start)."""
+
+    pieces: tuple[int, ...]
+    time_s: float  # travel included, from the turtle's start to its last piece's end
+    reverse: bool = False
+
+
+def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Pose2D],
+           config: ControlConfig) -> list[list[Move]]:
+    """Each turtle's moves, in order: for each of its pieces, a travel there (pen up) that ends
+    facing it, or where the turtle stands there already, a turn onto it (pen down: it
+    continues a stroke); then the piece. A turtle that drew goes back where it started, out of
+    the way of the others' pieces."""
+    moves: list[list[Move]] = []
+    for part, start in zip(shares, starts, strict=True):
+        route: list[Move] = []
+        here = start
+        order = reversed(part.pieces) if part.reverse else part.pieces
+        for index in order:
+            piece = pieces[index]
+            begin, end = piece.ends(part.reverse)
+            if math.hypot(begin.x - here.x, begin.y - here.y) > JOINED_M:
+                route += _travel(here, begin, config)
+            elif abs(wrap_angle(begin.theta - here.theta)) > JOINED_M:
+                route.append(Move(np.array([(begin.x, begin.y)]),
+                                  travel_s(here, begin, config) + request_s(config), pen=True,
+                                  heading=begin.theta))
+            points = piece.polyline.points
+            route.append(Move(points[::-1] if part.reverse else points,
+                              piece.time_s + request_s(config), pen=True, heading=end.theta,
+                              pieces=(index,)))
+            here = end
+        if route:
+            route += _travel(here, start, config)
+        moves.append(route)
+    return moves
+
+
+def _travel(here: Pose2D, to: Pose2D, config: ControlConfig,
+            longest: float = PIECE_M) -> list[Move]:
+    """The pen-up way from `here` to `to`, in stretches no longer than `longest`: a turtle
+    that waits for another to pass waits for a stretch of the way, not all of it."""
+    count = max(1, math.ceil(math.hypot(to.x - here.x, to.y - here.y) / longest - 1e-9))
+    facing = math.atan2(to.y - here.y, to.x - here.x)
+    stops = [Pose2D(here.x + (to.x - here.x) * k / count, here.y + (to.y - here.y) * k / count,
+                    facing) for k in range(1, count)] + [to]
+    moves, at = [], here
+    for stop in stops:
+        moves.append(Move(np.array([(at.x, at.y), (stop.x, stop.y)]),
+                          travel_s(at, stop, config) + request_s(config), heading=stop.theta))
+        at = stop
+    return moves
