@@ -111,7 +111,7 @@ def test_turtles_on_the_command_line_ask_the_fleet_coordinator_for_the_same_draw
                for name in alone.get_fields_and_field_types())
     with pytest.raises(SystemExit):
         main(['write', 'ROS 2', '--turtles', '2', '--turtle', 'turtle2'])
-    assert 'not with --turtle or --node' in capsys.readouterr().err
+    assert 'not with --turtle' in capsys.readouterr().err
     with pytest.raises(SystemExit):  # a go-to is not shared
         parser.parse_args(['go-to', '2', '2', '--turtles', '2'])
     with pytest.raises(SystemExit):

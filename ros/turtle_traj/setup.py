@@ -35,5 +35,6 @@ setup(
         'sim = turtle_traj.apps.sim:main',
         'turtle_traj = turtle_traj.cli.main:main',
         'teleop = turtle_traj.cli.teleop:main',
+        'fleet = turtle_traj.apps.fleet:main',
     ]},
 )

@@ -113,8 +113,8 @@ def _add_trajectory(groups: dict[tuple[str, ...], argparse._SubParsersAction],
     if trajectory.name not in NOT_DRAWINGS:
         parser.add_argument('--turtles', type=_parser_of(_fleet_size), metavar='N',
                             help='draw it with turtle1 to turtleN together, through the fleet '
-                                 'coordinator (`up --turtles N`), placed as turtle1 would '
-                                 'draw it alone')
+                                 'coordinator (/fleet, as `up --turtles N` starts it; --node '
+                                 'names another), placed as turtle1 would draw it alone')
     _add_connection_options(parser)
     parser.set_defaults(trajectory=trajectory)
 
@@ -240,11 +240,11 @@ def _main(args: Sequence[str] | None) -> int:
             parser.error('--turtle names the node: give --turtle or --node, not both')
         options.node = f"/{options.turtle.strip('/')}/turtle_traj"
     if getattr(options, 'turtles', None):
-        if options.turtle or options.node != '/turtle_traj':
-            parser.error('--turtles draws through the fleet coordinator: not with --turtle or '
-                         '--node')
-        from turtle_traj.api.ros_interface import FLEET_NODE
-        options.node = FLEET_NODE
+        if options.turtle:
+            parser.error('--turtles draws with turtle1 to turtleN: not with --turtle')
+        if options.node == '/turtle_traj':  # not given: our fleet coordinator
+            from turtle_traj.api.ros_interface import FLEET_NODE
+            options.node = FLEET_NODE
     # Our programs' Fast DDS settings (fastdds.xml), for the command line's requests too: by
     # UDP, a request lost at a busy node's full socket buffer waits for the sender's next
     # heartbeat, 3 s by Fast DDS's default, a few milliseconds by ours.

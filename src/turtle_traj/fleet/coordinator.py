@@ -84,8 +84,18 @@ class FleetCoordinator(Node):
         try:
             drawing = await self._prepare(goal_handle)
             self._drawing = drawing
-            self._tick()
-            await completion(self, drawing.finished)
+            held = self._elsewhere(drawing.links)
+            for link in held:
+                link.hold()
+            try:
+                await wait_until(self, lambda: all(link.held for link in held), READY_TIMEOUT_S)
+                for link in held:
+                    link.assert_hold()
+                self._tick()
+                await completion(self, drawing.finished)
+            finally:
+                for link in held:
+                    link.release()
             drawing.goal.publish_feedback(progress(drawing, self._now_s()))
             return report(drawing, self._now_s())
         except Refused as refused:
@@ -134,6 +144,14 @@ class FleetCoordinator(Node):
             raise Refused(f'clearance must be within 0.05 and 5 m, got {clearance:g}',
                           Ending.INVALID_REQUEST)
         return names, clearance
+
+    def _elsewhere(self, links: list[TurtleLink]) -> list[TurtleLink]:
+        """The turtles whose nodes run in another program: we hold their leases, so that they
+        stop if this program dies (nodes in this one die with it; and DDS asserts no
+        liveliness to a reader in its own participant, so a lease held here lapses at once)."""
+        here = {node.get_fully_qualified_name()
+                for node in (self.executor.get_nodes() if self.executor else [])}
+        return [link for link in links if node_of(link.name) not in here]
 
     def _turtles_found(self) -> list[str]:
         """The turtles whose trajectory node is in the graph, turtle1 first."""

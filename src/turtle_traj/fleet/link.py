@@ -17,6 +17,7 @@ from rcl_interfaces.srv import GetParameters
 from rclpy.action import ActionClient
 from rclpy.node import Node
 from rclpy.task import Future
+from std_msgs.msg import Empty
 from turtle_traj_interfaces.action import Draw
 from turtlesim.msg import Pose
 from turtlesim.srv import SetPen, TeleportAbsolute
@@ -26,6 +27,7 @@ from turtle_traj.client.liveness import Liveness
 from turtle_traj.core.fleet.timing import Move
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.turtlesim_contract import PenStyle
+from turtle_traj.node.lease import LEASE_QOS, LEASE_TOPIC
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 TRAVEL_TOLERANCE_M = 0.001  # a travel's go-to arrives this near its piece (the least it takes)
@@ -67,6 +69,7 @@ class TurtleLink:
         self.liveness = Liveness(node, node_of(name), now=self._now_s)
         self._goal = None  # the Draw goal it drives
         self._accepted_s = 0.0  # when that goal was accepted (node clock)
+        self._lease = None  # our hold on its node's lease, while we draw with it
         self._pen_down: bool | None = None  # as last set (None: not set yet)
         self._cancelled = False
 
@@ -93,6 +96,28 @@ class TurtleLink:
         self.pose = Pose2D(message.x, message.y, message.theta)
         self.moving = message.linear_velocity != 0.0 or message.angular_velocity != 0.0
         self.on_pose()
+
+    def hold(self) -> None:
+        """Hold its node's lease: should this program die, its node stops its run."""
+        if self._lease is None:
+            self._lease = self._node.create_publisher(Empty, f'{node_of(self.name)}/'
+                                                      f'{LEASE_TOPIC}', LEASE_QOS)
+
+    @property
+    def held(self) -> bool:
+        """Its node has matched our hold on its lease."""
+        return self._lease is not None and self._lease.get_subscription_count() > 0
+
+    def assert_hold(self) -> None:
+        """Show its node that we live: a hold never heard from is never seen to lapse (our
+        participant asserts it only every fraction of the lease)."""
+        if self._lease is not None:
+            self._lease.publish(Empty())
+
+    def release(self) -> None:
+        if self._lease is not None:
+            self._node.destroy_publisher(self._lease)
+            self._lease = None
 
     def present(self) -> bool:
         """Its turtle stands in the simulator (its pose has come, its pen answers)."""
@@ -169,6 +194,7 @@ class TurtleLink:
             self._goal.cancel_goal_async()
 
     def destroy(self) -> None:
+        self.release()
         self._draw.destroy()
         self._node.destroy_subscription(self._poses)
         self._node.destroy_subscription(self._commands)

@@ -24,6 +24,7 @@ from turtle_traj.node import parameters
 from turtle_traj.node.commands import CommandServices
 from turtle_traj.node.control_timer import ControlTimer
 from turtle_traj.node.draw_action import DrawActionServer
+from turtle_traj.node.lease import LeaseWatch
 from turtle_traj.node.run_manager import WATCHDOG_PERIOD_S, RunManager
 from turtle_traj.node.trajectory_services import TrajectoryServices
 
@@ -59,6 +60,7 @@ class TrajectoryNode(Node):
         self._draw_action = DrawActionServer(self, runs, group)
         self._nav2 = _nav2_follow_path(self, runs, group)
         self._commands = CommandServices(self, runs, group)  # ~/stop and ~/reset
+        self._lease = LeaseWatch(self, lambda why: self.abort_run(why))  # ~/lease
         self.stop_service = self._commands.stop_service
 
         self._control = ControlTimer(self, 1.0 / self.get_parameter('control_rate').value,
