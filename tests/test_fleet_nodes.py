@@ -90,8 +90,9 @@ def test_a_fleet_turtles_bag_records_its_namespaces_topics(monkeypatch):
     from turtle_traj.cli.main import main
 
     asked = {}
-    monkeypatch.setattr(bags, 'record', lambda output, topics, node, turtle: asked.update(
-        node=node, topics=default_topics(turtle, node)) or 0)
+    monkeypatch.setattr(bags, 'record', lambda output, topics, node, turtle, defaults:
+                        asked.update(node=node, topics=defaults or default_topics(turtle, node))
+                        or 0)
     assert main(['--turtle', 'turtle2', 'record']) == 0
     assert asked['node'] == '/turtle2/turtle_traj'
     assert asked['topics'][:4] == ['/turtle2/pose', '/turtle2/cmd_vel', '/turtle2/color_sensor',
@@ -116,3 +117,20 @@ def test_turtles_on_the_command_line_ask_the_fleet_coordinator_for_the_same_draw
         parser.parse_args(['go-to', '2', '2', '--turtles', '2'])
     with pytest.raises(SystemExit):
         parser.parse_args(['draw', 'star', '--turtles', str(MAX_TURTLES + 1)])
+
+
+def test_a_fleets_bag_records_every_turtles_topics_and_the_coordinators(monkeypatch):
+    """`turtle-traj record --turtles 3`: each turtle's topics and its node's, and the fleet's."""
+    from turtle_traj.apps import bags
+    from turtle_traj.cli.main import main
+
+    asked = {}
+    monkeypatch.setattr(bags, 'record', lambda output, topics, node, turtle, defaults:
+                        asked.update(topics=topics, defaults=defaults) or 0)
+    assert main(['record', '--turtles', '3']) == 0
+    assert asked['topics'] == []
+    for number in (1, 2, 3):
+        assert {f'/turtle{number}/pose', f'/turtle{number}/cmd_vel',
+                f'/turtle{number}/turtle_traj/plan'} <= set(asked['defaults'])
+    assert '/fleet/draw/_action/feedback' in asked['defaults']
+    assert len(asked['defaults']) == len(set(asked['defaults']))

@@ -30,14 +30,16 @@ def new_bag_path(name: str, folder: Path = BAGS) -> Path:
 class _Recording:
     """The recorder node's life: look for the topics, then record until stopped."""
 
-    def __init__(self, output: Path, topics: list[str], node_name: str, turtle: str) -> None:
-        self.output, self.asked, self.node_name, self.turtle = output, topics, node_name, turtle
+    def __init__(self, output: Path, topics: list[str], node_name: str,
+                 defaults: list[str]) -> None:
+        self.output, self.asked, self.node_name = output, topics, node_name
+        self.defaults = defaults
         self.error: str | None = None
         self.counts: dict[str, int] = {}
 
     def create(self, stop: Callable[[], None]) -> list[Node]:
         node = rclpy.create_node('turtle_traj_recorder')
-        recorder = TopicRecorder(node, self.asked or default_topics(self.turtle, self.node_name))
+        recorder = TopicRecorder(node, self.asked or self.defaults)
         parameters = AsyncParameterClient(node, self.node_name)
         asked: list[Future] = []  # the node's speed limits, noted in the bag for the plots
         began = time.monotonic()
@@ -73,12 +75,14 @@ class _Recording:
 
 
 def record(output: Path | None, topics: list[str], node_name: str,
-           turtle: str = 'turtle1') -> int:
-    """Record `topics`, or by default `turtle`'s and the node's, until stopped."""
+           turtle: str = 'turtle1', defaults: list[str] | None = None) -> int:
+    """Record `topics` (each must be there), or else `defaults` (those there: by default
+    `turtle`'s and the node's), until stopped."""
     output = output or new_bag_path('run')
     if output.exists():
         return fail(f'{output} exists: a bag is never written over')
-    recording = _Recording(output, topics, node_name, turtle)
+    recording = _Recording(output, topics, node_name,
+                           defaults or default_topics(turtle, node_name))
     code = run_nodes(recording.create, on_exit=recording.finish)
     if recording.error is not None:
         return fail(recording.error)

@@ -33,6 +33,18 @@ def default_topics(turtle: str = 'turtle1', node: str = 'turtle_traj') -> list[s
             '/rosout', '/clock']
 
 
+def fleet_topics(count: int, coordinator: str = '/fleet') -> list[str]:
+    """A fleet's run: every turtle's topics and its node's (`up --turtles N`: turtle1 to
+    turtleN, each node in its turtle's namespace), and the coordinator's draw action."""
+    topics: list[str] = []
+    for number in range(1, count + 1):
+        name = f'/turtle{number}'
+        topics += [topic for topic in default_topics(name, f'{name}/turtle_traj')
+                   if topic not in topics]
+    return [*topics, f'{coordinator}/{DRAW_ACTION}/_action/feedback',
+            f'{coordinator}/{DRAW_ACTION}/_action/status']
+
+
 def _bag_qos(profile: QoSProfile) -> Qos:
     def seconds(duration) -> dict:
         sec, nsec = divmod(duration.nanoseconds, 10**9)

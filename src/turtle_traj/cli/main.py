@@ -169,6 +169,9 @@ def build_parser() -> argparse.ArgumentParser:
     record.add_argument('--node', default='/turtle_traj',
                         help='the trajectory node whose topics are recorded (default: '
                              '%(default)s)')
+    record.add_argument('--turtles', type=_parser_of(_fleet_size), metavar='N',
+                        help='record a fleet (`up --turtles N`): every turtle\'s topics, its '
+                             "node's, and the fleet coordinator's draw action")
     play = commands.add_parser('play', help="publish a bag's commands (cmd_vel) at their "
                                'recorded times, as ros2 bag play does')
     play.add_argument('bag', type=Path, metavar='BAG', help='the bag folder')

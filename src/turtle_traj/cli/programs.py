@@ -28,8 +28,15 @@ def bags(parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
     from turtle_traj.apps import bags as programs
     if options.command == 'record':
         turtle = getattr(options, 'turtle', None)  # a fleet's turtle: its namespace's topics
+        fleet = None
+        if options.turtles:  # the whole fleet's
+            if options.topics or turtle:
+                parser.error('record --turtles records the fleet: no TOPIC, no --turtle')
+            from turtle_traj.bags.recorder import fleet_topics
+            fleet = fleet_topics(options.turtles)
         return programs.record(options.output, options.topics, options.node,
-                               turtle=f"/{turtle.strip('/')}" if turtle else 'turtle1')
+                               turtle=f"/{turtle.strip('/')}" if turtle else 'turtle1',
+                               defaults=fleet)
     if options.command == 'play':
         return programs.play(options.bag, options.topics, options.rate)
     if options.bag is not None and options.last:
