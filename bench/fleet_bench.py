@@ -57,13 +57,20 @@ def _closest(poses: dict) -> float:
                 for a, b in itertools.combinations(tracks, 2)), default=float('inf'))
 
 
-def draw(name: str, count: int, output: Path) -> dict:
-    """`name` drawn by `count` turtles (1: alone, with its own Draw action)."""
+PICTURE_COLORS = 'orange,#40e0d0,#ff69b4,#adff2f'  # turtle1, turtle2, ... in the picture
+
+
+def draw(name: str, count: int, output: Path, colors: str = '') -> dict:
+    """`name` drawn by `count` turtles (1: alone, with its own Draw action); `colors`: the
+    coordinator's turtle_colors."""
     from turtle_traj_interfaces.action import Draw, FleetDraw
     trajectory, given, start = DRAWINGS[name]
     kind = BY_NAME[trajectory]
     system = InProcessFleet([start, *starting_places(count)[1:]], output_dir=output)
     try:
+        if colors:
+            from rclpy.parameter import Parameter
+            system.coordinator.set_parameters([Parameter('turtle_colors', value=colors)])
         for log in system.poses.values():
             log.clear()
         wall = time.perf_counter()
@@ -92,8 +99,8 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--turtles', type=int, default=4, help='up to this many (default 4)')
     parser.add_argument('--drawings', nargs='*', default=list(DRAWINGS), choices=list(DRAWINGS))
-    parser.add_argument('--picture', type=Path, help='save the largest fleet\'s canvas of the '
-                        'first drawing here')
+    parser.add_argument('--picture', type=Path, help='draw the demo\'s SVG with the most '
+                        'turtles, each in its own colour, and save the canvas here')
     options = parser.parse_args()
     claim_domain_id()
     import rclpy
@@ -117,10 +124,11 @@ def main() -> int:
                       f'{row.get("reported_closest", float("nan")):8.3f} '
                       f'{row["deviation"] * 1000:7.2f} {differ:6.2f} {row["wall"]:6.1f}'
                       + ('' if row['ok'] else f'  FAILED: {row.get("message", "")}'), flush=True)
-                if options.picture and name == options.drawings[0] and (
-                        count == options.turtles):
-                    options.picture.parent.mkdir(parents=True, exist_ok=True)
-                    row['picture'].save(options.picture)
+        if options.picture:
+            row = draw('svg', options.turtles, output, PICTURE_COLORS)
+            options.picture.parent.mkdir(parents=True, exist_ok=True)
+            row['picture'].save(options.picture)
+            print(f'saved {options.picture}')
     finally:
         rclpy.shutdown()
     return 0

@@ -12,22 +12,28 @@ from __future__ import annotations
 
 import re
 
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
-from rclpy.parameter import parameter_value_to_python
+from rclpy.parameter import Parameter, parameter_value_to_python
 from turtle_traj_interfaces.action import FleetDraw
 
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.fleet.pieces import pieces_in
 from turtle_traj.core.fleet.run import FleetRun, closest
 from turtle_traj.core.fleet.timing import Deadlock
-from turtle_traj.core.parameters.settings import Settings, settings_from_values
+from turtle_traj.core.parameters.settings import (
+    Settings,
+    pen_color_problem,
+    pen_style,
+    settings_from_values,
+)
 from turtle_traj.core.parameters.table import PARAMETERS
 from turtle_traj.core.planning.planner import PlanError, plan
 from turtle_traj.core.registry import NOT_DRAWINGS
+from turtle_traj.core.turtlesim_contract import PenStyle
 from turtle_traj.fleet.link import MoveEnd, TurtleLink, node_of
 from turtle_traj.fleet.under_way import UnderWay, progress, refusal, report
 from turtle_traj.node.waiting import completion, wait_until
@@ -59,6 +65,10 @@ class FleetCoordinator(Node):
             description='Least distance between two turtles\' centres, when a goal leaves it 0 '
                         '[m]', floating_point_range=[FloatingPointRange(from_value=0.05,
                                                                           to_value=5.0)]))
+        self.declare_parameter('turtle_colors', '', ParameterDescriptor(
+            description='Pen colours, comma-separated (names or #rrggbb), one for each turtle '
+                        "in turn, to see who drew what; '': the drawing's pen for all"))
+        self.add_on_set_parameters_callback(_colors_problem)
         self._links: dict[str, TurtleLink] = {}
         self._drawing: UnderWay | None = None
         self._claimed = False  # a goal is being prepared or drawn
@@ -129,9 +139,17 @@ class FleetCoordinator(Node):
             raise Refused(str(error), Ending.INVALID_REQUEST) from None
         if goal_handle.is_cancel_requested:
             raise Refused('cancelled before it started', Ending.CANCELLED)
-        return UnderWay(run, drawers, planned.pen or settings.pen, config.linear_speed,
+        return UnderWay(run, drawers, self._pens(planned.pen or settings.pen, len(drawers)),
+                        config.linear_speed,
                         goal_handle, self._now_s(), left_out, [link.pose for link in drawers],
                         settings.arena)
+
+    def _pens(self, pen: PenStyle, count: int) -> list[PenStyle]:
+        """Each turtle's pen: the drawing's, or in `turtle_colors` (one colour per turtle, in
+        turn), its width the drawing's."""
+        colors = _colors(self.get_parameter('turtle_colors').value)
+        return [pen_style(colors[index % len(colors)], pen.width) if colors else pen
+                for index in range(count)]
 
     def _asked(self, goal: FleetDraw.Goal) -> tuple[list[str], float]:
         """The turtles and the clearance the goal asks for; Refused if they will not do."""
@@ -223,7 +241,7 @@ class FleetCoordinator(Node):
         if drawing.failure is None:
             for index in run.ready():
                 move = run.start(index)
-                drawing.links[index].drive(move, drawing.pen, drawing.linear_speed,
+                drawing.links[index].drive(move, drawing.pens[index], drawing.linear_speed,
                                            lambda end, index=index: self._move_ended(index, end))
 
     def _move_ended(self, index: int, end: MoveEnd) -> None:
@@ -281,6 +299,19 @@ class FleetCoordinator(Node):
 
     def _now_s(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
+
+def _colors(text: str) -> list[str]:
+    return [color.strip() for color in text.split(',') if color.strip()]
+
+
+def _colors_problem(parameters: list[Parameter]) -> SetParametersResult:
+    for parameter in parameters:
+        if parameter.name == 'turtle_colors':
+            for color in _colors(parameter.value):
+                if problem := pen_color_problem(color):
+                    return SetParametersResult(successful=False, reason=problem)
+    return SetParametersResult(successful=True)
+
 
 def _unfit(link: TurtleLink) -> str:
     """Why `link`'s turtle cannot take part ('' if it can)."""

@@ -24,7 +24,7 @@ class UnderWay:
 
     run: FleetRun
     links: list[TurtleLink]
-    pen: PenStyle
+    pens: list[PenStyle]  # each turtle's
     linear_speed: float
     goal: ServerGoalHandle
     started_s: float
