@@ -170,3 +170,26 @@ def test_cancelling_stops_every_turtle_and_a_turtle_busy_alone_is_left_out(rclpy
         assert system.poses['turtle3'][-1].linear_velocity > 0.0  # its own run goes on
     finally:
         system.close()
+
+
+def test_in_lock_step_the_same_request_gives_the_same_figures_and_poses(rclpy_context,
+                                                                        tmp_path):
+    """Two fresh fleets draw the same star: every figure and every pose alike, to the bit."""
+    runs = []
+    for attempt in range(2):
+        system = InProcessFleet(starting_places(3), context=rclpy_context,
+                                output_dir=tmp_path / str(attempt))
+        try:
+            for log in system.poses.values():
+                log.clear()
+            client = system.action_client(FleetDraw, '/fleet/draw')
+            _, result, _ = _finish(system, client, FleetDraw.Goal(
+                drawing=Drawing(trajectory='star', size=1.5)))
+            assert result.success, result.message
+            runs.append((result.makespan, result.min_distance, list(result.pieces),
+                         list(result.max_deviation),
+                         {name: [(p.x, p.y, p.theta) for p in log]
+                          for name, log in system.poses.items()}))
+        finally:
+            system.close()
+    assert runs[0] == runs[1]
