@@ -41,6 +41,7 @@ from turtle_traj.node.waiting import completion, wait_until
 TICK_S = 0.02  # node clock: how often moves are started and turtles watched
 FEEDBACK_EVERY = 5  # ticks: 10 Hz
 READY_TIMEOUT_S = 10.0  # wall: for the turtles' nodes to be found
+ANSWER_TIMEOUT_S = 5.0  # wall: for the first turtle's node to tell its parameters
 # node clock: a node that sends its turtle no command for this long while it drives a move has
 # stopped (it commands every control period); its turtle would run on with its last command for
 # turtlesim's 1 s command timeout, pen down, so it is stopped and its pen lifted at once
@@ -128,20 +129,22 @@ class FleetCoordinator(Node):
         if not drawers:
             raise Refused('no turtle can draw: ' + '; '.join(left_out), Ending.NO_SIMULATOR)
         settings = await self._settings_of(drawers[0])
+        standing = [link.pose for link in links if link not in drawers and link.present()]
+        starts = [link.pose for link in drawers]
+        # Planned here, in the executor, for up to a second: beside it, lock-step would hold
+        # the simulator meanwhile, and the turtles' nodes (on the wall clock while simulated
+        # time stands still) would take that for a silent simulator.
         try:
-            planned = plan(goal.drawing.trajectory, goal.drawing, drawers[0].pose, settings)
+            planned = plan(goal.drawing.trajectory, goal.drawing, starts[0], settings)
             config = planned.control(settings.control)
             run = FleetRun(pieces_in(planned.path, config), [link.name for link in drawers],
-                           [link.pose for link in drawers], config, clearance,
-                           standing=[link.pose for link in links
-                                     if link not in drawers and link.present()])
+                           starts, config, clearance, standing)
         except (PlanError, Deadlock) as error:
             raise Refused(str(error), Ending.INVALID_REQUEST) from None
         if goal_handle.is_cancel_requested:
             raise Refused('cancelled before it started', Ending.CANCELLED)
         return UnderWay(run, drawers, self._pens(planned.pen or settings.pen, len(drawers)),
-                        config.linear_speed,
-                        goal_handle, self._now_s(), left_out, [link.pose for link in drawers],
+                        config.linear_speed, goal_handle, self._now_s(), left_out, starts,
                         settings.arena)
 
     def _pens(self, pen: PenStyle, count: int) -> list[PenStyle]:
@@ -188,7 +191,12 @@ class FleetCoordinator(Node):
     async def _settings_of(self, link: TurtleLink) -> Settings:
         """The settings of `link`'s trajectory node: the drawing is planned as it plans."""
         names = [spec.name for spec in PARAMETERS]
-        answer = await completion(self, link.parameters(names), timeout_s=5.0)
+        asked = link.parameters(names)
+        if not await wait_until(self, asked.done, ANSWER_TIMEOUT_S):  # its node just went
+            link.forget(asked)
+            raise Refused(f'{node_of(link.name)} did not tell its parameters within '
+                          f'{ANSWER_TIMEOUT_S:g} s', Ending.NO_SIMULATOR)
+        answer = asked.result()
         if answer is None or len(answer.values) != len(names):
             raise Refused(f'{node_of(link.name)} did not tell its parameters', Ending.NO_SIMULATOR)
         return settings_from_values({name: parameter_value_to_python(value)

@@ -132,6 +132,10 @@ class TurtleLink:
         """Its node's values of the parameters `names` (a GetParameters answer)."""
         return self._parameters.call_async(GetParameters.Request(names=names))
 
+    def forget(self, asked: Future) -> None:
+        """Give up a parameters request left unanswered."""
+        self._parameters.remove_pending_request(asked)
+
     def drive(self, move: Move, pen: PenStyle, linear_speed: float,
               done: Callable[[MoveEnd], None]) -> None:
         """Set the pen for `move`, then drive it as a Draw goal; `done` is called once, with
