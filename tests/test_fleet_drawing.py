@@ -37,6 +37,17 @@ def _closest_approach(poses: dict) -> float:
     return min(float(np.hypot(*(a - b).T).min()) for a, b in itertools.combinations(tracks, 2))
 
 
+@pytest.fixture
+def fleet(rclpy_context, tmp_path):
+    """Three turtles where `up --turtles 3` puts them, their nodes and the coordinator; the
+    poses logged from here on."""
+    system = InProcessFleet(starting_places(3), context=rclpy_context, output_dir=tmp_path)
+    for log in system.poses.values():
+        log.clear()
+    yield system
+    system.close()
+
+
 @pytest.fixture(scope='module')
 def alone(rclpy_context, tmp_path_factory):
     """One turtle writing the text with its own Draw action: its result and its ink."""
@@ -50,33 +61,26 @@ def alone(rclpy_context, tmp_path_factory):
         system.close()
 
 
-def test_three_turtles_write_the_text_apart_faster_with_the_same_ink(rclpy_context, tmp_path,
-                                                                     alone):
+def test_three_turtles_write_the_text_apart_faster_with_the_same_ink(fleet, alone):
     single, single_ink = alone
-    system = InProcessFleet(starting_places(3), context=rclpy_context, output_dir=tmp_path)
-    try:
-        for log in system.poses.values():
-            log.clear()
-        client = system.action_client(FleetDraw, '/fleet/draw')
-        status, result, feedback = _finish(system, client, FleetDraw.Goal(
-            drawing=Drawing(**TEXT), turtles=system.names))
-        assert result.success, result.message
-        assert result.ending.code == Ending.SUCCEEDED
-        assert list(result.turtles) == system.names and all(result.pieces)
-        assert max(result.max_deviation) < 2e-3
-        # kept apart, as measured here from the poses; the coordinator's figure agrees
-        closest = _closest_approach(system.poses)
-        assert closest >= CLEARANCE_M
-        assert result.min_distance == pytest.approx(closest, abs=0.02)
-        # the same drawing, in less than half the time
-        ink = _inked(system)
-        assert np.count_nonzero(ink ^ single_ink) <= 0.01 * np.count_nonzero(single_ink)
-        assert result.lower_bound <= result.makespan < 0.5 * single.elapsed
-        progress = [message.progress for message in feedback]
-        assert progress == sorted(progress) and progress[-1] == 1.0
-        assert set(feedback[-1].state) == {'done'}
-    finally:
-        system.close()
+    client = fleet.action_client(FleetDraw, '/fleet/draw')
+    _, result, feedback = _finish(fleet, client, FleetDraw.Goal(drawing=Drawing(**TEXT),
+                                                                turtles=fleet.names))
+    assert result.success, result.message
+    assert result.ending.code == Ending.SUCCEEDED
+    assert list(result.turtles) == fleet.names and all(result.pieces)
+    assert max(result.max_deviation) < 2e-3
+    # kept apart, as measured here from the poses; the coordinator's figure agrees
+    closest = _closest_approach(fleet.poses)
+    assert closest >= CLEARANCE_M
+    assert result.min_distance == pytest.approx(closest, abs=0.02)
+    # the same drawing, in less than half the time
+    ink = _inked(fleet)
+    assert np.count_nonzero(ink ^ single_ink) <= 0.01 * np.count_nonzero(single_ink)
+    assert result.lower_bound <= result.makespan < 0.5 * single.elapsed
+    progress = [message.progress for message in feedback]
+    assert progress == sorted(progress) and progress[-1] == 1.0
+    assert set(feedback[-1].state) == {'done'}
 
 
 def test_requests_it_cannot_draw_are_refused_with_a_reason(rclpy_context, tmp_path):
@@ -104,72 +108,60 @@ def test_requests_it_cannot_draw_are_refused_with_a_reason(rclpy_context, tmp_pa
 
 
 @pytest.mark.parametrize('fault', ['killed', 'node died'])
-def test_a_turtle_lost_halfway_leaves_its_pieces_to_the_others(rclpy_context, tmp_path, alone,
-                                                               fault):
+def test_a_turtle_lost_halfway_leaves_its_pieces_to_the_others(fleet, alone, fault):
     """turtle2 removed with turtlesim's /kill, or its node gone, 8 s into a drawing of about
     16 s: the others draw what it left, apart, and the ink is one turtle's within 2%."""
     from turtlesim.srv import Kill
     _, single_ink = alone
-    system = InProcessFleet(starting_places(3), context=rclpy_context, output_dir=tmp_path)
-    try:
-        for log in system.poses.values():
-            log.clear()
-        client = system.action_client(FleetDraw, '/fleet/draw')
-        sent = client.send_goal_async(FleetDraw.Goal(drawing=Drawing(**TEXT)))
-        assert system.spin_until(sent.done, timeout_s=30.0)
-        answer = sent.result().get_result_async()
-        started = system.sim_time_s
-        assert system.spin_until(lambda: system.sim_time_s > started + 8.0)
-        if fault == 'killed':
-            system.call(Kill, '/kill', Kill.Request(name='turtle2'))
-        else:
-            node = system.turtle_nodes['turtle2']
-            system.executor.remove_node(node)
-            system.nodes.remove(node)
-            node.destroy_node()
-        assert system.spin_until(answer.done, timeout_s=300.0)
-        result = answer.result().result
-        assert result.success, result.message
-        assert result.lost[1] and not result.lost[0] and not result.lost[2]
-        assert 'turtle2 lost' in result.message
-        ink = _inked(system)
-        assert np.count_nonzero(ink ^ single_ink) <= 0.02 * np.count_nonzero(single_ink)
-        assert _closest_approach(system.poses) >= CLEARANCE_M
-        assert max(result.max_deviation) < 2e-3
-    finally:
-        system.close()
+    client = fleet.action_client(FleetDraw, '/fleet/draw')
+    sent = client.send_goal_async(FleetDraw.Goal(drawing=Drawing(**TEXT)))
+    assert fleet.spin_until(sent.done, timeout_s=30.0)
+    answer = sent.result().get_result_async()
+    started = fleet.sim_time_s
+    assert fleet.spin_until(lambda: fleet.sim_time_s > started + 8.0)
+    if fault == 'killed':
+        fleet.call(Kill, '/kill', Kill.Request(name='turtle2'))
+    else:
+        node = fleet.turtle_nodes['turtle2']
+        fleet.executor.remove_node(node)
+        fleet.nodes.remove(node)
+        node.destroy_node()
+    assert fleet.spin_until(answer.done, timeout_s=300.0)
+    result = answer.result().result
+    assert result.success, result.message
+    assert result.lost[1] and not result.lost[0] and not result.lost[2]
+    assert 'turtle2 lost' in result.message
+    ink = _inked(fleet)
+    assert np.count_nonzero(ink ^ single_ink) <= 0.02 * np.count_nonzero(single_ink)
+    assert _closest_approach(fleet.poses) >= CLEARANCE_M
+    assert max(result.max_deviation) < 2e-3
 
 
-def test_cancelling_stops_every_turtle_and_a_turtle_busy_alone_is_left_out(rclpy_context,
-                                                                          tmp_path):
-    system = InProcessFleet(starting_places(3), context=rclpy_context, output_dir=tmp_path)
-    try:
-        # turtle3 circles on a request of its own: left out, and kept clear of
-        own = system.action_client(Draw, '/turtle3/turtle_traj/draw')
-        circling = own.send_goal_async(Draw.Goal(trajectory='circle', size=0.4, forever=True))
-        assert system.spin_until(lambda: circling.done() and system.poses['turtle3'][-1]
-                                 .linear_velocity > 0.0, timeout_s=30.0)
-        client = system.action_client(FleetDraw, '/fleet/draw')
-        sent = client.send_goal_async(FleetDraw.Goal(drawing=Drawing(**TEXT)))
-        assert system.spin_until(sent.done, timeout_s=30.0)
-        started = system.sim_time_s
-        assert system.spin_until(lambda: system.sim_time_s > started + 5.0)
-        cancelled = sent.result().cancel_goal_async()
-        answer = sent.result().get_result_async()
-        assert system.spin_until(lambda: cancelled.done() and answer.done(), timeout_s=10.0)
-        result = answer.result().result
-        assert not result.success and result.ending.code == Ending.CANCELLED
-        assert list(result.turtles) == ['turtle1', 'turtle2']
-        assert [why.split(':')[0] for why in result.left_out] == ['turtle3']
-        assert 'busy' in result.left_out[0]
-        # within a control period of the answer, the fleet's turtles stand still
-        system.spin_sim_seconds(0.1)
-        assert all(system.poses[name][-1].linear_velocity == 0.0
-                   and system.poses[name][-1].angular_velocity == 0.0
-                   for name in ('turtle1', 'turtle2'))
-        assert system.poses['turtle3'][-1].linear_velocity > 0.0  # its own run goes on
-    finally:
-        system.close()
+def test_cancelling_stops_every_turtle_and_a_turtle_busy_alone_is_left_out(fleet):
+    # turtle3 circles on a request of its own: left out, and kept clear of
+    own = fleet.action_client(Draw, '/turtle3/turtle_traj/draw')
+    circling = own.send_goal_async(Draw.Goal(trajectory='circle', size=0.4, forever=True))
+    assert fleet.spin_until(lambda: circling.done() and fleet.poses['turtle3'][-1]
+                            .linear_velocity > 0.0, timeout_s=30.0)
+    client = fleet.action_client(FleetDraw, '/fleet/draw')
+    sent = client.send_goal_async(FleetDraw.Goal(drawing=Drawing(**TEXT)))
+    assert fleet.spin_until(sent.done, timeout_s=30.0)
+    started = fleet.sim_time_s
+    assert fleet.spin_until(lambda: fleet.sim_time_s > started + 5.0)
+    cancelled = sent.result().cancel_goal_async()
+    answer = sent.result().get_result_async()
+    assert fleet.spin_until(lambda: cancelled.done() and answer.done(), timeout_s=10.0)
+    result = answer.result().result
+    assert not result.success and result.ending.code == Ending.CANCELLED
+    assert list(result.turtles) == ['turtle1', 'turtle2']
+    assert [why.split(':')[0] for why in result.left_out] == ['turtle3']
+    assert 'busy' in result.left_out[0]
+    # within a control period of the answer, the fleet's turtles stand still
+    fleet.spin_sim_seconds(0.1)
+    assert all(fleet.poses[name][-1].linear_velocity == 0.0
+               and fleet.poses[name][-1].angular_velocity == 0.0
+               for name in ('turtle1', 'turtle2'))
+    assert fleet.poses['turtle3'][-1].linear_velocity > 0.0  # its own run goes on
 
 
 def test_in_lock_step_the_same_request_gives_the_same_figures_and_poses(rclpy_context,

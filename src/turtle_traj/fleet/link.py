@@ -77,11 +77,12 @@ class TurtleLink:
         self.commanded_s = self._now_s()
 
     def silent_s(self) -> float:
-        """How long its node has sent no command while it drives a move (0 when it drives
-        none, or its run has not begun)."""
-        if self._goal is None:
+        """How long its node has sent no command while it drives a move: since its last, once
+        the move's first has come (0 before: a turtle not yet commanded stands, and a node
+        that dies then is found by its liveness)."""
+        if self._goal is None or self.commanded_s <= self._accepted_s:
             return 0.0
-        return self._now_s() - max(self.commanded_s, self._accepted_s)
+        return self._now_s() - self.commanded_s
 
     def halt(self) -> None:
         """Stop it where it is and lift its pen, at once (its node no longer commands it)."""
