@@ -57,6 +57,41 @@ def _closest(poses: dict) -> float:
                 for a, b in itertools.combinations(tracks, 2)), default=float('inf'))
 
 
+def lose_one(fault: str, at_s: float, output: Path, single: np.ndarray) -> str:
+    """'ROS 2' by three turtles, turtle2 lost `at_s` into it (its turtle killed with /kill, or
+    its node destroyed): a line of figures."""
+    from turtle_traj_interfaces.action import FleetDraw
+    from turtlesim.srv import Kill
+    trajectory, given, start = DRAWINGS['ROS 2']
+    system = InProcessFleet([start, *starting_places(3)[1:]], output_dir=output)
+    try:
+        for log in system.poses.values():
+            log.clear()
+        client = system.action_client(FleetDraw, '/fleet/draw')
+        sent = client.send_goal_async(make_fleet_goal(BY_NAME[trajectory], given, system.names))
+        system.spin_until(sent.done, timeout_s=30.0)
+        answer = sent.result().get_result_async()
+        started = system.sim_time_s
+        system.spin_until(lambda: system.sim_time_s > started + at_s)
+        if fault == 'kill':
+            system.call(Kill, '/kill', Kill.Request(name='turtle2'))
+        else:
+            node = system.turtle_nodes['turtle2']
+            system.executor.remove_node(node)
+            system.nodes.remove(node)
+            node.destroy_node()
+        system.spin_until(answer.done, timeout_s=900.0)
+        result = answer.result().result
+        ink = system.sim.canvas.trails[..., 3] > 0
+        differ = 100.0 * np.count_nonzero(ink ^ single) / np.count_nonzero(single)
+        return (f'{fault:5} at {at_s:4.1f} s: {"drawn" if result.success else "FAILED"}, '
+                f'makespan {result.makespan:.2f} s, pieces {list(result.pieces)}, ink '
+                f'{differ:.2f}%, closest {_closest(system.poses):.3f} m, deviation '
+                f'{max(result.max_deviation) * 1000:.2f} mm; {result.lost[1]}')
+    finally:
+        system.close()
+
+
 PICTURE_COLORS = 'orange,#40e0d0,#ff69b4,#adff2f'  # turtle1, turtle2, ... in the picture
 
 
@@ -99,6 +134,10 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--turtles', type=int, default=4, help='up to this many (default 4)')
     parser.add_argument('--drawings', nargs='*', default=list(DRAWINGS), choices=list(DRAWINGS))
+    parser.add_argument('--no-table', dest='table', action='store_false',
+                        help='skip the makespan table')
+    parser.add_argument('--faults', action='store_true', help='then lose turtle2 of three at '
+                        'quarter, half and three quarters of "ROS 2": /kill, and its node gone')
     parser.add_argument('--picture', type=Path, help='draw the demo\'s SVG with the most '
                         'turtles, each in its own colour, and save the canvas here')
     options = parser.parse_args()
@@ -110,7 +149,7 @@ def main() -> int:
           f'{"bound":>6} {"closest":>8} {"reported":>8} {"dev mm":>7} {"ink %":>6} '
           f'{"wall s":>6}')
     try:
-        for name in options.drawings:
+        for name in options.drawings if options.table else []:
             alone = None
             for count in range(1, options.turtles + 1):
                 row = draw(name, count, output)
@@ -124,6 +163,11 @@ def main() -> int:
                       f'{row.get("reported_closest", float("nan")):8.3f} '
                       f'{row["deviation"] * 1000:7.2f} {differ:6.2f} {row["wall"]:6.1f}'
                       + ('' if row['ok'] else f'  FAILED: {row.get("message", "")}'), flush=True)
+        if options.faults:
+            single = draw('ROS 2', 1, output)['trails'][..., 3] > 0
+            for fault in ('kill', 'node'):
+                for at_s in (4.0, 8.0, 12.0):
+                    print(lose_one(fault, at_s, output, single), flush=True)
         if options.picture:
             row = draw('svg', options.turtles, output, PICTURE_COLORS)
             options.picture.parent.mkdir(parents=True, exist_ok=True)
