@@ -126,9 +126,9 @@ def test_a_fleets_bag_records_every_turtles_topics_and_the_coordinators(monkeypa
 
     asked = {}
     monkeypatch.setattr(bags, 'record', lambda output, topics, node, turtle, defaults:
-                        asked.update(topics=topics, defaults=defaults) or 0)
+                        asked.update(topics=topics, defaults=defaults, node=node) or 0)
     assert main(['record', '--turtles', '3']) == 0
-    assert asked['topics'] == []
+    assert asked['topics'] == [] and asked['node'] == '/turtle1/turtle_traj'  # its limits
     for number in (1, 2, 3):
         assert {f'/turtle{number}/pose', f'/turtle{number}/cmd_vel',
                 f'/turtle{number}/turtle_traj/plan'} <= set(asked['defaults'])

@@ -242,7 +242,7 @@ def _main(args: Sequence[str] | None) -> int:
         if options.node != '/turtle_traj':
             parser.error('--turtle names the node: give --turtle or --node, not both')
         options.node = f"/{options.turtle.strip('/')}/turtle_traj"
-    if getattr(options, 'turtles', None):
+    if getattr(options, 'turtles', None) and getattr(options, 'trajectory', None):
         if options.turtle:
             parser.error('--turtles draws with turtle1 to turtleN: not with --turtle')
         if options.node == '/turtle_traj':  # not given: our fleet coordinator

@@ -28,13 +28,14 @@ def bags(parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
     from turtle_traj.apps import bags as programs
     if options.command == 'record':
         turtle = getattr(options, 'turtle', None)  # a fleet's turtle: its namespace's topics
-        fleet = None
-        if options.turtles:  # the whole fleet's
+        fleet, node = None, options.node
+        if options.turtles:  # the whole fleet's; the limits noted are turtle1's node's
             if options.topics or turtle:
                 parser.error('record --turtles records the fleet: no TOPIC, no --turtle')
             from turtle_traj.bags.recorder import fleet_topics
             fleet = fleet_topics(options.turtles)
-        return programs.record(options.output, options.topics, options.node,
+            node = '/turtle1/turtle_traj' if node == '/turtle_traj' else node
+        return programs.record(options.output, options.topics, node,
                                turtle=f"/{turtle.strip('/')}" if turtle else 'turtle1',
                                defaults=fleet)
     if options.command == 'play':
