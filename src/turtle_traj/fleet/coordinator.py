@@ -3,9 +3,10 @@ trajectory node, kept apart by timing.
 
 `~/draw` (turtle_traj_interfaces/action/FleetDraw) plans the drawing as the first turtle's node
 would (with that node's parameters, from its pose), shares its pieces out (`core.fleet`), and
-sends each turtle its moves one Draw goal at a time, each when the schedule allows. A timer
-(`TICK_S`, node clock) starts the moves, watches the turtles and completes the future the
-goal's handler awaits; goal results and poses answer through callbacks.
+sends each turtle its moves one Draw goal at a time, each when the schedule allows: as soon as
+the moves it waits for end (in their goals' result callbacks). A timer (`TICK_S`, node clock)
+watches the turtles, publishes the feedback and completes the future the goal's handler
+awaits.
 """
 
 from __future__ import annotations
