@@ -185,3 +185,17 @@ def test_in_lock_step_the_same_request_gives_the_same_figures_and_poses(rclpy_co
         finally:
             system.close()
     assert runs[0] == runs[1]
+
+
+def test_turtles_that_stand_closer_than_the_clearance_are_told_so(rclpy_context, tmp_path):
+    system = InProcessFleet([(5.0, 5.0, 0.0), (5.3, 5.0, 0.0)], context=rclpy_context,
+                            output_dir=tmp_path)
+    try:
+        client = system.action_client(FleetDraw, '/fleet/draw')
+        _, result, _ = _finish(system, client, FleetDraw.Goal(
+            drawing=Drawing(trajectory='square', size=1.0)))
+        assert not result.success and result.ending.code == Ending.INVALID_REQUEST
+        assert 'turtle1 and turtle2 stand 0.30 m apart' in result.message
+        assert system.poses['turtle1'][-1].x == pytest.approx(5.0)  # nothing moved
+    finally:
+        system.close()

@@ -1,6 +1,7 @@
 """A drawing's pieces shared out among turtles (`core.fleet.sharing`), against brute force."""
 
 import itertools
+import math
 
 import numpy as np
 import pytest
@@ -154,3 +155,30 @@ def test_refining_with_the_waits_counted_ends_the_svg_sooner_and_keeps_the_clear
     assert sorted(i for s in refined.shares for i in s.pieces) == list(range(len(pieces)))
     moves = routes(refined.shares, pieces, starts, CONFIG)
     assert closest_approach(_tracks(moves, starts, refined.timing, step_s=0.02)) >= 0.6 - 1e-9
+
+
+def test_a_turtle_that_started_on_the_drawing_goes_home_off_it():
+    """The demo's SVG covers most of the arena: turtles starting on it go, once they drew, to
+    the nearest spot on the border twice the clearance from every piece and from each other;
+    one that started clear of it goes back there."""
+    from turtle_traj.core.fleet.moves import homes_for
+    from turtle_traj.core.geometry.shapes import Arena
+
+    example = BY_NAME['svg'].example
+    plan = planner.plan('svg', make_request(BY_NAME['svg'], dict(example.given)),
+                        Pose2D(*example.start), DEFAULT_SETTINGS)
+    pieces = pieces_in(plan.path, CONFIG)
+    arena = DEFAULT_SETTINGS.arena
+    starts = [Pose2D(5.5, 5.0, 0.0), Pose2D(9.0, 5.0, 0.0), Pose2D(10.0, 1.0, 0.5)]
+    homes = homes_for(starts, pieces, 0.6, arena)
+    drawn = np.concatenate([piece.polyline.points for piece in pieces])
+
+    def gap(pose):  # to the pieces, sampled densely
+        return float(np.hypot(*(drawn - (pose.x, pose.y)).T).min())
+    assert gap(starts[0]) < 1.2 and gap(starts[1]) < 1.2  # on the drawing
+    assert homes[2] == starts[2]  # clear of it: home is where it started
+    for home in homes:
+        assert gap(home) >= 1.2 - 0.02
+        assert isinstance(arena, Arena) and arena.contains([(home.x, home.y)])
+    assert all(math.dist((a.x, a.y), (b.x, b.y)) >= 1.2
+               for a, b in itertools.combinations(homes, 2))

@@ -11,6 +11,8 @@ awaits.
 
 from __future__ import annotations
 
+import itertools
+import math
 import re
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
@@ -25,6 +27,7 @@ from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.fleet.pieces import pieces_in
 from turtle_traj.core.fleet.run import FleetRun, closest
 from turtle_traj.core.fleet.timing import Deadlock
+from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import (
     Settings,
     pen_color_problem,
@@ -132,6 +135,9 @@ class FleetCoordinator(Node):
         settings = await self._settings_of(drawers[0])
         standing = [link.pose for link in links if link not in drawers and link.present()]
         starts = [link.pose for link in drawers]
+        if problem := _too_close([(link.name, link.pose) for link in links if link.present()],
+                                 clearance):
+            raise Refused(problem, Ending.INVALID_REQUEST)
         # Planned here, in the executor, for up to a second: beside it, lock-step would hold
         # the simulator meanwhile, and the turtles' nodes (on the wall clock while simulated
         # time stands still) would take that for a silent simulator.
@@ -139,14 +145,13 @@ class FleetCoordinator(Node):
             planned = plan(goal.drawing.trajectory, goal.drawing, starts[0], settings)
             config = planned.control(settings.control)
             run = FleetRun(pieces_in(planned.path, config), [link.name for link in drawers],
-                           starts, config, clearance, standing)
+                           starts, config, clearance, standing, settings.arena)
         except (PlanError, Deadlock) as error:
             raise Refused(str(error), Ending.INVALID_REQUEST) from None
         if goal_handle.is_cancel_requested:
             raise Refused('cancelled before it started', Ending.CANCELLED)
         return UnderWay(run, drawers, self._pens(planned.pen or settings.pen, len(drawers)),
-                        config.linear_speed, goal_handle, self._now_s(), left_out, starts,
-                        settings.arena)
+                        config.linear_speed, goal_handle, self._now_s(), left_out, starts)
 
     def _pens(self, pen: PenStyle, count: int) -> list[PenStyle]:
         """Each turtle's pen: the drawing's, or in `turtle_colors` (one colour per turtle, in
@@ -281,10 +286,9 @@ class FleetCoordinator(Node):
             link = drawing.links[index]
             if not link.present():
                 continue
-            others = [pose for other in run.serving for pose in (
-                drawing.links[other].pose, drawing.homes[other]) if pose is not None]
-            drawing.homes[index] = run.out_of_the_way(drawing.homes[index], others,
-                                                      drawing.arena)
+            others = [drawing.links[other].pose for other in run.serving
+                      if drawing.links[other].pose is not None]
+            drawing.homes[index] = run.out_of_the_way(drawing.homes[index], others)
             drawing.carrying.add(index)
             link.carry(drawing.homes[index], lambda index=index: drawing.carrying.discard(index))
 
@@ -328,6 +332,15 @@ def _unfit(link: TurtleLink) -> str:
         return f'no trajectory node {node_of(link.name)} with its turtle answers'
     if link.moving:
         return 'busy with a request of its own (it is moving)'
+    return ''
+
+
+def _too_close(turtles: list[tuple[str, Pose2D]], clearance: float) -> str:
+    """Why the turtles cannot start apart: two already stand closer than the clearance."""
+    for (first, a), (second, b) in itertools.combinations(turtles, 2):
+        if (gap := math.hypot(a.x - b.x, a.y - b.y)) < clearance:
+            return (f'{first} and {second} stand {gap:.2f} m apart, closer than the clearance '
+                    f'({clearance:g} m): move one away first')
     return ''
 
 

@@ -12,7 +12,6 @@ from turtle_traj_interfaces.action import FleetDraw
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.fleet.run import FleetRun
 from turtle_traj.core.geometry.path import Pose2D
-from turtle_traj.core.geometry.shapes import Arena
 from turtle_traj.core.turtlesim_contract import PenStyle
 from turtle_traj.fleet.link import TurtleLink
 from turtle_traj.node.outcomes import ending_message
@@ -30,7 +29,6 @@ class UnderWay:
     started_s: float
     left_out: list[str]
     homes: list[Pose2D]  # where each turtle started (where a lost one is carried, if clear)
-    arena: Arena
     finished: Future = field(default_factory=Future)
     to_carry: set[int] = field(default_factory=set)  # lost turtles to put out of the way
     carrying: set[int] = field(default_factory=set)  # lost turtles being put there

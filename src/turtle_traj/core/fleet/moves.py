@@ -12,12 +12,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.fleet.pieces import JOINED_M, PIECE_M, Piece, request_s, travel_s
 from turtle_traj.core.fleet.timing import Move
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.geometry.shapes import Arena
 
 
 @dataclass(frozen=True)
@@ -31,13 +33,13 @@ class Share:
 
 
 def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Pose2D],
-           config: ControlConfig) -> list[list[Move]]:
+           config: ControlConfig, homes: Sequence[Pose2D] | None = None) -> list[list[Move]]:
     """Each turtle's moves, in order: for each of its pieces, a travel there (pen up) that ends
     facing it, or where the turtle stands there already, a turn onto it (pen down: it
-    continues a stroke); then the piece. A turtle that drew goes back where it started, out of
-    the way of the others' pieces."""
+    continues a stroke); then the piece. A turtle that drew goes to its home (by default where
+    it started), out of the way of the others' pieces."""
     moves: list[list[Move]] = []
-    for part, start in zip(shares, starts, strict=True):
+    for part, start, home in zip(shares, starts, homes or starts, strict=True):
         route: list[Move] = []
         here = start
         order = reversed(part.pieces) if part.reverse else part.pieces
@@ -56,7 +58,7 @@ def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Po
                               pieces=(index,)))
             here = end
         if route:
-            route += _travel(here, start, config)
+            route += _travel(here, home, config)
         moves.append(route)
     return moves
 
@@ -75,3 +77,37 @@ def _travel(here: Pose2D, to: Pose2D, config: ControlConfig,
                           travel_s(at, stop, config) + request_s(config), heading=stop.theta))
         at = stop
     return moves
+
+
+BORDER_STEP_M = 0.25  # spots along the arena's border tried for a turtle to stand out of the way
+
+
+def clear_spot(preferred: Pose2D, keep: shapely.Geometry, distance: float,
+               arena: Arena) -> Pose2D:
+    """`preferred` if it is `distance` from `keep` (pieces, turtles), or else the spot along the
+    arena's border nearest it that is; `preferred` when there is none."""
+    low_x, low_y = arena.min_x + arena.margin, arena.min_y + arena.margin
+    high_x, high_y = arena.max_x - arena.margin, arena.max_y - arena.margin
+    border = shapely.LinearRing([(low_x, low_y), (high_x, low_y), (high_x, high_y),
+                                 (low_x, high_y)])
+    spots = [(preferred.x, preferred.y), *(border.interpolate(at).coords[0]
+                                           for at in np.arange(0.0, border.length, BORDER_STEP_M))]
+    clear = [spot for spot in spots
+             if keep.is_empty or shapely.distance(shapely.Point(spot), keep) >= distance]
+    if not clear:
+        return preferred
+    x, y = min(clear, key=lambda spot: math.dist(spot, (preferred.x, preferred.y)))
+    return Pose2D(x, y, preferred.theta)
+
+
+def homes_for(starts: Sequence[Pose2D], pieces: Sequence[Piece], clearance: float,
+              arena: Arena) -> list[Pose2D]:
+    """Where each turtle goes once it drew its part: where it started if that is twice the
+    clearance from every piece and from the homes before it, or else the nearest such spot on
+    the arena's border (a turtle parked on the drawing would keep the others from it)."""
+    drawing = [shapely.LineString(piece.polyline.points) for piece in pieces]
+    homes: list[Pose2D] = []
+    for start in starts:
+        keep = shapely.union_all([*drawing, *(shapely.Point(h.x, h.y) for h in homes)])
+        homes.append(clear_spot(start, keep, 2.0 * clearance, arena))
+    return homes

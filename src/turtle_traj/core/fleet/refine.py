@@ -35,15 +35,15 @@ class _Part:
 
 
 def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
-           config: ControlConfig, clearance: float,
-           standing: Sequence[Pose2D] = ()) -> Sharing:
+           config: ControlConfig, clearance: float, standing: Sequence[Pose2D] = (),
+           homes: Sequence[Pose2D] | None = None) -> Sharing:
     """`sharing` (judged with `clearance`: its `timing` set) improved while a neighbour ends
-    the drawing sooner; `standing` as for `share`."""
+    the drawing sooner; `standing` and `homes` as for `share`."""
     assert sharing.timing is not None
 
     def judged(parts: list[_Part]) -> tuple[tuple[float, ...], Sharing] | None:
         candidate = _sharing(parts, sharing.lower_bound_s, len(starts))
-        moves = routes(candidate.shares, pieces, starts, config)
+        moves = routes(candidate.shares, pieces, starts, config, homes)
         try:
             timing = simulate([*moves, *([] for _ in standing)], [*starts, *standing],
                               clearance)
@@ -118,11 +118,12 @@ def _neighbours(parts: list[_Part], count: int) -> Iterator[list[_Part]]:
 
 
 def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
-                clearance: float, standing: Sequence[Pose2D] = ()) -> Sharing:
+                clearance: float, standing: Sequence[Pose2D] = (),
+                homes: Sequence[Pose2D] | None = None) -> Sharing:
     """The pieces shared out among turtles at `starts`, kept `clearance` apart (`share`), then
     refined with the waits counted.
 
     :raises Deadlock: every sharing tried would deadlock.
     """
-    return refine(share(pieces, starts, config, clearance, standing), pieces, starts, config,
-                  clearance, standing)
+    return refine(share(pieces, starts, config, clearance, standing, homes), pieces, starts,
+                  config, clearance, standing, homes)

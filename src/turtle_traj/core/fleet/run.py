@@ -16,11 +16,10 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numpy as np
 import shapely
 
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.fleet.moves import routes
+from turtle_traj.core.fleet.moves import clear_spot, homes_for, routes
 from turtle_traj.core.fleet.pieces import Piece
 from turtle_traj.core.fleet.refine import share_apart
 from turtle_traj.core.fleet.schedule import Schedule
@@ -28,8 +27,6 @@ from turtle_traj.core.fleet.sharing import Sharing
 from turtle_traj.core.fleet.timing import Move
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.shapes import Arena
-
-BORDER_STEP_M = 0.25  # spots along the arena's border tried for a lost turtle
 
 
 @dataclass
@@ -45,14 +42,19 @@ class TurtleRecord:
 class FleetRun:
     """The pieces of one drawing (`pieces`, in tour order) drawn by the turtles `names`,
     standing at `starts`, at least `clearance` apart; `standing`: turtles that do not draw.
+    In an `arena`, a turtle that drew goes home off the drawing (`moves.homes_for`); else back
+    where it started.
 
     :raises Deadlock: no sharing of the drawing keeps the turtles apart without a deadlock.
     """
 
     def __init__(self, pieces: Sequence[Piece], names: Sequence[str], starts: Sequence[Pose2D],
-                 config: ControlConfig, clearance: float,
-                 standing: Sequence[Pose2D] = ()) -> None:
+                 config: ControlConfig, clearance: float, standing: Sequence[Pose2D] = (),
+                 arena: Arena | None = None) -> None:
         self.pieces, self.config, self.clearance = pieces, config, clearance
+        self.arena = arena
+        self.homes = (homes_for(starts, pieces, clearance, arena) if arena is not None
+                      else list(starts))
         self.turtles = [TurtleRecord(name) for name in names]
         self.drawn: set[int] = set()  # the pieces drawn, by index
         self.blocked: set[int] = set()  # pieces within the clearance of a turtle standing still
@@ -67,11 +69,12 @@ class FleetRun:
         left = [index for index in range(len(self.pieces))
                 if index not in self.drawn and index not in self.blocked]
         pieces = [self.pieces[index] for index in left]
-        sharing = share_apart(pieces, starts, self.config, self.clearance, standing)
+        homes = [self.homes[turtle] for turtle in serving]
+        sharing = share_apart(pieces, starts, self.config, self.clearance, standing, homes)
         if self.first_sharing is None:
             self.first_sharing = sharing
         moves = [[_renumbered(move, left) for move in route]
-                 for route in routes(sharing.shares, pieces, starts, self.config)]
+                 for route in routes(sharing.shares, pieces, starts, self.config, homes)]
         self._serving = serving
         self._schedule = Schedule(moves, sharing.timing, self.clearance)
         self._replan_due = False
@@ -85,27 +88,18 @@ class FleetRun:
                 and shapely.distance(shapely.LineString(piece.polyline.points), points).min()
                 < self.clearance}
 
-    def out_of_the_way(self, preferred: Pose2D, others: Sequence[Pose2D], arena: Arena) -> Pose2D:
+    def out_of_the_way(self, preferred: Pose2D, others: Sequence[Pose2D]) -> Pose2D:
         """Where to put a lost turtle: `preferred` (where it started), or else the spot along
-        the arena's border nearest it, that is twice the clearance from every piece not drawn
-        and from `others` (the turtles that serve, where they stand and started); `preferred`
-        when there is none."""
+        the arena's border nearest it, that is twice the clearance from every piece not drawn,
+        from `others` (the turtles that serve, where they stand) and from their homes;
+        `preferred` without an arena or such a spot."""
+        if self.arena is None:
+            return preferred
         left = [shapely.LineString(piece.polyline.points)
                 for index, piece in enumerate(self.pieces) if index not in self.drawn]
-        keep = shapely.union_all([*left, *(shapely.Point(p.x, p.y) for p in others)])
-        low_x, low_y = arena.min_x + arena.margin, arena.min_y + arena.margin
-        high_x, high_y = arena.max_x - arena.margin, arena.max_y - arena.margin
-        border = shapely.LinearRing([(low_x, low_y), (high_x, low_y), (high_x, high_y),
-                                     (low_x, high_y)])
-        spots = [(preferred.x, preferred.y), *(
-            border.interpolate(at).coords[0]
-            for at in np.arange(0.0, border.length, BORDER_STEP_M))]
-        clear = [spot for spot in spots if keep.is_empty
-                 or shapely.distance(shapely.Point(spot), keep) >= 2.0 * self.clearance]
-        if not clear:
-            return preferred
-        x, y = min(clear, key=lambda spot: math.dist(spot, (preferred.x, preferred.y)))
-        return Pose2D(x, y, preferred.theta)
+        keep = shapely.union_all([*left, *(shapely.Point(p.x, p.y) for p in [
+            *others, *(self.homes[turtle] for turtle in self.serving)])])
+        return clear_spot(preferred, keep, 2.0 * self.clearance, self.arena)
 
     @property
     def planned_makespan_s(self) -> float:

@@ -8,7 +8,9 @@ SIAM J. Computing 7(2), 1978): each turtle draws one contiguous part of it, so e
 tour's short travel, and only the travel to its part's first piece is new. The parts are cut
 for the least makespan by a binary search over it (each trial fills the parts greedily in tour
 order), for every order of the turtles along the tour (up to `EXHAUSTIVE_TURTLES`; beyond, each
-part takes the nearest turtle left).
+part takes the nearest turtle left). With a clearance, the `SIMULATED_ORDERS` orders whose splits
+end soonest are then judged with the waits that keep the turtles apart, each with its cuts
+loosened a little too.
 
 A lower bound of the makespan is the larger of the longest piece (with the travel to it from
 the nearest start) and all the drawing shared evenly (`lower_bound_s`): where a drawing cannot
@@ -105,6 +107,8 @@ class _Tour:
                    for a, b, start in zip(best[:-1], best[1:], starts, strict=True)), best
 
 
+SIMULATED_ORDERS = 6  # with a clearance, the orders whose splits end soonest without waits
+# that are judged with them (more, until one does not deadlock)
 LOOSER_STEPS, LOOSER_SLACK = 8, 0.04  # cuts also tried with the limit raised 4 %, 8 %, ...
 
 
@@ -136,11 +140,13 @@ def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[i
 
 
 def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
-          clearance: float | None = None, standing: Sequence[Pose2D] = ()) -> Sharing:
+          clearance: float | None = None, standing: Sequence[Pose2D] = (),
+          homes: Sequence[Pose2D] | None = None) -> Sharing:
     """The pieces of one turtle's tour (`pieces`, in its order) shared out among turtles
     standing at `starts` (see the module). With a `clearance`, each candidate is judged by when
     its turtles end with the waits that keep them that far apart (`timing.simulate`), and one
-    that would deadlock is passed over; `standing` are turtles that do not draw, kept clear of.
+    that would deadlock is passed over; `standing` are turtles that do not draw, kept clear of;
+    `homes`, where each goes once it drew (`moves.routes`).
 
     :raises Deadlock: with a clearance, every candidate would deadlock.
     """
@@ -149,10 +155,13 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
     tour = _Tour(pieces, config)
     bound = lower_bound_s(pieces, starts, config)
     alone = max(tour.part_s(0, len(pieces), start) for start in starts)
+    splits = sorted(((tour.split([starts[k] for k in order], bound, alone), order)
+                     for order in _orders(starts, pieces)), key=lambda split: split[0][0])
     best: tuple[float, Sharing] | None = None
-    for order in _orders(starts, pieces):
+    for rank, ((least, cuts), order) in enumerate(splits):
+        if rank >= (1 if clearance is None else SIMULATED_ORDERS) and best is not None:
+            break  # the orders whose splits end soonest without waits are judged with them
         ordered = [starts[k] for k in order]
-        least, cuts = tour.split(ordered, bound, alone)
         # with waits, parts a little longer for the first turtles may end sooner
         tried = [cuts] if clearance is None else _looser(tour, ordered, least, cuts)
         for cuts in tried:
@@ -162,7 +171,7 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
                                     for turtle in range(len(starts))), bound)
             if clearance is not None:
                 try:
-                    timing = simulate([*routes(sharing.shares, pieces, starts, config),
+                    timing = simulate([*routes(sharing.shares, pieces, starts, config, homes),
                                        *([] for _ in standing)], [*starts, *standing], clearance)
                 except Deadlock:
                     continue
