@@ -81,6 +81,9 @@ def test_three_turtles_write_the_text_apart_faster_with_the_same_ink(fleet, alon
     progress = [message.progress for message in feedback]
     assert progress == sorted(progress) and progress[-1] == 1.0
     assert set(feedback[-1].state) == {'done'}
+    # they parked off the drawing, and once it was done came back where they started
+    for name, (x, y, _) in zip(fleet.names, starting_places(3), strict=True):
+        assert math.dist((fleet.poses[name][-1].x, fleet.poses[name][-1].y), (x, y)) < 0.01
 
 
 def test_requests_it_cannot_draw_are_refused_with_a_reason(rclpy_context, tmp_path):

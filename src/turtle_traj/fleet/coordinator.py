@@ -241,8 +241,13 @@ class FleetCoordinator(Node):
         drawing.ticks += 1
         if drawing.ticks % FEEDBACK_EVERY == 0:
             drawing.goal.publish_feedback(progress(drawing, self._now_s()))
-        if not any(run.driving(index) for index in range(len(drawing.links))) and (
-                run.done or drawing.failure is not None or not run.serving):
+        if any(run.driving(index) for index in range(len(drawing.links))):
+            return
+        if run.done and drawing.failure is None and run.serving and not run.returning:
+            run.return_home({index: drawing.links[index].pose for index in run.serving},
+                            self._lost_standing(drawing))
+            self._dispatch(drawing)
+        elif run.returned or drawing.failure is not None or not run.serving:
             drawing.finished.set_result(True)
 
     def _dispatch(self, drawing: UnderWay) -> None:
@@ -273,7 +278,7 @@ class FleetCoordinator(Node):
         self._dispatch(drawing)
 
     def _lose(self, drawing: UnderWay, index: int, why: str) -> None:
-        """`index` serves no more: carried back where it started, out of the others' way."""
+        """`index` serves no more: it is put out of the others' way once none drives."""
         drawing.run.lose(index, why)
         drawing.to_carry.add(index)
 
@@ -295,12 +300,16 @@ class FleetCoordinator(Node):
     def _replan(self, drawing: UnderWay) -> None:
         run = drawing.run
         poses = {index: drawing.links[index].pose for index in run.serving}
-        standing = [drawing.homes[index] for index, link in enumerate(drawing.links)
-                    if index not in run.serving and link.present()]
+        standing = self._lost_standing(drawing)
         try:
             run.replan(poses, standing)
         except (Deadlock, ValueError) as error:
             drawing.failure = (f'the drawing cannot be finished: {error}', Ending.NO_PROGRESS)
+
+    def _lost_standing(self, drawing: UnderWay) -> list[Pose2D]:
+        """Where the lost turtles still in the arena stand (where they were put)."""
+        return [drawing.homes[index] for index, link in enumerate(drawing.links)
+                if index not in drawing.run.serving and link.present()]
 
     def _measure(self) -> None:
         """The least distance between two turtles of the drawing, from their latest poses."""

@@ -2,7 +2,7 @@
 
 A turtle gets to each of its pieces by a pen-up travel (in stretches of at most `PIECE_M`) that
 ends facing the piece, or, standing at its start already, by a turn onto it; then draws it; and
-goes back where it started once it drew its part, out of the others' way.
+parks once it drew its part, off the drawing and out of the others' way (`homes_for`).
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Po
             piece = pieces[index]
             begin, end = piece.ends(part.reverse)
             if math.hypot(begin.x - here.x, begin.y - here.y) > JOINED_M:
-                route += _travel(here, begin, config)
+                route += way(here, begin, config)
             elif abs(wrap_angle(begin.theta - here.theta)) > JOINED_M:
                 route.append(Move(np.array([(begin.x, begin.y)]),
                                   travel_s(here, begin, config) + request_s(config), pen=True,
@@ -58,13 +58,13 @@ def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Po
                               pieces=(index,)))
             here = end
         if route:
-            route += _travel(here, home, config)
+            route += way(here, home, config)
         moves.append(route)
     return moves
 
 
-def _travel(here: Pose2D, to: Pose2D, config: ControlConfig,
-            longest: float = PIECE_M) -> list[Move]:
+def way(here: Pose2D, to: Pose2D, config: ControlConfig,
+        longest: float = PIECE_M) -> list[Move]:
     """The pen-up way from `here` to `to`, in stretches no longer than `longest`: a turtle
     that waits for another to pass waits for a stretch of the way, not all of it."""
     count = max(1, math.ceil(math.hypot(to.x - here.x, to.y - here.y) / longest - 1e-9))

@@ -19,12 +19,12 @@ from dataclasses import dataclass
 import shapely
 
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.fleet.moves import clear_spot, homes_for, routes
-from turtle_traj.core.fleet.pieces import Piece
+from turtle_traj.core.fleet.moves import clear_spot, homes_for, routes, way
+from turtle_traj.core.fleet.pieces import JOINED_M, Piece
 from turtle_traj.core.fleet.refine import share_apart
 from turtle_traj.core.fleet.schedule import Schedule
 from turtle_traj.core.fleet.sharing import Sharing
-from turtle_traj.core.fleet.timing import Move
+from turtle_traj.core.fleet.timing import Deadlock, Move, simulate
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.shapes import Arena
 
@@ -53,8 +53,10 @@ class FleetRun:
                  arena: Arena | None = None) -> None:
         self.pieces, self.config, self.clearance = pieces, config, clearance
         self.arena = arena
+        self.starts = list(starts)
         self.homes = (homes_for(starts, pieces, clearance, arena) if arena is not None
                       else list(starts))
+        self.returning = False  # the drawing is done: the turtles go back where they started
         self.turtles = [TurtleRecord(name) for name in names]
         self.drawn: set[int] = set()  # the pieces drawn, by index
         self.blocked: set[int] = set()  # pieces within the clearance of a turtle standing still
@@ -158,6 +160,30 @@ class FleetRun:
         """
         serving = [turtle for turtle in range(len(self.turtles)) if not self.turtles[turtle].lost]
         self._share(serving, [poses[turtle] for turtle in serving], standing)
+
+    def return_home(self, poses: dict[int, Pose2D], standing: Sequence[Pose2D]) -> None:
+        """The drawing is done: the turtles that serve, standing at `poses` (by index), go back
+        where they started, kept apart as ever (none goes if that would deadlock)."""
+        serving = self.serving
+        ways = [way(poses[turtle], self.starts[turtle], self.config)
+                if math.dist((poses[turtle].x, poses[turtle].y),
+                             (self.starts[turtle].x, self.starts[turtle].y)) > JOINED_M else []
+                for turtle in serving]
+        where = [poses[turtle] for turtle in serving]
+        try:
+            timing = simulate([*ways, *([] for _ in standing)], [*where, *standing],
+                              self.clearance)
+        except Deadlock:
+            ways = [[] for _ in serving]
+            timing = simulate(ways, where, self.clearance)
+        self._serving = serving
+        self._schedule = Schedule(ways, timing, self.clearance)
+        self.returning = True
+
+    @property
+    def returned(self) -> bool:
+        """The turtles are back where they started (or stay where they parked)."""
+        return self.returning and self._schedule.done and not any(self._schedule.driving)
 
     @property
     def serving(self) -> list[int]:
