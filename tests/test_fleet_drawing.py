@@ -202,3 +202,38 @@ def test_turtles_that_stand_closer_than_the_clearance_are_told_so(rclpy_context,
         assert system.poses['turtle1'][-1].x == pytest.approx(5.0)  # nothing moved
     finally:
         system.close()
+
+
+def test_the_coordinator_answers_while_it_plans_and_then_draws(fleet, monkeypatch):
+    """Planning takes seconds on a loaded machine: meanwhile the coordinator answers (a client
+    probing it would otherwise give it up for dead), lock-step holds the simulator, and the
+    turtles' nodes, which saw simulated time stand still that long, take the first moves."""
+    import time
+
+    from rcl_interfaces.srv import GetParameters
+
+    from turtle_traj.fleet import coordinator
+
+    planning = {}
+
+    def slow_plan(*args, **kwargs):
+        planning['began'] = time.monotonic()
+        time.sleep(1.5)  # three times a turtle node's pose_timeout
+        planning['ended'] = time.monotonic()
+        return real_plan(*args, **kwargs)
+    real_plan = coordinator.plan
+    monkeypatch.setattr(coordinator, 'plan', slow_plan)
+    client = fleet.action_client(FleetDraw, '/fleet/draw')
+    sent = client.send_goal_async(FleetDraw.Goal(drawing=Drawing(trajectory='square', size=1.0)))
+    assert fleet.spin_until(lambda: 'began' in planning, timeout_s=30.0)
+    held_at = fleet.sim_time_s
+    answer = fleet.start(GetParameters, '/fleet/get_parameters',
+                         GetParameters.Request(names=['clearance']))
+    fleet.spin_until(lambda: answer.done() or 'ended' in planning, timeout_s=30.0)
+    assert answer.done() and 'ended' not in planning  # answered while it planned
+    assert answer.result().values[0].double_value == pytest.approx(CLEARANCE_M)
+    assert fleet.sim_time_s == held_at  # lock-step held the simulator meanwhile
+    assert fleet.spin_until(sent.done, timeout_s=30.0)
+    result = sent.result().get_result_async()
+    assert fleet.spin_until(result.done, timeout_s=120.0)
+    assert result.result().result.success, result.result().result.message

@@ -11,36 +11,36 @@ awaits.
 
 from __future__ import annotations
 
-import itertools
-import math
 import re
 
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
-from rclpy.parameter import Parameter, parameter_value_to_python
+from rclpy.parameter import parameter_value_to_python
 from turtle_traj_interfaces.action import FleetDraw
 
+from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.ending import Ending
+from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.fleet.pieces import pieces_in
 from turtle_traj.core.fleet.run import FleetRun, closest
 from turtle_traj.core.fleet.timing import Deadlock
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import (
     Settings,
-    pen_color_problem,
     pen_style,
     settings_from_values,
 )
 from turtle_traj.core.parameters.table import PARAMETERS
 from turtle_traj.core.planning.planner import PlanError, plan
-from turtle_traj.core.registry import NOT_DRAWINGS
 from turtle_traj.core.turtlesim_contract import PenStyle
+from turtle_traj.fleet.checks import colors, colors_problem, names_problem, too_close
 from turtle_traj.fleet.link import MoveEnd, TurtleLink, node_of
 from turtle_traj.fleet.under_way import UnderWay, progress, refusal, report
 from turtle_traj.node.waiting import completion, wait_until
+from turtle_traj.rosutils.offload import Offloader
 
 TICK_S = 0.02  # node clock: how often moves are started and turtles watched
 FEEDBACK_EVERY = 5  # ticks: 10 Hz
@@ -73,8 +73,9 @@ class FleetCoordinator(Node):
         self.declare_parameter('turtle_colors', '', ParameterDescriptor(
             description='Pen colours, comma-separated (names or #rrggbb), one for each turtle '
                         "in turn, to see who drew what; '': the drawing's pen for all"))
-        self.add_on_set_parameters_callback(_colors_problem)
+        self.add_on_set_parameters_callback(colors_problem)
         self._links: dict[str, TurtleLink] = {}
+        self._planner = Offloader(self, 'fleet_plan')
         self._drawing: UnderWay | None = None
         self._claimed = False  # a goal is being prepared or drawn
         group = ReentrantCallbackGroup()
@@ -135,19 +136,28 @@ class FleetCoordinator(Node):
         settings = await self._settings_of(drawers[0])
         standing = [link.pose for link in links if link not in drawers and link.present()]
         starts = [link.pose for link in drawers]
-        if problem := _too_close([(link.name, link.pose) for link in links if link.present()],
+        if problem := too_close([(link.name, link.pose) for link in links if link.present()],
                                  clearance):
             raise Refused(problem, Ending.INVALID_REQUEST)
-        # Planned here, in the executor, for up to a second: beside it, lock-step would hold
-        # the simulator meanwhile, and the turtles' nodes (on the wall clock while simulated
-        # time stands still) would take that for a silent simulator.
-        try:
+
+        def shared() -> tuple[Plan, ControlConfig, FleetRun]:
             planned = plan(goal.drawing.trajectory, goal.drawing, starts[0], settings)
             config = planned.control(settings.control)
-            run = FleetRun(pieces_in(planned.path, config), [link.name for link in drawers],
-                           starts, config, clearance, standing, settings.arena)
+            return planned, config, FleetRun(
+                pieces_in(planned.path, config), [link.name for link in drawers], starts,
+                config, clearance, standing, settings.arena)
+        # Planned beside the executor (seconds on a loaded machine): meanwhile this node still
+        # answers its clients, and lock-step holds the simulator, as for a callback.
+        heard = [link.poses_heard for link in drawers]
+        try:
+            planned, config, run = await completion(self, self._planner.submit(shared))
         except (PlanError, Deadlock) as error:
             raise Refused(str(error), Ending.INVALID_REQUEST) from None
+        # The first moves go once each turtle has been heard from since: its node, on the wall
+        # clock while simulated time stood still, would otherwise take the planning's time for
+        # a silent simulator and refuse them.
+        await wait_until(self, lambda: all(link.poses_heard > before for link, before in zip(
+            drawers, heard, strict=True)), READY_TIMEOUT_S)
         if goal_handle.is_cancel_requested:
             raise Refused('cancelled before it started', Ending.CANCELLED)
         return UnderWay(run, drawers, self._pens(planned.pen or settings.pen, len(drawers)),
@@ -156,14 +166,14 @@ class FleetCoordinator(Node):
     def _pens(self, pen: PenStyle, count: int) -> list[PenStyle]:
         """Each turtle's pen: the drawing's, or in `turtle_colors` (one colour per turtle, in
         turn), its width the drawing's."""
-        colors = _colors(self.get_parameter('turtle_colors').value)
-        return [pen_style(colors[index % len(colors)], pen.width) if colors else pen
+        chosen = colors(self.get_parameter('turtle_colors').value)
+        return [pen_style(chosen[index % len(chosen)], pen.width) if chosen else pen
                 for index in range(count)]
 
     def _asked(self, goal: FleetDraw.Goal) -> tuple[list[str], float]:
         """The turtles and the clearance the goal asks for; Refused if they will not do."""
         names = list(goal.turtles) or self._turtles_found()
-        problem = _names_problem(names, goal.drawing.trajectory)
+        problem = names_problem(names, goal.drawing.trajectory)
         if problem:
             raise Refused(problem, Ending.INVALID_REQUEST)
         clearance = goal.clearance or self.get_parameter('clearance').value
@@ -322,19 +332,6 @@ class FleetCoordinator(Node):
     def _now_s(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
 
-def _colors(text: str) -> list[str]:
-    return [color.strip() for color in text.split(',') if color.strip()]
-
-
-def _colors_problem(parameters: list[Parameter]) -> SetParametersResult:
-    for parameter in parameters:
-        if parameter.name == 'turtle_colors':
-            for color in _colors(parameter.value):
-                if problem := pen_color_problem(color):
-                    return SetParametersResult(successful=False, reason=problem)
-    return SetParametersResult(successful=True)
-
-
 def _unfit(link: TurtleLink) -> str:
     """Why `link`'s turtle cannot take part ('' if it can)."""
     if not link.serves():
@@ -342,29 +339,3 @@ def _unfit(link: TurtleLink) -> str:
     if link.moving:
         return 'busy with a request of its own (it is moving)'
     return ''
-
-
-def _too_close(turtles: list[tuple[str, Pose2D]], clearance: float) -> str:
-    """Why the turtles cannot start apart: two already stand closer than the clearance."""
-    for (first, a), (second, b) in itertools.combinations(turtles, 2):
-        if (gap := math.hypot(a.x - b.x, a.y - b.y)) < clearance:
-            return (f'{first} and {second} stand {gap:.2f} m apart, closer than the clearance '
-                    f'({clearance:g} m): move one away first')
-    return ''
-
-
-def _names_problem(names: list[str], trajectory: str) -> str:
-    if trajectory in NOT_DRAWINGS:
-        return (f'{trajectory!r} is not a drawing: a fleet draws shapes, curves, text, svg '
-                'and paths')
-    if not names:
-        return 'no turtle: name some, or start trajectory nodes in turtles\' namespaces'
-    bad = [name for name in names if not _TURTLE_NAME.fullmatch(name)]
-    if bad:
-        return f'not a turtle name: {bad[0]!r}'
-    if len(set(names)) != len(names):
-        return 'a turtle is named twice'
-    return ''
-
-
-

@@ -7,7 +7,8 @@ piece it had not finished, the one it was drawing included, goes back to the dra
 finish the moves they drive, and once none drives, what is left is shared among them from where
 they stand, kept clear of lost turtles that still stand in the arena. A piece that passes within
 the clearance of such a turtle cannot be drawn without coming that near it: it is left undrawn
-(`blocked`), and the run says so.
+(`blocked`), and the run says so. Once the drawing is done, the turtles go back where they
+started (`return_home`).
 """
 
 from __future__ import annotations
