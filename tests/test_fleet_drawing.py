@@ -207,7 +207,8 @@ def test_turtles_that_stand_closer_than_the_clearance_are_told_so(rclpy_context,
 def test_the_coordinator_answers_while_it_plans_and_then_draws(fleet, monkeypatch):
     """Planning takes seconds on a loaded machine: meanwhile the coordinator answers (a client
     probing it would otherwise give it up for dead), lock-step holds the simulator, and the
-    turtles' nodes, which saw simulated time stand still that long, take the first moves."""
+    turtles' nodes, which saw simulated time stand still that long, take the first moves; a
+    turtle circling on its own request meanwhile does not take it for a silent simulator."""
     import time
 
     from rcl_interfaces.srv import GetParameters
@@ -223,6 +224,10 @@ def test_the_coordinator_answers_while_it_plans_and_then_draws(fleet, monkeypatc
         return real_plan(*args, **kwargs)
     real_plan = coordinator.plan
     monkeypatch.setattr(coordinator, 'plan', slow_plan)
+    own = fleet.action_client(Draw, '/turtle3/turtle_traj/draw')
+    circling = own.send_goal_async(Draw.Goal(trajectory='circle', size=0.4, forever=True))
+    assert fleet.spin_until(lambda: circling.done() and fleet.poses['turtle3'][-1]
+                            .linear_velocity > 0.0, timeout_s=30.0)
     client = fleet.action_client(FleetDraw, '/fleet/draw')
     sent = client.send_goal_async(FleetDraw.Goal(drawing=Drawing(trajectory='square', size=1.0)))
     assert fleet.spin_until(lambda: 'began' in planning, timeout_s=30.0)
@@ -237,3 +242,4 @@ def test_the_coordinator_answers_while_it_plans_and_then_draws(fleet, monkeypatc
     result = sent.result().get_result_async()
     assert fleet.spin_until(result.done, timeout_s=120.0)
     assert result.result().result.success, result.result().result.message
+    assert fleet.poses['turtle3'][-1].linear_velocity > 0.0  # its own run goes on

@@ -89,3 +89,21 @@ def test_on_the_wall_clock_a_stall_of_this_process_is_not_the_simulators_silence
     silence.beat()
     silence.heard()  # the pose that waited
     assert silence.seconds() == 0.0
+
+
+def test_beats_while_a_node_of_the_process_computes_beside_its_executor_count_no_silence():
+    """Lock-step holds the simulator while a node plans beside its executor (the fleet
+    coordinator, for seconds under load): the node clock stands still, yet that is no silence;
+    once the work is handed over, beats count again."""
+    clocks, computing = Clocks(), [True]
+    silence = PoseSilence(clocks, BEAT_S, wall=clocks.wall, held=lambda: computing[0])
+    silence.heard()
+    for _ in range(40):  # 2 s of beats on time, the world held
+        clocks.wall_s += BEAT_S
+        silence.beat()
+    assert silence.seconds() <= 2 * BEAT_S
+    computing[0] = False
+    for _ in range(12):
+        clocks.wall_s += BEAT_S
+        silence.beat()
+    assert math.isclose(silence.seconds(), 12 * BEAT_S)

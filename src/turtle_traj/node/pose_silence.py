@@ -17,12 +17,17 @@ class PoseSilence:
     process that could not run its callbacks could not hear the poses either, and they wait
     in its queue. So on the wall clock (no simulated time) a stall of this process is not the
     simulator's silence: on rclpy 7.1.6's MultiThreadedExecutor the node's callbacks stalled
-    for up to 1.4 s while every pose was on its way (tests/test_multithreaded.py).
+    for up to 1.4 s while every pose was on its way (tests/test_multithreaded.py). Nor is the
+    time a node of this process computes beside its executor (`offload`): lock-step holds the
+    simulator meanwhile, as for a callback (the fleet coordinator's plan stood simulated time
+    still for seconds under load, and a turtle driving its own request took it for silence).
     """
 
     def __init__(self, clock: ROSClock, beat_s: float,
-                 wall: Callable[[], float] = time.monotonic) -> None:
-        self._clock, self._beat_s, self._wall = clock, beat_s, wall
+                 wall: Callable[[], float] = time.monotonic,
+                 held: Callable[[], bool] = lambda: False) -> None:
+        """:param held: whether a node of this process computes beside its executor now."""
+        self._clock, self._beat_s, self._wall, self._held = clock, beat_s, wall, held
         self._pose_time: Time | None = None
         self._wall_s = math.inf  # since the last pose, counted beat by beat
         self._last_beat_s = wall()
@@ -46,9 +51,11 @@ class PoseSilence:
 
     def beat(self) -> None:
         """The watchdog's beat. A late one means this process was busy (a long callback, a
-        starved machine): that gap counts as one beat, not as silence of the simulator."""
+        starved machine): that gap counts as one beat, not as silence of the simulator; a beat
+        while a node of this process computes beside its executor counts none."""
         now = self._wall()
-        self._wall_s += min(now - self._last_beat_s, 2 * self._beat_s)
+        if not self._held():
+            self._wall_s += min(now - self._last_beat_s, 2 * self._beat_s)
         self._last_beat_s = now
 
     def seconds(self) -> float:

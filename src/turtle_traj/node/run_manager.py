@@ -41,6 +41,7 @@ from turtle_traj.node.plan_desk import PlanDesk, Planning
 from turtle_traj.node.pose_silence import PoseSilence
 from turtle_traj.node.state_lock import StateLock, serialized
 from turtle_traj.node.waiting import completion
+from turtle_traj.rosutils import offload
 
 WATCHDOG_PERIOD_S = 0.05
 _STOPPED_EARLY = 'stopped by request before it started'
@@ -58,7 +59,8 @@ class RunManager:
         self._node = node
         self._settings = settings
         self.last_outcome: Outcome | None = None  # of the last run that ended
-        self._silence = PoseSilence(node.get_clock(), WATCHDOG_PERIOD_S)
+        self._silence = PoseSilence(node.get_clock(), WATCHDOG_PERIOD_S,
+                                    held=lambda: offload.beside(node))
         self._run_done: Future | None = None  # what the run's handler awaits
         self._plans = PlanDesk(node)  # made beside the executor
         # Held by every change of the run's state: the handlers are reentrant, and on a

@@ -32,6 +32,13 @@ def in_flight(node: Node) -> int:
         return _in_flight.get(node, 0)
 
 
+def beside(node: Node) -> bool:
+    """Whether a node of `node`'s executor computes beside it now (lock-step holds the
+    simulator meanwhile)."""
+    executor = node.executor
+    return executor is not None and any(in_flight(other) for other in executor.get_nodes())
+
+
 def _count(node: Node, change: int) -> None:
     with _lock:
         _in_flight[node] = _in_flight.get(node, 0) + change
