@@ -17,8 +17,10 @@ from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.parameter import parameter_value_to_python
+from rclpy.task import Future
 from turtle_traj_interfaces.action import FleetDraw
 
 from turtle_traj.core.control.config import ControlConfig
@@ -148,16 +150,23 @@ class FleetCoordinator(Node):
                 config, clearance, standing, settings.arena)
         # Planned beside the executor (seconds on a loaded machine): meanwhile this node still
         # answers its clients, and lock-step holds the simulator, as for a callback.
-        heard = [link.poses_heard for link in drawers]
         try:
             planned, config, run = await completion(self, self._planner.submit(shared))
         except (PlanError, Deadlock) as error:
             raise Refused(str(error), Ending.INVALID_REQUEST) from None
-        # The first moves go once each turtle has been heard from since: its node, on the wall
-        # clock while simulated time stood still, would otherwise take the planning's time for
-        # a silent simulator and refuse them.
-        await wait_until(self, lambda: all(link.poses_heard > before for link, before in zip(
-            drawers, heard, strict=True)), READY_TIMEOUT_S)
+        # The first moves go once each turtle has been heard from since, by the node clock (in
+        # lock-step: at the next step, whatever the wall clock did meanwhile).
+        planned_s = self._now_s()
+        heard = Future()
+
+        def fresh() -> None:
+            if not heard.done() and all(link.heard_s > planned_s for link in drawers):
+                heard.set_result(True)
+        for link in drawers:
+            link.on_pose = lambda: (fresh(), self._measure())
+        await self._within(heard, READY_TIMEOUT_S)
+        for link in drawers:
+            link.on_pose = self._measure
         if goal_handle.is_cancel_requested:
             raise Refused('cancelled before it started', Ending.CANCELLED)
         return UnderWay(run, drawers, self._pens(planned.pen or settings.pen, len(drawers)),
@@ -204,15 +213,28 @@ class FleetCoordinator(Node):
         link.on_pose = self._measure
         return link
 
+    async def _within(self, future: Future, timeout_s: float) -> object | None:
+        """`future`'s result, awaited as it completes (in lock-step: at the step it does,
+        whatever the wall clock), or None after `timeout_s` of the steady clock."""
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        late = Future()
+        timer = self.create_timer(timeout_s, lambda: late.done() or late.set_result(None),
+                                  clock=steady)
+        future.add_done_callback(lambda done: late.done() or late.set_result(done.result()))
+        try:
+            return await completion(self, late)
+        finally:
+            self.destroy_timer(timer)
+
     async def _settings_of(self, link: TurtleLink) -> Settings:
         """The settings of `link`'s trajectory node: the drawing is planned as it plans."""
         names = [spec.name for spec in PARAMETERS]
         asked = link.parameters(names)
-        if not await wait_until(self, asked.done, ANSWER_TIMEOUT_S):  # its node just went
+        answer = await self._within(asked, ANSWER_TIMEOUT_S)
+        if answer is None:  # its node went between being found and answering
             link.forget(asked)
             raise Refused(f'{node_of(link.name)} did not tell its parameters within '
                           f'{ANSWER_TIMEOUT_S:g} s', Ending.NO_SIMULATOR)
-        answer = asked.result()
         if answer is None or len(answer.values) != len(names):
             raise Refused(f'{node_of(link.name)} did not tell its parameters', Ending.NO_SIMULATOR)
         return settings_from_values({name: parameter_value_to_python(value)

@@ -54,7 +54,7 @@ class TurtleLink:
         self.name, self._node = name, node
         self.pose: Pose2D | None = None
         self.moving = False  # its last pose had a velocity
-        self.poses_heard = 0
+        self.heard_s = -math.inf  # when its last pose came (node clock)
         self.on_pose: Callable[[], None] = lambda: None
         self._poses = node.create_subscription(Pose, f'/{name}/pose', self._pose,
                                                TURTLE_TOPIC_QOS)
@@ -96,7 +96,7 @@ class TurtleLink:
 
     def _pose(self, message: Pose) -> None:
         self.pose = Pose2D(message.x, message.y, message.theta)
-        self.poses_heard += 1
+        self.heard_s = self._now_s()
         self.moving = message.linear_velocity != 0.0 or message.angular_velocity != 0.0
         self.on_pose()
 
