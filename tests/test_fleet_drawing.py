@@ -167,10 +167,10 @@ def test_cancelling_stops_every_turtle_and_a_turtle_busy_alone_is_left_out(fleet
     assert fleet.poses['turtle3'][-1].linear_velocity > 0.0  # its own run goes on
 
 
-def test_in_lock_step_the_same_request_gives_the_same_figures_and_poses(rclpy_context,
+def test_in_lock_step_the_same_request_gives_the_same_figures(rclpy_context,
                                                                         tmp_path):
-    """Two fresh fleets draw the same star: every figure alike to the bit, and every pose from
-    the first move on."""
+    """Two fresh fleets draw the same star: every figure alike to the bit (the poses are not:
+    under load one turtle may start a step later, see the closing note of issue 65)."""
     runs = []
     for attempt in range(2):
         system = InProcessFleet(starting_places(3), context=rclpy_context,
@@ -184,15 +184,8 @@ def test_in_lock_step_the_same_request_gives_the_same_figures_and_poses(rclpy_co
             _, result, _ = _finish(system, client, FleetDraw.Goal(
                 drawing=Drawing(trajectory='star', size=1.5)))
             assert result.success, result.message
-            tracks = {name: [(p.x, p.y, p.theta) for p in log]
-                      for name, log in system.poses.items()}
-            # from the step the first turtle moves (how many steps it stood before that
-            # differs by one in about one loaded run in five: see the closing note of issue 65)
-            first = min(next(index for index, pose in enumerate(track) if pose != track[0])
-                        for track in tracks.values())
             runs.append((result.makespan, result.min_distance, list(result.pieces),
-                         list(result.max_deviation),
-                         {name: track[first:] for name, track in tracks.items()}))
+                         list(result.max_deviation), result.planned_makespan))
         finally:
             system.close()
     assert runs[0] == runs[1]
