@@ -61,7 +61,6 @@ def lose_one(fault: str, at_s: float, output: Path, single: np.ndarray) -> str:
     """'ROS 2' by three turtles, turtle2 lost `at_s` into it (its turtle killed with /kill, or
     its node destroyed): a line of figures."""
     from turtle_traj_interfaces.action import FleetDraw
-    from turtlesim.srv import Kill
     trajectory, given, start = DRAWINGS['ROS 2']
     system = InProcessFleet([start, *starting_places(3)[1:]], output_dir=output)
     try:
@@ -73,13 +72,7 @@ def lose_one(fault: str, at_s: float, output: Path, single: np.ndarray) -> str:
         answer = sent.result().get_result_async()
         started = system.sim_time_s
         system.spin_until(lambda: system.sim_time_s > started + at_s)
-        if fault == 'kill':
-            system.call(Kill, '/kill', Kill.Request(name='turtle2'))
-        else:
-            node = system.turtle_nodes['turtle2']
-            system.executor.remove_node(node)
-            system.nodes.remove(node)
-            node.destroy_node()
+        system.lose('turtle2', fault)
         system.spin_until(answer.done, timeout_s=900.0)
         result = answer.result().result
         ink = system.sim.canvas.trails[..., 3] > 0

@@ -114,7 +114,6 @@ def test_requests_it_cannot_draw_are_refused_with_a_reason(rclpy_context, tmp_pa
 def test_a_turtle_lost_halfway_leaves_its_pieces_to_the_others(fleet, alone, fault):
     """turtle2 removed with turtlesim's /kill, or its node gone, 8 s into a drawing of about
     16 s: the others draw what it left, apart, and the ink is one turtle's within 2%."""
-    from turtlesim.srv import Kill
     _, single_ink = alone
     client = fleet.action_client(FleetDraw, '/fleet/draw')
     sent = client.send_goal_async(FleetDraw.Goal(drawing=Drawing(**TEXT)))
@@ -122,13 +121,7 @@ def test_a_turtle_lost_halfway_leaves_its_pieces_to_the_others(fleet, alone, fau
     answer = sent.result().get_result_async()
     started = fleet.sim_time_s
     assert fleet.spin_until(lambda: fleet.sim_time_s > started + 8.0)
-    if fault == 'killed':
-        fleet.call(Kill, '/kill', Kill.Request(name='turtle2'))
-    else:
-        node = fleet.turtle_nodes['turtle2']
-        fleet.executor.remove_node(node)
-        fleet.nodes.remove(node)
-        node.destroy_node()
+    fleet.lose('turtle2', 'kill' if fault == 'killed' else 'node')
     assert fleet.spin_until(answer.done, timeout_s=300.0)
     result = answer.result().result
     assert result.success, result.message

@@ -218,3 +218,15 @@ class InProcessFleet(LockstepSim):
                                    timeout_s=_DISCOVERY_TIMEOUT_S):
                 raise RuntimeError(f'the fleet did not come up within {_DISCOVERY_TIMEOUT_S:g} s')
             self.sim.canvas.clear()  # turtle1's teleport drew its way to its place
+
+    def lose(self, name: str, how: str) -> None:
+        """Take turtle `name` from the fleet mid-run: 'kill' removes it with turtlesim's /kill;
+        'node' destroys its trajectory node (the turtle stays)."""
+        if how == 'kill':
+            from turtlesim.srv import Kill
+            self.call(Kill, '/kill', Kill.Request(name=name))
+            return
+        node = self.turtle_nodes.pop(name)
+        self.executor.remove_node(node)
+        self.nodes.remove(node)
+        node.destroy_node()
