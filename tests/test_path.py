@@ -88,7 +88,7 @@ def test_a_smoothed_curve_keeps_to_its_tolerance_by_the_brute_force_distance(see
     only where the brute-force distance to the whole polyline is within the limit too (it is
     stricter: near the part each point came from), and the curve it returns keeps its ends and
     its tolerance."""
-    from turtle_traj.core.geometry import corners
+    from turtle_traj.core.geometry import corners, tube
     from turtle_traj.core.geometry.projection import WithinDistance
     from turtle_traj.testing.geometry import distance_to_polyline
 
@@ -101,7 +101,7 @@ def test_a_smoothed_curve_keeps_to_its_tolerance_by_the_brute_force_distance(see
     within = WithinDistance(points, polyline.cumulative_length, arc)
     decisions = set()
     for sigma in (1.0, 5.0, 20.0, 80.0):
-        candidate = corners._gaussian(samples, sigma)
+        candidate = tube.gaussian_smoothed(samples, sigma)
         distances = distance_to_polyline(candidate, points)
         for limit in [*np.quantile(distances, [0.5, 0.99, 1.0]), 3.0 * distances.max()]:
             decision = within(candidate, float(limit))

@@ -1,9 +1,9 @@
-"""Rounded corners, smoothed curves and simplified polylines, within a tolerance of the path
-as drawn.
+"""Rounded corners and smoothed curves, within a tolerance of the path as drawn.
 
 A corner (a turn in place between two polylines) becomes a symmetric pair of clothoids, or a
-clothoid, an arc and a clothoid; a curve is smoothed (`smoothed_curve`); points given as a path
-are simplified (`simplified`: a grid planner's staircase becomes its diagonals).
+clothoid, an arc and a clothoid; a curve is smoothed (`smoothed_curve`); given how long a base
+takes along a polyline, a stretch of polylines and corners becomes the fastest of that and its
+smoothings within the tolerance's tube (`tube`: a grid planner's staircase becomes a curve).
 
 A clothoid's curvature grows linearly with arc length, so a base driving it at a steady speed
 changes its turn rate steadily: it keeps moving through the corner, within its angular
@@ -24,15 +24,28 @@ import numpy as np
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Leg, Path, Polyline, Turn
 from turtle_traj.core.geometry.projection import WithinDistance
+from turtle_traj.core.geometry.tube import (
+    WINDOWS_M,
+    gaussian_smoothed,
+    resampled,
+    tube_smoothed,
+)
 
 MAX_ROUNDED_RAD = math.radians(170.0)  # sharper corners are turned in place
 _KINK_RAD = 0.02  # largest change of direction between two samples of a clothoid
 _SAMPLE_M = 0.01  # largest distance between two samples (the speed profile's grid is 2 cm)
 _INTEGRATION_STEPS = 4000
 _SMOOTHING_SEARCH_STEPS = 12
-# Shares of the tolerance the drawn shape may use: the rest is for tracking it.
+# Shares of the tolerance the drawn shape may use: the rest, and at least _TRACKING_M, is for
+# tracking it (the exact follower keeps within 0.3 mm of a circle on turtlesim).
 _SHAPE_SHARE = 0.97
 _SMOOTHING_SHARE = 0.95
+_TRACKING_M = 0.0005
+
+
+def _shape_width(tolerance: float, share: float) -> float:
+    """How far from the path as drawn the shape may go, of a `tolerance`."""
+    return max(min(share * tolerance, tolerance - _TRACKING_M), 0.0)
 
 
 @lru_cache(maxsize=256)
@@ -76,7 +89,7 @@ def rounded_corner(corner: np.ndarray, heading_in: float, heading_out: float,
     reaching at most `room` along each leg."""
     deflection = wrap_angle(heading_out - heading_in)
     fine, length, tangent, apex = _unit_half(abs(deflection), shape)
-    scale = min(_SHAPE_SHARE * tolerance / apex, room / tangent)
+    scale = min(_shape_width(tolerance, _SHAPE_SHARE) / apex, room / tangent)
     # samples every _SAMPLE_M at most, turning by at most _KINK_RAD from one to the next
     count = min(max(4, math.ceil(0.5 * abs(deflection) / _KINK_RAD),
                     math.ceil(length * scale / _SAMPLE_M)), _INTEGRATION_STEPS)
@@ -95,83 +108,105 @@ def rounded_corner(corner: np.ndarray, heading_in: float, heading_out: float,
     return corner + np.concatenate((first, second[-2::-1]))
 
 
-def simplified(points: Sequence[tuple[float, float]],
-               tolerance: float) -> list[tuple[float, float]]:
-    """The fewest of `points` that keep every one of them within `tolerance` of the polyline
-    through them (Douglas-Peucker, by shapely), the first and the last kept."""
-    import shapely  # loaded when a path is simplified, not with the planner
-
-    if len(points) < 3:
-        return list(points)
-    line = shapely.LineString(points).simplify(tolerance, preserve_topology=False)
-    return [(float(x), float(y)) for x, y in line.coords]
-
-
 def smoothed_curve(points: np.ndarray, tolerance: float) -> np.ndarray:
     """A curve through `points` smoothed as much as stays within `tolerance` of it: resampled
-    every _SAMPLE_M and averaged with a Gaussian window along its length, its ends and their
-    directions kept (the curve is extended by its point reflection at either end)."""
+    every _SAMPLE_M and averaged with the widest Gaussian window along its length that keeps
+    it there (`tube.gaussian_smoothed`: its ends and their directions kept)."""
     polyline = Polyline(np.asarray(points, dtype=float))
-    arc = np.linspace(0.0, polyline.length, max(int(polyline.length / _SAMPLE_M), 2) + 1)
-    samples = np.stack([np.interp(arc, polyline.cumulative_length, polyline.points[:, axis])
-                        for axis in (0, 1)], axis=1)
+    samples = resampled(polyline.points, _SAMPLE_M)
+    arc = np.linspace(0.0, polyline.length, len(samples))
     within = WithinDistance(polyline.points, polyline.cumulative_length, arc)
     best, low, high = samples, 0.0, max(polyline.length / 4.0, _SAMPLE_M)
     for _ in range(_SMOOTHING_SEARCH_STEPS):  # the widest window that keeps to the tolerance
         width = 0.5 * (low + high)
-        candidate = _gaussian(samples, width / _SAMPLE_M)
-        if within(candidate, _SMOOTHING_SHARE * tolerance):
+        candidate = gaussian_smoothed(samples, width / _SAMPLE_M)
+        if within(candidate, _shape_width(tolerance, _SMOOTHING_SHARE)):
             best, low = candidate, width
         else:
             high = width
     return best
 
 
-def _gaussian(samples: np.ndarray, sigma: float) -> np.ndarray:
-    reach = min(int(3.0 * sigma) + 1, len(samples) - 1)
-    window = np.exp(-0.5 * (np.arange(-reach, reach + 1) / sigma) ** 2)
-    window /= window.sum()
-    head = 2.0 * samples[0] - samples[1:reach + 1][::-1]
-    tail = 2.0 * samples[-1] - samples[-reach - 1:-1][::-1]
-    padded = np.concatenate((head, samples, tail))
-    smooth = np.stack([np.convolve(padded[:, axis], window, mode='valid') for axis in (0, 1)],
-                      axis=1)
-    smooth[0], smooth[-1] = samples[0], samples[-1]
-    return smooth
-
-
 def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHOID_PAIR,),
-                 cost: CornerCost | None = None) -> Path:
+                 cost: CornerCost | None = None,
+                 duration: Callable[[Polyline], float] | None = None) -> Path:
     """`path` with its turns in place between two polylines replaced by rounded corners.
 
     A turn is rounded when both polylines are driven the same way with the pen in the same
     state and it turns by at most MAX_ROUNDED_RAD; a turn at the start or the end stays (the
-    base starts and ends there). A corner reaches at most half along either adjoining segment.
-    Each corner takes the one of `shapes` its `cost` (the time it takes a base) finds least.
-    A curve (a polyline of more than one segment) is smoothed within the tolerance first.
+    base starts and ends there). Polylines joined so make a stretch. Its corners are rounded
+    one by one, each reaching at most half along either adjoining segment and taking the one
+    of `shapes` its `cost` (the time it takes a base) finds least; a curve (a polyline of more
+    than one segment) is smoothed within the tolerance first. Given the `duration` a base
+    takes along a polyline, the stretch becomes the fastest of that, the stretch smoothed
+    within the tolerance's tube by each of `tube.WINDOWS_M` and, for a single curve, the
+    curve as it is.
     """
     if tolerance <= 0.0:
         return path
     legs: list[Leg] = []
-    for leg in path.legs:
-        if isinstance(leg, Polyline) and len(leg.points) > 2 and not leg.repeat:
-            leg = replace(leg, points=smoothed_curve(leg.points, tolerance))
-        if (isinstance(leg, Polyline) and len(legs) >= 2 and isinstance(legs[-1], Turn)
-                and isinstance(legs[-2], Polyline) and _joinable(legs[-2], legs[-1], leg)):
-            before = legs[-2]
-            room = 0.499 * min(float(before.segment_lengths[-1]),
-                               float(leg.segment_lengths[0]))
-            heading_in = float(before.headings[-1])
-            heading_out = float(leg.headings[0])
-            candidates = [rounded_corner(before.points[-1], heading_in, heading_out, tolerance,
-                                         room, shape) for shape in shapes]
-            corner = candidates[0] if cost is None or len(candidates) == 1 else min(
-                candidates, key=lambda points: cost(points, heading_in, heading_out))
-            points = np.concatenate((before.points[:-1], corner, leg.points[1:]))
-            legs[-2:] = [Polyline(points, reverse=leg.reverse, pen=leg.pen)]
-        else:
-            legs.append(leg)
+    for stretch in _stretches(path.legs):
+        if isinstance(stretch[0], Turn):
+            legs.append(stretch[0])
+            continue
+        first = stretch[0]
+        if len(stretch) == 1 and (len(first.points) <= 2 or first.repeat):
+            legs.append(first)
+            continue
+        candidates = [_corners_rounded(stretch, tolerance, shapes, cost)]
+        if duration is not None:
+            joined = np.concatenate([first.points[:1]]
+                                    + [leg.points[1:] for leg in stretch[::2]])
+            smoothed = (tube_smoothed(joined, _shape_width(tolerance, _SHAPE_SHARE), window)
+                        for window in WINDOWS_M)
+            candidates += [replace(first, points=points) for points in smoothed
+                           if points is not None]
+            if len(stretch) == 1:
+                candidates.append(first)
+            candidates = [min(candidates, key=duration)]
+        legs.append(candidates[0])
     return replace(path, legs=tuple(legs))
+
+
+def _stretches(legs: Sequence[Leg]) -> list[list[Leg]]:
+    """`legs` in runs: polylines joined by the turns between them that can be rounded
+    (alternately a polyline and a turn, a polyline first and last), and every other leg alone."""
+    runs: list[list[Leg]] = []
+    for index, leg in enumerate(legs):
+        if (isinstance(leg, Polyline) and index >= 2 and runs and len(runs[-1]) == 1
+                and isinstance(runs[-1][0], Turn) and len(runs) >= 2
+                and isinstance(runs[-2][-1], Polyline)
+                and _joinable(runs[-2][-1], runs[-1][0], leg)):
+            turn = runs.pop()[0]
+            runs[-1] += [turn, leg]
+        else:
+            runs.append([leg])
+    return runs
+
+
+def _corners_rounded(stretch: Sequence[Leg], tolerance: float, shapes: Sequence[float],
+                     cost: CornerCost | None) -> Polyline:
+    """A stretch (see `_stretches`) as one polyline: its curves smoothed, then each corner
+    rounded by the one of `shapes` its `cost` finds least."""
+    joined: Polyline | None = None
+    for leg in stretch[::2]:
+        assert isinstance(leg, Polyline)
+        if len(leg.points) > 2:
+            leg = replace(leg, points=smoothed_curve(leg.points, tolerance))
+        if joined is None:
+            joined = leg
+            continue
+        room = 0.499 * min(float(joined.segment_lengths[-1]), float(leg.segment_lengths[0]))
+        heading_in = float(joined.headings[-1])
+        heading_out = float(leg.headings[0])
+        candidates = [rounded_corner(joined.points[-1], heading_in, heading_out, tolerance,
+                                     room, shape) for shape in shapes]
+        corner = candidates[0] if cost is None or len(candidates) == 1 else min(
+            candidates, key=lambda points: cost(points, heading_in, heading_out))
+        joined = replace(leg, points=np.concatenate((joined.points[:-1], corner,
+                                                     leg.points[1:])))
+    assert joined is not None
+    return joined
 
 
 def _joinable(before: Polyline, turn: Turn, after: Polyline) -> bool:

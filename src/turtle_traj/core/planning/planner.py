@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.duration import least_time_s
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.profile import (
     ANGULAR_ACCEL_SHARE,
@@ -62,8 +63,8 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
                    drawn.end_tolerance, drawn.pen if settings.lifts_pen else None,
                    drawn.pen_up_unordered)
     run = planned.control(settings.control)
-    if tolerance > 0.0:  # measured against the path as checked: as drawn, or as given
-        planned = replace(planned, path=_rounded(path, tolerance - drawn.tolerance_spent, run),
+    if tolerance > 0.0:  # measured against the path as checked (one lap of a circle)
+        planned = replace(planned, path=_rounded(path, tolerance, run),
                           drawn=checked.points())
     if run.limited:  # planned here, not in the control loop (a curve's takes milliseconds)
         planned = replace(planned, profiles=tuple(
@@ -74,13 +75,22 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
 
 
 def _rounded(path: Path, tolerance: float, run: ControlConfig) -> Path:
-    """`path` with its corners rounded within `tolerance`; on a base with angular limits, each
-    corner is the faster (by its speed profile) of a clothoid pair and a clothoid-arc-clothoid."""
+    """`path` with its corners rounded within `tolerance`, each stretch of it as fast as
+    `corners.rounded_path` finds (by its least time); on a base with angular limits, each
+    corner is the faster (by its speed profile) of a clothoid pair and a
+    clothoid-arc-clothoid."""
+    duration = partial(_stretch_duration, config=run)
     if not run.max_angular_accel:
-        return rounded_path(path, tolerance)
+        return rounded_path(path, tolerance, duration=duration)
     shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed * ANGULAR_SHARE,
                                        run.max_angular_accel * ANGULAR_ACCEL_SHARE))
-    return rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run))
+    return rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run), duration)
+
+
+def _stretch_duration(polyline: Polyline, *, config: ControlConfig) -> float:
+    """The least time the controller drives `polyline` in, from rest to rest."""
+    profiles = (profile_for(polyline, config),) if config.limited else ()
+    return least_time_s(Path(legs=(polyline,)), config, profiles)
 
 
 def _corner_cost(points: np.ndarray, heading_in: float, heading_out: float, *,

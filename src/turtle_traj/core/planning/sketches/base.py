@@ -44,7 +44,6 @@ class Sketch:
     end_tolerance: float | None = None
     pen: PenStyle | None = None  # drawings: the pen to draw with (None: leave it alone)
     pen_up_unordered: float = 0.0  # drawings: pen-up distance in the strokes' given order
-    tolerance_spent: float = 0.0  # of the corner tolerance, on the path driven (`drive`)
 
 
 SketchFunction = Callable[[Any, Pose2D, Settings], Sketch]

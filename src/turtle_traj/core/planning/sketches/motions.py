@@ -7,9 +7,7 @@ import math
 from typing import Any
 
 from turtle_traj.core.geometry import shapes
-from turtle_traj.core.geometry.corners import simplified
-from turtle_traj.core.geometry.path import Path, Pose2D, Turn
-from turtle_traj.core.geometry.projection import NearestOnPolyline
+from turtle_traj.core.geometry.path import Path, Pose2D
 from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.parameters.settings import Settings
 from turtle_traj.core.planning.limits import MAX_FREQUENCY, MAX_POINTS, MAX_SIDES
@@ -17,7 +15,6 @@ from turtle_traj.core.planning.sketches.base import (
     PlanError,
     Sketch,
     arena_diagonal,
-    corner_tolerance,
     fits_in_arena,
     non_negative,
     requested_speed,
@@ -150,16 +147,10 @@ def sketch_rotation(request: Any, start: Pose2D, settings: Settings) -> Sketch:
                   angular_speed=requested_speed('angular_speed', request.speed))
 
 
-# Of a corner tolerance, the share a path given as points may be simplified by (a grid
-# planner's staircase becomes its diagonals); the rest rounds the corners left.
-SIMPLIFY_SHARE = 0.25
-
-
 def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
-    """The polyline through the points given. With a corner tolerance, the one through the
-    fewest of them within `SIMPLIFY_SHARE` of it is driven if it has fewer turns in place (a
-    staircase's steps; a curve has none to lose, and is smoothed whole), its corners rounded
-    within the tolerance it leaves; either is measured against the points given."""
+    """The polyline through the points given. With a corner tolerance, its turns in place are
+    rounded and it is smoothed within the tolerance (`corners.rounded_path`): a grid planner's
+    staircase loses its steps."""
     arena = settings.arena
     points = [(p.x, p.y) for p in request.points]
     if not points:
@@ -175,19 +166,6 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     reached = settings.defaults.goal_tolerance  # arrived there, as a go-to: no leg to it
     given = shapes.follow(start, points=points, closed=request.closed,
                           corner_angle_rad=corner_angle, reached=reached)
-    driven, spent = given, 0.0
-    share = SIMPLIFY_SHARE * corner_tolerance(request, settings, drawing=False)
-    if share:
-        simpler = shapes.follow(start, points=simplified(points, share), closed=request.closed,
-                                corner_angle_rad=corner_angle, reached=reached)
-        if _stops(simpler) < _stops(given):
-            driven = simpler  # the tolerance it took is not the corners' to use
-            spent = float(NearestOnPolyline(driven.points()).distances(given.points()).max())
     return Sketch(f'path through {len(points)} points', lambda _: given,
-                  drive=lambda _: driven, tolerance_spent=spent,
                   linear_speed=requested_speed('linear_speed', request.linear_speed))
 
-
-def _stops(path: Path) -> int:
-    """The turns in place of `path`: where the robot stops."""
-    return sum(isinstance(leg, Turn) for leg in path.legs)
