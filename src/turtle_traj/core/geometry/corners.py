@@ -146,26 +146,30 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
         return path
     legs: list[Leg] = []
     for stretch in _stretches(path.legs):
-        if isinstance(stretch[0], Turn):
-            legs.append(stretch[0])
-            continue
         first = stretch[0]
-        if len(stretch) == 1 and (len(first.points) <= 2 or first.repeat):
+        if isinstance(first, Turn) or (len(stretch) == 1 and (len(first.points) <= 2
+                                                              or first.repeat)):
             legs.append(first)
             continue
         candidates = [_corners_rounded(stretch, tolerance, shapes, cost)]
         if duration is not None:
-            joined = np.concatenate([first.points[:1]]
-                                    + [leg.points[1:] for leg in stretch[::2]])
-            smoothed = (tube_smoothed(joined, _shape_width(tolerance, _SHAPE_SHARE), window)
-                        for window in WINDOWS_M)
-            candidates += [replace(first, points=points) for points in smoothed
-                           if points is not None]
-            if len(stretch) == 1:
-                candidates.append(first)
-            candidates = [min(candidates, key=duration)]
-        legs.append(candidates[0])
+            candidates += _smoothed_in_tube(stretch, tolerance)
+            legs.append(min(candidates, key=duration))
+        else:
+            legs.append(candidates[0])
     return replace(path, legs=tuple(legs))
+
+
+def _smoothed_in_tube(stretch: Sequence[Leg], tolerance: float) -> list[Polyline]:
+    """A stretch (see `_stretches`) smoothed within the tolerance's tube by each of
+    `tube.WINDOWS_M` where that keeps to it, and a single curve as it is."""
+    first = stretch[0]
+    assert isinstance(first, Polyline)
+    joined = np.concatenate([first.points[:1]] + [leg.points[1:] for leg in stretch[::2]])
+    width = _shape_width(tolerance, _SHAPE_SHARE)
+    smoothed = (tube_smoothed(joined, width, window) for window in WINDOWS_M)
+    candidates = [replace(first, points=points) for points in smoothed if points is not None]
+    return candidates + [first] if len(stretch) == 1 else candidates
 
 
 def _stretches(legs: Sequence[Leg]) -> list[list[Leg]]:

@@ -27,7 +27,8 @@ WINDOWS_M = tuple(0.02 * math.sqrt(2.0) ** power for power in range(9))  # 2 cm 
 
 
 def resampled(points: np.ndarray, spacing: float) -> np.ndarray:
-    """Points every `spacing` at most along the polyline through `points`, its ends kept."""
+    """Points evenly along the polyline through `points`, its ends kept: as many as fit
+    `spacing` apart, at least three."""
     polyline = Polyline(np.asarray(points, dtype=float))
     arc = np.linspace(0.0, polyline.length, max(int(polyline.length / spacing), 2) + 1)
     return np.stack([np.interp(arc, polyline.cumulative_length, polyline.points[:, axis])
