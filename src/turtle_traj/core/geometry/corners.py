@@ -176,10 +176,9 @@ def _stretches(legs: Sequence[Leg]) -> list[list[Leg]]:
     """`legs` in runs: polylines joined by the turns between them that can be rounded
     (alternately a polyline and a turn, a polyline first and last), and every other leg alone."""
     runs: list[list[Leg]] = []
-    for index, leg in enumerate(legs):
-        if (isinstance(leg, Polyline) and index >= 2 and runs and len(runs[-1]) == 1
-                and isinstance(runs[-1][0], Turn) and len(runs) >= 2
-                and isinstance(runs[-2][-1], Polyline)
+    for leg in legs:
+        if (isinstance(leg, Polyline) and len(runs) >= 2 and len(runs[-1]) == 1
+                and isinstance(runs[-1][0], Turn) and isinstance(runs[-2][-1], Polyline)
                 and _joinable(runs[-2][-1], runs[-1][0], leg)):
             turn = runs.pop()[0]
             runs[-1] += [turn, leg]

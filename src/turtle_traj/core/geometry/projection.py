@@ -9,8 +9,10 @@ for numpy to pay) and each segment's constants computed once.
 nearest segment nearby; `PathDeviation` walks so, and asks the whole polyline
 (`NearestOnPolyline`) only when a pose could be the farthest yet, so a run's largest deviation
 stays exact wherever the path crosses itself. `LengthLeft` measures what is left of a path,
-`WithinDistance` checks a smoothed curve against the one it was smoothed from, and
-`nearest_point` searches a window of points (pure pursuit's).
+`WithinDistance` checks a smoothed curve against the one it was smoothed from,
+`nearest_point` searches a window of points (pure pursuit's), and `nearest_samples` a window
+of samples for every point of a curve at once (a smoothing's, `tube`); `all_near` says
+whether points all keep within a distance of a polyline.
 """
 
 from __future__ import annotations
@@ -245,3 +247,24 @@ def nearest_point(points: np.ndarray, first: int, count: int, x: float, y: float
     `first` on (the first of equals)."""
     window = points[first:first + count]
     return first + int(np.argmin(np.hypot(window[:, 0] - x, window[:, 1] - y)))
+
+
+def nearest_samples(points: np.ndarray, samples: np.ndarray, around: np.ndarray,
+                    reach: int) -> np.ndarray:
+    """For each of `points` (N, 2), the index of the nearest of `samples` (N, 2) within
+    `reach` of the index `around` gives it (the first of equals): where each point of a
+    smoothed curve now stands along the path it was smoothed from, all at once."""
+    nearby = np.clip(around[:, None] + np.arange(-reach, reach + 1), 0, len(samples) - 1)
+    gaps = np.hypot(points[:, None, 0] - samples[nearby, 0],
+                    points[:, None, 1] - samples[nearby, 1])
+    return nearby[np.arange(len(points)), gaps.argmin(axis=1)]
+
+
+def all_near(points: np.ndarray, vertices: np.ndarray, distance: float) -> bool:
+    """Every one of `points` (N, 2) within `distance` of the polyline through `vertices`
+    (shapely's prepared geometry: an index over its segments)."""
+    import shapely  # only when asked: the command line starts without it
+
+    line = shapely.LineString(vertices)
+    shapely.prepare(line)
+    return bool(np.all(shapely.dwithin(line, shapely.points(points), distance)))

@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from turtle_traj.core.geometry.path import Polyline
+from turtle_traj.core.geometry.projection import all_near, nearest_samples
 
 SPACING_M = 0.02  # between samples (the speed profile's grid)
 PASSES = 60
@@ -58,32 +59,20 @@ def tube_smoothed(points: np.ndarray, width: float, window_m: float) -> np.ndarr
     points apart along the curve, and shrink a short stroke or a small loop away (a corner
     cut to the tube's edge leaves its tip 1 / sin(half its inner angle) widths off)."""
     path = resampled(points, SPACING_M)
-    last = len(path) - 1
-    rows = np.arange(len(path))
     # each point is brought back to the nearest of the path's samples around the one it was
     # brought back to last (its own, at first): a point of a cut corner to the samples it cuts
     # across, never to a later part of the path passing by
-    nearest = rows
-    steps = np.arange(-_WALK, _WALK + 1)
+    nearest = np.arange(len(path))
+    edge = _EDGE_SHARE * width
     curve = path
     for _ in range(PASSES):
         curve = gaussian_smoothed(curve, window_m / SPACING_M)
-        nearby = np.clip(nearest[:, None] + steps, 0, last)
-        gaps = np.hypot(curve[:, None, 0] - path[nearby, 0], curve[:, None, 1] - path[nearby, 1])
-        nearest = nearby[rows, gaps.argmin(axis=1)]
+        nearest = nearest_samples(curve, path, nearest, _WALK)
         away = curve - path[nearest]
         distance = np.hypot(away[:, 0], away[:, 1])
-        edge = _EDGE_SHARE * width
         curve = path[nearest] + away * np.minimum(1.0, edge / np.maximum(distance, 1e-12))[:, None]
     curve = resampled(curve, SPACING_M)
-    return curve if (_within(curve, path, width)
-                     and _within(path, curve, _PASSING_SHARE * width)) else None
+    drawn = np.asarray(points, dtype=float)
+    return curve if (all_near(curve, drawn, width)
+                     and all_near(path, curve, _PASSING_SHARE * width)) else None
 
-
-def _within(points: np.ndarray, line: np.ndarray, distance: float) -> bool:
-    """Every one of `points` within `distance` of the polyline `line`."""
-    import shapely  # loaded when a path is smoothed, not with the planner
-
-    geometry = shapely.LineString(line)
-    shapely.prepare(geometry)
-    return bool(np.all(shapely.dwithin(geometry, shapely.points(points), distance)))
