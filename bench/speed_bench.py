@@ -71,7 +71,8 @@ def measure_breakdown() -> dict:
     """Per 16 ms step, one turtle driving: executor passes, messages, where the time goes."""
     from rclpy.publisher import Publisher
 
-    from turtle_traj.node.trajectory_node import TrajectoryNode
+    from turtle_traj.node.base_topics import BaseTopics
+    from turtle_traj.node.control_timer import ControlTimer
     from turtle_traj.sim.node import SimNode
 
     ours = [0.0]
@@ -86,9 +87,9 @@ def measure_breakdown() -> dict:
                 ours[0] += time.perf_counter() - start
         return wrapper
 
-    # Our callbacks (the simulator's step includes the publishing it does).
+    # Our callbacks (the simulator's step and the node's tick include the publishing they do).
     for cls, name in ((SimNode, 'step'), (SimNode, 'on_cmd_vel'),
-                      (TrajectoryNode, '_on_pose'), (TrajectoryNode, '_on_control_timer')):
+                      (BaseTopics, '_delivered'), (ControlTimer, '_tick')):
         setattr(cls, name, timed(getattr(cls, name)))
     publish = Publisher.publish
 
