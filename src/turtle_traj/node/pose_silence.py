@@ -7,7 +7,6 @@ import time
 from collections.abc import Callable
 
 from rclpy.clock import ROSClock
-from rclpy.time import Time
 
 
 class PoseSilence:
@@ -28,13 +27,13 @@ class PoseSilence:
                  held: Callable[[], bool] = lambda: False) -> None:
         """:param held: whether a node of this process computes beside its executor now."""
         self._clock, self._beat_s, self._wall, self._held = clock, beat_s, wall, held
-        self._pose_time: Time | None = None
+        self._pose_ns: int | None = None  # the node clock as the last pose arrived
         self._wall_s = math.inf  # since the last pose, counted beat by beat
         self._last_beat_s = wall()
 
     def heard(self) -> None:
         """A pose arrived now."""
-        self._pose_time, self._wall_s = self._clock.now(), 0.0
+        self._pose_ns, self._wall_s = self._clock.now().nanoseconds, 0.0
         self._last_beat_s = self._wall()  # wall silence counts from here
 
     def was_busy(self) -> None:
@@ -42,12 +41,12 @@ class PoseSilence:
         lock-step holds the simulator while a node computes, and only the wall clock runs):
         silence counts from now, when a pose had arrived before. A simulator that vanished
         meanwhile is found a pose_timeout later."""
-        if self._pose_time is not None:
+        if self._pose_ns is not None:
             self.heard()
 
     def forget(self) -> None:
         """As if no pose had ever arrived (a new turtle)."""
-        self._pose_time = None
+        self._pose_ns = None
 
     def beat(self) -> None:
         """The watchdog's beat. A late one means this process was busy (a long callback, a
@@ -60,10 +59,10 @@ class PoseSilence:
 
     def seconds(self) -> float:
         """Seconds without a pose (inf before the first)."""
-        if self._pose_time is None:
+        if self._pose_ns is None:
             return math.inf
         if self._clock.ros_time_is_active:  # simulated time
-            silence = (self._clock.now() - self._pose_time).nanoseconds * 1e-9
+            silence = (self._clock.now().nanoseconds - self._pose_ns) * 1e-9
             if silence > 0.0:
                 return silence
         return self._wall_s + min(self._wall() - self._last_beat_s, 2 * self._beat_s)
