@@ -144,11 +144,32 @@ def measure_node_cpu(seconds: float) -> dict:
                     client_cpu['driving'] = _share(node.pid, seconds)
             client.draw(goal, on_feedback=on_feedback, timeout_s=seconds + 3.0)
             client_cpu['client'] = (_cpu_s(me) - mine) / (time.monotonic() - started)
-        return {'idle': idle, 'driving': client_cpu['driving'], 'client': client_cpu['client']}
+        return {'idle': idle, 'driving': client_cpu['driving'], 'client': client_cpu['client'],
+                **_traffic_floor(seconds)}
     finally:
         for process in (node, sim):
             process.terminate()
             process.wait(timeout=15)
+
+
+def _traffic_floor(seconds: float) -> dict:
+    """The same traffic with no work (bench/traffic_floor.py) beside our simulator, which is
+    running: a node that only subscribes to the pose (idle) and one that also publishes cmd_vel
+    every 16 ms (driving). Ours cannot cost less."""
+    from process_cpu import cpu_share as _share
+
+    floor = {}
+    for role, key in (('listener', 'idle_floor'), ('driver', 'driving_floor')):
+        stand_in = subprocess.Popen([sys.executable, str(Path(__file__).parent /
+                                                         'traffic_floor.py'), role],
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            time.sleep(3.0)  # discovered and matched
+            floor[key] = _share(stand_in.pid, seconds)
+        finally:
+            stand_in.terminate()
+            stand_in.wait(timeout=15)
+    return floor
 
 
 def measure_demo() -> dict:
@@ -230,7 +251,9 @@ def main() -> None:
         print('  CPU of the trajectory node program at real time, beside our simulator program '
               '(20 s windows; share of one core):')
         for key, label in (('idle', 'idle'), ('driving', 'driving a circle'),
-                           ('client', "the client's own process while it waits on the goal")):
+                           ('client', "the client's own process while it waits on the goal"),
+                           ('idle_floor', 'its traffic alone, idle (pose subscribed)'),
+                           ('driving_floor', 'its traffic alone, driving (cmd_vel each 16 ms)')):
             print(f'    {label:54s} old {100 * before[key]:5.1f}%   new {100 * after[key]:5.1f}%')
         if not options.skip_demo:
             before, after = _side_by_side(old, 'demo', 1)

@@ -4,8 +4,11 @@
 it publishes /turtle1/pose and /turtle1/color_sensor every 16 ms and takes /turtle1/cmd_vel,
 on the EventsExecutor our simulator uses. `python bench/traffic_floor.py driver` subscribes
 to the pose and publishes cmd_vel every 16 ms, as our trajectory node does while it drives.
-bench/sim_bench.py measures the stand-in and our simulator under the same driver: the
-difference is what our simulator itself costs.
+`python bench/traffic_floor.py listener` only subscribes to the pose, as any node that knows
+where the turtle is must, idle. bench/sim_bench.py measures the stand-in and our simulator
+under the same driver: the difference is what our simulator itself costs; bench/speed_bench.py
+measures the driver and the listener beside our simulator: what any trajectory node with this
+traffic costs at the least, driving and idle.
 """
 
 import sys
@@ -39,17 +42,19 @@ class StandIn(Node):
 
 
 class Driver(Node):
-    def __init__(self) -> None:
+    def __init__(self, driving: bool = True) -> None:
         super().__init__('traffic_driver')
         self.create_subscription(Pose, 'turtle1/pose', lambda _pose: None, 1)
-        command = self.create_publisher(Twist, 'turtle1/cmd_vel', 1)
-        self.create_timer(PERIOD_S, lambda: command.publish(Twist()))
+        if driving:
+            command = self.create_publisher(Twist, 'turtle1/cmd_vel', 1)
+            self.create_timer(PERIOD_S, lambda: command.publish(Twist()))
 
 
 def main() -> None:
     rclpy.init()
     executor = EventsExecutor()
-    executor.add_node(StandIn() if sys.argv[1:] == ['stand-in'] else Driver())
+    role = sys.argv[1] if len(sys.argv) > 1 else 'driver'
+    executor.add_node(StandIn() if role == 'stand-in' else Driver(driving=role == 'driver'))
     try:
         while rclpy.ok():  # EventsExecutor.spin() busy-waits: a whole core
             executor.spin_once(timeout_sec=0.25)
