@@ -51,9 +51,11 @@ class Driver(Node):
 
 
 def main() -> None:
+    role = sys.argv[1] if len(sys.argv) > 1 else 'driver'
+    if role not in ('stand-in', 'driver', 'listener'):
+        sys.exit(f'usage: traffic_floor.py [stand-in | driver | listener], not {role!r}')
     rclpy.init()
     executor = EventsExecutor()
-    role = sys.argv[1] if len(sys.argv) > 1 else 'driver'
     executor.add_node(StandIn() if role == 'stand-in' else Driver(driving=role == 'driver'))
     try:
         while rclpy.ok():  # EventsExecutor.spin() busy-waits: a whole core
