@@ -22,6 +22,7 @@ import numpy as np
 from turtle_traj.testing.geometry import distance_to_polyline
 
 PLAN_TOPIC = '/turtle_traj/plan'
+SPIN_CHECK_S = 0.25  # the longest a signal's shutdown waits for the spin to see it
 
 
 @dataclass
@@ -66,17 +67,25 @@ class PoseLog:
 def main(out: str) -> None:
     import rclpy
     from nav_msgs.msg import Path as PathMsg
-    from rclpy.executors import ExternalShutdownException
+    from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
     from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
     from rclpy.qos import DurabilityPolicy, QoSProfile
     from turtlesim.msg import Pose
 
     from turtle_traj.rosutils.qos import POSE_READER_QOS
 
-    rclpy.init()  # SIGINT and SIGTERM shut its context down: spinning or starting, it stops
-    node = None
+    # On SIGTERM rclpy's handler wakes the executors that exist (it triggers their guard
+    # conditions) and shuts the context down, from a thread of its own and in that order: a
+    # loaded machine can run the spin's next wait between the two, and that wait has nothing
+    # left to end it. So the executor comes first (a signal before the spin still wakes it),
+    # the log file after it (whoever waits for the file may signal at once), and the spin
+    # looks at the context every SPIN_CHECK_S.
+    rclpy.init()
+    executor = node = None
     try:
+        executor = SingleThreadedExecutor()
         node = rclpy.create_node('pose_log')
+        executor.add_node(node)
         with open(out, 'w', buffering=1) as log:
             def on_pose(msg: Pose) -> None:
                 log.write(f'pose {time.monotonic():.6f} {msg.x:.6f} {msg.y:.6f} '
@@ -90,13 +99,16 @@ def main(out: str) -> None:
             node.create_subscription(Pose, '/turtle1/pose', on_pose, POSE_READER_QOS)
             node.create_subscription(PathMsg, PLAN_TOPIC, on_plan, QoSProfile(
                 depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
-            rclpy.spin(node)
+            while rclpy.ok():
+                executor.spin_once(timeout_sec=SPIN_CHECK_S)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except _rclpy.RCLError:  # e.g. 'rcl node's context is invalid'
         if rclpy.ok():  # not a signal's shutdown while the node was being made
             raise
     finally:
+        if executor is not None:
+            executor.shutdown()
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()
