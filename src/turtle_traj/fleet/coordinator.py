@@ -11,13 +11,10 @@ awaits.
 
 from __future__ import annotations
 
-import re
-
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.parameter import parameter_value_to_python
 from rclpy.task import Future
@@ -41,7 +38,7 @@ from turtle_traj.core.turtlesim_contract import PenStyle
 from turtle_traj.fleet.checks import colors, colors_problem, names_problem, too_close
 from turtle_traj.fleet.link import MoveEnd, TurtleLink, node_of
 from turtle_traj.fleet.under_way import UnderWay, progress, refusal, report
-from turtle_traj.node.waiting import completion, wait_until
+from turtle_traj.node.waiting import completion, result_within, wait_until
 from turtle_traj.rosutils.offload import Offloader
 
 TICK_S = 0.02  # node clock: how often moves are started and turtles watched
@@ -52,7 +49,6 @@ ANSWER_TIMEOUT_S = 5.0  # wall: for the first turtle's node to tell its paramete
 # stopped (it commands every control period); its turtle would run on with its last command for
 # turtlesim's 1 s command timeout, pen down, so it is stopped and its pen lifted at once
 COMMAND_SILENCE_S = 0.25
-_TURTLE_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*')
 
 
 class Refused(Exception):
@@ -164,7 +160,7 @@ class FleetCoordinator(Node):
                 heard.set_result(True)
         for link in drawers:
             link.on_pose = lambda: (fresh(), self._measure())
-        await self._within(heard, READY_TIMEOUT_S)
+        await result_within(self, heard, READY_TIMEOUT_S)
         for link in drawers:
             link.on_pose = self._measure
         if goal_handle.is_cancel_requested:
@@ -213,24 +209,11 @@ class FleetCoordinator(Node):
         link.on_pose = self._measure
         return link
 
-    async def _within(self, future: Future, timeout_s: float) -> object | None:
-        """`future`'s result, awaited as it completes (in lock-step: at the step it does,
-        whatever the wall clock), or None after `timeout_s` of the steady clock."""
-        steady = Clock(clock_type=ClockType.STEADY_TIME)
-        late = Future()
-        timer = self.create_timer(timeout_s, lambda: late.done() or late.set_result(None),
-                                  clock=steady)
-        future.add_done_callback(lambda done: late.done() or late.set_result(done.result()))
-        try:
-            return await completion(self, late)
-        finally:
-            self.destroy_timer(timer)
-
     async def _settings_of(self, link: TurtleLink) -> Settings:
         """The settings of `link`'s trajectory node: the drawing is planned as it plans."""
         names = [spec.name for spec in PARAMETERS]
         asked = link.parameters(names)
-        answer = await self._within(asked, ANSWER_TIMEOUT_S)
+        answer = await result_within(self, asked, ANSWER_TIMEOUT_S)
         if answer is None:  # its node went between being found and answering
             link.forget(asked)
             raise Refused(f'{node_of(link.name)} did not tell its parameters within '

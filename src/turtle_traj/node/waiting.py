@@ -1,5 +1,5 @@
-"""Awaiting inside a node's coroutines: a future a timer completes, or a condition, on
-simulated and wall time alike, and on every executor the node may be composed in.
+"""Awaiting inside a node's coroutines: a future a timer completes (at most for a while), or a
+condition, on simulated and wall time alike, and on every executor the node may be composed in.
 
 rclpy 7.1.6's Python executors poll a coroutine that awaits a pending future on every pass
 (ros2/rclpy#1405: they re-run pending tasks instead of waiting for their futures). The
@@ -37,6 +37,20 @@ async def completion(node: Node, future: Future, *, timeout_s: float | None = No
             return None
         return future.result()
     return await future
+
+
+async def result_within(node: Node, future: Future, timeout_s: float) -> Any:
+    """`future`'s result, awaited as another callback completes it (on simulated time: at the
+    step it does, whatever the wall clock), or None after `timeout_s` of the steady clock."""
+    steady = Clock(clock_type=ClockType.STEADY_TIME)
+    late = Future()
+    timer = node.create_timer(timeout_s, lambda: late.done() or late.set_result(None),
+                              clock=steady)
+    future.add_done_callback(lambda done: late.done() or late.set_result(done.result()))
+    try:
+        return await completion(node, late)
+    finally:
+        node.destroy_timer(timer)
 
 
 async def wait_until(node: Node, condition: Callable[[], bool], timeout_s: float) -> bool:

@@ -74,12 +74,11 @@ def main(out: str) -> None:
 
     from turtle_traj.rosutils.qos import POSE_READER_QOS
 
-    # On SIGTERM rclpy's handler wakes the executors that exist (it triggers their guard
-    # conditions) and shuts the context down, from a thread of its own and in that order: a
-    # loaded machine can run the spin's next wait between the two, and that wait has nothing
-    # left to end it. So the executor comes first (a signal before the spin still wakes it),
-    # the log file after it (whoever waits for the file may signal at once), and the spin
-    # looks at the context every SPIN_CHECK_S.
+    # On SIGTERM rclpy's handler, from a thread of its own, wakes the executors that exist
+    # then (it triggers their guard conditions) and the context is found shut down. So the
+    # executor comes first (a signal before the spin still wakes it), the log file after it
+    # (whoever waits for the file may signal at once), and the spin looks at the context every
+    # SPIN_CHECK_S: on a loaded machine a wait begun after the wake had nothing to end it.
     rclpy.init()
     executor = node = None
     try:
