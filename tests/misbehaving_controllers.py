@@ -44,3 +44,25 @@ class ExceedsTheLimits(_FirstStrokeOnly):
     def command(self, state):
         command = super().command(state)
         return None if command is None else Command(3.0 * command.linear, 3.0 * command.angular)
+
+
+class StopsNearTheLastPoint(Dwpp):
+    """The tutorial's slip: 'the end is reached' whenever the robot is within 1 cm of the
+    stroke's last point, which on a closed stroke (a square, a circle) it is at the start."""
+
+    def start(self, stroke, limits):
+        super().start(stroke, limits)
+        self.end = stroke.points[-1]
+
+    def command(self, state):
+        if math.dist((state.pose.x, state.pose.y), self.end) < 0.01:
+            return None
+        return super().command(state)
+
+
+class StopsHalfWay(Dwpp):
+    """Drives as DWPP and says 'the end is reached' half-way along the stroke, still moving."""
+
+    def command(self, state):
+        command = super().command(state)
+        return None if self.arc[self.nearest] >= self.arc[-1] / 2 else command

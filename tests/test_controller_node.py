@@ -2,6 +2,7 @@
 in-process): misbehaving controllers end their run with a message, the turtle stops, and the
 node serves the next request; names that are not controllers are refused at start-up."""
 
+import math
 import re
 
 import pytest
@@ -9,7 +10,7 @@ from geometry_msgs.msg import Twist
 from rclpy.exceptions import InvalidParameterValueException
 from rclpy.parameter import Parameter
 from turtle_traj_interfaces.msg import Ending
-from turtle_traj_interfaces.srv import DrawShape
+from turtle_traj_interfaces.srv import DrawShape, Move
 
 from turtle_traj.apps.in_process import InProcessSystem
 from turtle_traj.node.trajectory_node import TrajectoryNode
@@ -97,3 +98,23 @@ def test_the_controller_is_read_only_while_the_node_runs(system_with):
     result = system.node.set_parameters([Parameter('controller', value='exact')])[0]
     assert not result.successful and 'read-only' in result.reason
     assert system.node.get_parameter('controller').value == 'dwpp'
+
+
+def test_an_end_claimed_before_the_path_is_driven_fails_the_request_with_the_figures(system_with):
+    """The tutorial's slip (done within 1 cm of the stroke's last point): on a closed square
+    that is true at the start. The node judges the end, so the square fails, the response says
+    how much of the path was driven, and the node serves the next request."""
+    system = system_with(f'{MODULE}:StopsNearTheLastPoint')
+    start = system.poses[-1]
+    square = system.call(DrawShape, 'draw_square', DrawShape.Request(size=2.0))
+    assert not square.success and square.ending.code == Ending.CONTROLLER_FAULT
+    assert (f"square aborted: controller '{MODULE}:StopsNearTheLastPoint' claimed the end "
+            'after 0.00 m of 8.00 m') in square.message
+    assert square.path_length == pytest.approx(8.0) and square.driven_length == 0.0
+    moved = max(math.dist((p.x, p.y), (start.x, start.y)) for p in system.poses)
+    assert moved < 1e-6  # the turtle never left its place
+    move = system.call(Move, 'move', Move.Request(distance=1.0))
+    assert move.success, move.message  # an open path ends away from its start
+    assert move.driven_length == pytest.approx(move.path_length) == pytest.approx(1.0)
+    end = system.poses[-1]
+    assert math.dist((end.x, end.y), (start.x, start.y)) == pytest.approx(1.0, abs=0.02)

@@ -8,7 +8,9 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from shapely.geometry import LineString, Point
 
+from tests.misbehaving_controllers import StopsHalfWay, StopsNearTheLastPoint
 from turtle_traj.api.controllers import UnknownController, choose, names, resolve
 from turtle_traj.api.ros_interface import make_request
 from turtle_traj.apps.score.courses import PAPER_INERTIA, follow_request, step_curve
@@ -25,6 +27,7 @@ from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.controllers.dwpp import Dwpp
 from turtle_traj.core.control.controllers.exact import ExactFollower
 from turtle_traj.core.control.controllers.pure_pursuit import PurePursuit
+from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.walker import PlanWalker, strokes_of
 from turtle_traj.core.geometry.angles import wrap_angle
@@ -152,6 +155,63 @@ def test_an_endless_circle_goes_round_lap_after_lap():
     assert passes >= 3
     centre = np.array([5.5, 4.0])
     assert np.abs(np.hypot(*(run.xy()[100:] - centre).T) - 1.0).max() < 0.05
+
+
+# --- the node, not the controller, decides that the end is reached --------------------------
+
+@pytest.mark.parametrize(('kind', 'size', 'length'), [
+    ('square', 2.0, 8.0), ('triangle', 2.0, 6.0), ('circle', 1.0, 2.0 * math.pi)])
+def test_an_end_claimed_at_a_closed_strokes_start_is_a_controller_fault(kind, size, length):
+    start = Pose2D(3.0, 3.0, 0.0)
+    plan = planner.plan(kind, shape(size=size), start, DEFAULT_SETTINGS)
+    run = drive(plan, start, DEFAULT_SETTINGS, controller=choose(
+        'tests.misbehaving_controllers:StopsNearTheLastPoint'))
+    outcome = run.run.outcome(run.poses[-1], run.elapsed_s)
+    assert not outcome.success and outcome.reason is Ending.CONTROLLER_FAULT
+    assert (f"controller 'tests.misbehaving_controllers:StopsNearTheLastPoint' claimed the end "
+            f'after 0.00 m of {length:.2f} m') in outcome.message
+    assert outcome.driven_length == 0.0 and outcome.path_length == pytest.approx(length, rel=1e-4)
+    assert np.abs(run.xy() - (3.0, 3.0)).max() < 1e-9  # it never moved
+
+
+def test_an_end_claimed_half_way_is_a_fault_and_the_figures_say_how_far_it_got():
+    start = Pose2D(3.0, 3.0, 0.0)
+    plan = planner.plan('square', shape(size=2.0), start, DEFAULT_SETTINGS)
+    run = drive(plan, start, DEFAULT_SETTINGS, controller=Chosen('half', StopsHalfWay))
+    outcome = run.run.outcome(run.poses[-1], run.elapsed_s)
+    assert not outcome.success and outcome.reason is Ending.CONTROLLER_FAULT
+    claimed = re.search(r"controller 'half' claimed the end after ([0-9.]+) m of 8.00 m",
+                        outcome.message)
+    assert claimed, outcome.message
+    # how far along the square the turtle got, measured by shapely from its last pose
+    square = LineString(regular_polygon(3.0, 3.0, 0.0, 4, 2.0, False))
+    along = square.project(Point(run.xy()[-1]))
+    assert 4.0 <= along < 4.3  # half-way, and stopped soon after
+    assert outcome.driven_length == pytest.approx(along, abs=0.02)
+    assert float(claimed[1]) == pytest.approx(along, abs=0.05)  # as it said it was done
+
+
+def test_a_lap_of_an_endless_circle_claimed_at_its_start_is_a_fault():
+    start = Pose2D(5.5, 3.0, 0.0)
+    plan = planner.plan('circle', shape(size=1.0, forever=True), start, DEFAULT_SETTINGS)
+    run = drive(plan, start, DEFAULT_SETTINGS, controller=Chosen('lap', StopsNearTheLastPoint),
+                max_s=5.0)
+    assert run.run.reason is Ending.CONTROLLER_FAULT
+    assert "controller 'lap' claimed the end after 0.00 m of" in run.run.ending[1]
+
+
+def test_every_shipped_controller_ends_its_strokes_where_the_node_agrees():
+    """The shipped controllers' own ends pass the node's check on closed and open paths."""
+    start = Pose2D(3.0, 3.0, 0.0)
+    for kind, request in (('square', shape(size=2.0)), ('circle', shape(size=1.0)),
+                          ('triangle', shape(size=2.0))):
+        plan = planner.plan(kind, request, start, DEFAULT_SETTINGS)
+        for name in ('exact', 'dwpp', 'pure_pursuit'):
+            run = drive(plan, start, DEFAULT_SETTINGS, controller=choose(name))
+            outcome = run.run.outcome(run.poses[-1], run.elapsed_s)
+            assert outcome.success, (kind, name, outcome.message)
+            assert outcome.driven_length == pytest.approx(plan.path.length)
+            assert math.dist(run.xy()[-1], (3.0, 3.0)) < 0.02
 
 
 # --- the node keeps the robot safe from the controller ----------------------------------------

@@ -141,7 +141,7 @@ def test_the_node_fills_every_field_of_every_response(ros_type):
     from turtle_traj.node.outcomes import fill_response
 
     outcome = Outcome(True, 'done', Ending.NO_PROGRESS, Pose2D(1.0, 2.0, 3.0),
-                      *(float(v) for v in range(4, 11)))
+                      *(float(v) for v in range(4, 11)), driven_length=11.0)
     built = interface(ros_type)
     response = fill_response(built.Result() if hasattr(built, 'Result') else built.Response(),
                              outcome)
@@ -151,7 +151,7 @@ def test_the_node_fills_every_field_of_every_response(ros_type):
                 'final_x': 1.0, 'final_y': 2.0,
                 'final_theta': 3.0, 'elapsed': 4.0, 'path_length': 5.0, 'max_deviation': 6.0,
                 'final_error': 7.0, 'final_heading_error': 8.0, 'pen_up_length': 9.0,
-                'pen_up_unordered': 10.0}
+                'pen_up_unordered': 10.0, 'driven_length': 11.0}
     filled = {name: getattr(response, name) for name in response.get_fields_and_field_types()}
     assert filled == {name: expected[name] for name in filled}
     assert set(filled) >= set(expected) - {'pen_up_length', 'pen_up_unordered'}

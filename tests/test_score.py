@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from turtle_traj.apps.score.courses import planner_path, standard_courses
+from turtle_traj.apps.score.report import ranking
 from turtle_traj.apps.score.runner import GOAL_TOLERANCE_M, run_course
 
 
@@ -38,13 +39,16 @@ def test_the_planner_course_is_a_grid_staircase_clear_of_the_walls():
     assert 13.0 < lengths.sum() < 19.0
 
 
-def test_a_run_that_ends_short_of_the_path_s_end_does_not_finish(tmp_path):
-    course = next(c for c in standard_courses(('turtlesim',)) if c.name == 'move')
+@pytest.mark.parametrize('name', ['move', 'square', 'triangle', 'circle'])
+def test_a_controller_that_gives_up_at_once_does_not_finish(tmp_path, name):
+    """Closed strokes too: there the robot stands at the path's end as it starts."""
+    course = next(c for c in standard_courses(('turtlesim',)) if c.name == name)
     result = run_course(course, f'{__name__}:GivesUp', work_dir=tmp_path)
-    assert result.end_mm > 1e3 * GOAL_TOLERANCE_M
-    assert not result.success and "from the path's end" in result.message
+    assert not result.success and 'claimed the end after 0.00 m of' in result.message
     exact = run_course(course, 'exact', work_dir=tmp_path)
     assert exact.success and exact.end_mm < 1e3 * GOAL_TOLERANCE_M
+    ranked = ranking([result, exact])
+    assert [row.controller for row in ranked] == ['exact', f'{__name__}:GivesUp']
 
 
 def test_the_exact_follower_is_matched_at_a_rival_s_error_measured_on_the_drawn_path(tmp_path):

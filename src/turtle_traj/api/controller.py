@@ -2,8 +2,9 @@
 
 A controller follows one stroke at a time: `start(stroke, limits)` as a stroke begins, then
 `command(state)` every control period, answering a `Command` or None once the stroke's end is
-reached. Numbers it can be tuned by are `Tunable` class attributes, served by the node as the
-ROS parameters `<controller>.<name>`. See the tutorial "Write your own controller".
+reached (the node checks that claim: the stroke driven in order, the robot at its end).
+Numbers it can be tuned by are `Tunable` class attributes, served by the node as the ROS
+parameters `<controller>.<name>`. See the tutorial "Write your own controller".
 """
 
 from turtle_traj.core.control.commands import Command

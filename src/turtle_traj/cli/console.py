@@ -62,7 +62,8 @@ def report(result, cancelled: str = '') -> str:
     if hasattr(result, 'final_x'):
         lines.append(f'  final pose  x={result.final_x:.3f} m  y={result.final_y:.3f} m  '
                      f'theta={math.degrees(result.final_theta):.1f} deg')
-        lines.append(f'  elapsed {result.elapsed:.2f} s, path {result.path_length:.2f} m, '
+        lines.append(f'  elapsed {result.elapsed:.2f} s, path {result.path_length:.2f} m '
+                     f'({result.driven_length:.2f} m driven), '
                      f'max deviation {result.max_deviation:.4f} m, final error '
                      f'{result.final_error:.4f} m, heading error '
                      f'{math.degrees(result.final_heading_error):.2f} deg')

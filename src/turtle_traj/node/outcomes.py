@@ -47,6 +47,7 @@ def fill_response(response, outcome: Outcome):
         response.final_theta = outcome.pose.theta
     response.elapsed = outcome.elapsed_s
     response.path_length = outcome.path_length
+    response.driven_length = outcome.driven_length
     response.max_deviation = outcome.max_deviation
     response.final_error = outcome.final_error
     response.final_heading_error = outcome.final_heading_error

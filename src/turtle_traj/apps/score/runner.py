@@ -4,8 +4,9 @@ Every figure is measured here against the plan (the path the node plans for the 
 and start), not taken from the controller: time (simulated, to the path's end), time against
 the node's least-time bound, cross-track RMSE and maximum error, the end point's miss, and the
 share of the controller's commands the node had to clamp to the limits (none for the exact
-follower, which plans within them). A run finishes, as a Nav2 goal checker judges, when it ends
-within `GOAL_TOLERANCE_M` of the path's end: a controller that gives up early does not.
+follower, which plans within them). A run finishes when the node accepted every end the
+controller claimed (`walker.PlanWalker`: the path driven in order, to its end) and, as a Nav2
+goal checker judges, the robot came to rest within `GOAL_TOLERANCE_M` of the path's end.
 """
 
 from __future__ import annotations
@@ -19,11 +20,12 @@ import numpy as np
 from turtle_traj.api.controllers import choose
 from turtle_traj.apps.score.courses import PAPER_INERTIA, Course
 from turtle_traj.apps.score.loop import drive
+from turtle_traj.core.control.walker import ARRIVED_M
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.projection import NearestOnPolyline
 from turtle_traj.core.planning import planner
 
-GOAL_TOLERANCE_M = 0.05  # five times the shipped controllers' own arrival tolerance
+GOAL_TOLERANCE_M = ARRIVED_M  # the node's own; five times the shipped controllers' tolerance
 
 
 @dataclass

@@ -7,7 +7,8 @@ period, the robot's state as the model of the robot predicts it for the moment t
 takes effect, with how uncertain that moment is; the controller answers with a velocity
 command, or None once it has arrived. Everything else is the node's (`walker.PlanWalker`, the
 same for every controller, the node's exact follower included): turns in place between strokes
-and at the end (`rotate`, a final heading), the pen, progress and laps, the watchdogs, and
+and at the end (`rotate`, a final heading), the pen, progress and laps, whether an end the
+controller claims is reached (driven in order to within `walker.ARRIVED_M`), the watchdogs, and
 keeping the robot safe from the controller (commands clamped to the limits; NaN, exceptions
 and late answers end the run with the robot stopped).
 
@@ -118,7 +119,8 @@ class Controller(Protocol):
         """A new stroke begins (the robot stands at or near its first point)."""
 
     def command(self, state: State) -> Command | None:
-        """This period's velocity command; None once the stroke's end is reached."""
+        """This period's velocity command; None once the stroke's end is reached (the node
+        checks the claim: an end claimed before the stroke is driven is a controller fault)."""
 
 
 def interface_problem(candidate: object) -> str | None:

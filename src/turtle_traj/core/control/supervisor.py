@@ -47,6 +47,7 @@ class Outcome:
     pen_up_length: float = 0.0
     pen_up_unordered: float = 0.0
     clamped_percent: float = 0.0  # the controller's commands the node clamped to the limits
+    driven_length: float = 0.0  # how far along the path the robot got, in order [m]
 
 
 def wall_clearance(arena: Arena, pose: Pose2D) -> float:
@@ -231,7 +232,8 @@ class RunSupervisor:
             path_length=self.distance if path.endless else path.length,
             max_deviation=self.max_deviation, final_error=math.nan,
             pen_up_length=path.pen_up_length, pen_up_unordered=self.plan.pen_up_unordered,
-            clamped_percent=self.follower.clamped_percent)
+            clamped_percent=self.follower.clamped_percent,
+            driven_length=self.follower.driven_m)
         if pose is None:
             return outcome
         if self.follower.done:

@@ -7,9 +7,12 @@ with the same pen joined across the corners between them, up to `MAX_CORNER_RAD`
 keeps the pen as each stroke needs it, measures progress itself (the same for every
 controller), starts the laps of an endless stroke, and sets the controller's tuning as each
 stroke starts. A stroke driven backwards is shown to the controller as a forward one (the
-pose turned round, its speeds mirrored). Every command is clamped to the limits and counted;
-an exception, a non-finite command, a wrong type or, with an `AnswerTimer`, `LATE_ANSWERS`
-answers in a row later than the control period raise `ControllerFault`, which ends the run.
+pose turned round, its speeds mirrored). The walker, not the controller, judges that a
+stroke's end (or an endless stroke's lap) is reached, as Nav2's goal checker does: a None from
+the controller is accepted only once the stroke is driven in order to its end. Every command
+is clamped to the limits and counted; an end claimed early, an exception, a non-finite
+command, a wrong type or, with an `AnswerTimer`, `LATE_ANSWERS` answers in a row later than
+the control period raise `ControllerFault`, which ends the run.
 """
 
 from __future__ import annotations
@@ -40,6 +43,9 @@ LATE_ANSWERS = 3
 # A corner sharper than this (a path that doubles back on itself) ends a stroke: no
 # look-ahead controller follows a reversal; the node turns there in place.
 MAX_CORNER_RAD = math.radians(160.0)
+# How near a stroke's end, along it and straight, a controller's None counts as arrived where
+# the stroke's tolerance is smaller (the node's goal checker, as Nav2's xy_goal_tolerance).
+ARRIVED_M = 0.05
 
 
 class ControllerFault(Exception):
@@ -106,6 +112,23 @@ class _Along:
 
     def nearest(self, pose: Pose2D) -> tuple[int, float]:
         """The segment nearest `pose` and the fraction along it; `last` becomes its place."""
+        index, along, _ = self._project(pose)
+        cumulative = self.cumulative
+        self.arc = cumulative[index] + along * (cumulative[index + 1] - cumulative[index])
+        self.last = self.arc / max(cumulative[-1], 1e-12)
+        return index, along
+
+    def left_at(self, pose: Pose2D) -> float:
+        """The arc from `pose`, found in the window of the last match, to the stroke's end;
+        below zero past the end of an endless stroke's lap. `arc` stays as it is."""
+        index, along, _ = self._project(pose)
+        cumulative = self.cumulative
+        arc = cumulative[index] + along * (cumulative[index + 1] - cumulative[index])
+        if self.endless and arc < self.arc - self.BEHIND_M:  # round the start, into the next lap
+            arc += cumulative[-1]
+        return cumulative[-1] - arc
+
+    def _project(self, pose: Pose2D) -> tuple[int, float, float]:
         cumulative, count = self.cumulative, self.segments.count
         total, ahead = cumulative[-1], self.arc + self.AHEAD_M
         first = max(bisect_left(cumulative, self.arc - self.BEHIND_M) - 1, 0)
@@ -113,10 +136,7 @@ class _Along:
         if self.endless and ahead > total:  # round the start, into the next lap
             candidates = chain(candidates, range(min(bisect_left(cumulative, ahead - total) + 1,
                                                      count)))
-        index, along, _ = self.segments.project(pose.x, pose.y, candidates)
-        self.arc = cumulative[index] + along * (cumulative[index + 1] - cumulative[index])
-        self.last = self.arc / max(total, 1e-12)
-        return index, along
+        return self.segments.project(pose.x, pose.y, candidates)
 
 
 class PlanWalker:
@@ -154,6 +174,9 @@ class PlanWalker:
         self._late = 0  # answers in a row later than the period
         self._last_command = STOP  # for a caller without a model of the robot
         self._limits: tuple[ControlConfig, Limits] | None = None  # settings, their limits
+        self._reach = ARRIVED_M  # the stroke's: how near its end counts as arrived
+        self._driven_before = 0.0  # m of the strokes (and laps) finished
+        self.path_m = plan.path.length
 
     @property
     def done(self) -> bool:
@@ -175,6 +198,12 @@ class PlanWalker:
         if not self.done:
             done += self.mark[1] * costs[self.step_index]
         return min(done / max(sum(costs), 1e-12), 1.0)
+
+    @property
+    def driven_m(self) -> float:
+        """How much of the path is driven, in order: the strokes (and laps) finished, and the
+        arc along the stroke under way."""
+        return self._driven_before + (self._along.arc if self._along is not None else 0.0)
 
     @property
     def clamped_percent(self) -> float:
@@ -239,6 +268,8 @@ class PlanWalker:
         self._periods += 1
         answer = self._call('command', state, period_s=config.period_s)
         if answer is None:
+            self._check_arrival(stroke, prediction.pose)
+            self._driven_before += stroke.length
             if not stroke.repeat:
                 return None
             self._lap += 1  # an endless stroke: the next lap starts next period
@@ -258,8 +289,25 @@ class PlanWalker:
         tolerance = (self.plan.end_tolerance if last and self.plan.end_tolerance is not None
                      else config.position_tolerance)
         profile = self._profiles[self.step_index] if self._profiles else None
+        self._reach = max(tolerance, ARRIVED_M)
         self._call('start', Stroke(stroke.points, self._lap, stroke.repeat, tolerance, profile,
                                    stroke), self._limits_of(config))
+
+    def _check_arrival(self, stroke: Polyline, pose: Pose2D) -> None:
+        """The controller answered None: accept that the stroke's end (or an endless stroke's
+        lap) is reached only where the predicted pose has come along the stroke, in order, to
+        within `_reach` of its end and stands that close to its last point.
+
+        :raises ControllerFault: a claim made before then.
+        """
+        left = self._along.left_at(pose)
+        miss = math.dist((pose.x, pose.y), stroke.points[-1])
+        if left <= self._reach and miss <= self._reach:
+            return
+        raise ControllerFault(
+            f"controller '{self.name}' claimed the end after {self.driven_m:.2f} m of "
+            f'{self.path_m:.2f} m: {left:.3f} m of the stroke left, {miss:.3f} m from its end '
+            f'(arrived is within {self._reach:.3f} m of it, along the stroke and straight)')
 
     def _limits_of(self, config: ControlConfig) -> Limits:
         """The limits of `config`, made again only when the settings change."""
