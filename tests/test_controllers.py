@@ -123,12 +123,12 @@ def test_pure_pursuit_turns_in_place_first_when_facing_away():
     # the node turns in place before a stroke: drive the stroke alone, as its controller sees it
     controller = PurePursuit()
     config = DEFAULT_SETTINGS.control
-    controller.start(Stroke(points), Limits(config.linear_speed, config.angular_speed, 0.0, 0.0,
-                                            config.period_s))
-    command = controller.command(State(start, Command(), start, 0.0))
+    limits = Limits(config.linear_speed, config.angular_speed, 0.0, 0.0, config.period_s)
+    controller.start(Stroke(points), limits)
+    command = controller.command(State(Prediction(start, Command()), start, 0.0, limits))
     assert command.linear == 0.0 and abs(command.angular) == config.angular_speed
     ahead = Pose2D(3.0, 3.0, controller.rotate_to_heading_min_angle / 2)
-    assert controller.command(State(ahead, Command(), ahead, 0.0)).linear > 0.0
+    assert controller.command(State(Prediction(ahead, Command()), ahead, 0.0, limits)).linear > 0.0
     run = drive(plan, start, DEFAULT_SETTINGS, controller=choose('pure_pursuit'))
     assert run.run.ending[0] and math.dist((run.poses[-1].x, run.poses[-1].y), (7.0, 3.0)) < 0.015
 
@@ -391,8 +391,8 @@ class _Recording:
 
 
 def test_a_controller_is_handed_what_the_model_of_the_robot_knows():
-    """The state carries the prediction's uncertainty and what the robot is, as the exact
-    follower needs them: a user's controller gets what ours gets."""
+    """The state carries the model of the robot's prediction (its uncertainty, what the robot
+    is), as the exact follower uses it: a user's controller gets what ours gets."""
     start = Pose2D(2.0, 5.0, 0.0)
     plan = planner.plan('move', make_request(BY_NAME['move'], {'distance': 2.0}), start,
                         DEFAULT_SETTINGS)
@@ -400,13 +400,12 @@ def test_a_controller_is_handed_what_the_model_of_the_robot_knows():
     walker = PlanWalker(plan, recording, 'recording')
     predicted = Pose2D(2.01, 5.0, 0.0)
     prediction = Prediction(predicted, Command(0.5, 0.0), late_steps=2, overrun=(0.016, 0.0),
-                            still=False, turns_first=False, braking_overrun=(0.03, 0.0))
+                            standing=False, turns_first=False, braking_overrun=(0.03, 0.0))
     walker.update(start, DEFAULT_SETTINGS.control, prediction)
     state = recording.states[0]
     assert (state.pose, state.measured, state.velocity) == (predicted, start, Command(0.5, 0.0))
-    assert (state.late_steps, state.overrun, state.braking_overrun) == (2, (0.016, 0.0),
-                                                                       (0.03, 0.0))
-    assert state.standing is False and state.turns_first is False
+    assert state.robot == prediction  # the model's prediction, to ask, as it made it
+    assert state.limits.linear_speed == DEFAULT_SETTINGS.control.linear_speed
     assert recording.stroke.tolerance == DEFAULT_SETTINGS.control.position_tolerance
     assert recording.stroke.endless is False and np.allclose(recording.stroke.points[-1],
                                                             (4.0, 5.0))
@@ -516,7 +515,7 @@ def test_dwpp_brakes_within_the_deceleration_the_node_clamps_with(decel, braking
     controller = Dwpp()
     controller.start(Stroke(np.array([(0.0, 0.0), (0.05, 0.0)])), limits)
     moving = Pose2D(0.04, 0.0, 0.0)  # 1 cm before the end at 0.5 m/s: it must brake hard
-    command = controller.command(State(moving, Command(0.5, 0.0), moving, 1.0))
+    command = controller.command(State(Prediction(moving, Command(0.5, 0.0)), moving, 1.0, limits))
     assert command.linear == pytest.approx(0.5 - braking * config.period_s)
 
 

@@ -302,19 +302,19 @@ def test_a_running_quantile_settles_where_its_share_lies_below():
     assert low.whole() == 2
 
 
-def test_still_only_when_standing_with_nothing_but_stops_on_their_way():
+def test_standing_only_at_rest_with_nothing_but_stops_on_their_way():
     model = RobotModel(STEP_S)
     _send(model, [Command(0.5, 0.0), STOP, STOP])
     for _ in range(3):
         model.observe(*_echo(Command(0.5, 0.0)))
     pose = Pose2D(1.0, 1.0, 0.0)
-    assert not model.predict(pose, 3 * STEP_S).still  # the 0.5 m/s command is in effect
+    assert not model.predict(pose, 3 * STEP_S).standing  # the 0.5 m/s command is in effect
     model.sent(STOP, 3 * STEP_S)
     model.observe(0.0, 0.0)
-    assert model.predict(pose, 4 * STEP_S).still
+    assert model.predict(pose, 4 * STEP_S).standing
     model.sent(Command(0.0, 1.0), 4 * STEP_S)
     model.observe(0.0, 0.0)
-    assert not model.predict(pose, 5 * STEP_S).still  # a turn is on its way
+    assert not model.predict(pose, 5 * STEP_S).standing  # a turn is on its way
 
 
 @pytest.mark.parametrize('command', [Command(1.0, 0.0), Command(-0.7, 0.3), Command(0.0, -2.0)])
@@ -404,18 +404,18 @@ def test_a_stop_sent_after_moving_commands_is_not_what_a_standing_turtle_stands_
         model.observe(0.0, 0.0)
         assert model.in_flight == 11
     prediction = model.predict(Pose2D(1.0, 1.0, 0.0), 12 * STEP_S)
-    assert prediction.late_steps == 0 and not prediction.still
+    assert prediction.late_steps == 0 and not prediction.standing
     assert prediction.pose.x == pytest.approx(1.0 + sum(c.linear for c in moving) * STEP_S)
     model.observe(*_echo(moving[0]))  # the first one acts at last
     assert model.in_flight == 10
     for command in moving[1:]:  # then each in turn, then the stop: the turtle stands on it
         model.observe(*_echo(command))
     model.observe(0.0, 0.0)
-    assert model.in_flight == 0 and model.predict(Pose2D(1.0, 1.0, 0.0), 13 * STEP_S).still
+    assert model.in_flight == 0 and model.predict(Pose2D(1.0, 1.0, 0.0), 13 * STEP_S).standing
 
 
-def test_the_loop_stands_when_the_model_does_as_each_robot_tells_it():
-    """One judgement of standing for the run's settling and the model's prediction, from the
+def test_the_loop_is_at_rest_when_the_model_is_as_each_robot_tells_it():
+    """One judgement of rest for the run's settling and the model's prediction, from the
     robot's description: turtlesim stands at zero only; a base within what its odometry
     resolves (`MEASURED_STILL`); only turtlesim's step turns first."""
     from turtle_traj.core.control.loop import ControlLoop
@@ -424,14 +424,14 @@ def test_the_loop_stands_when_the_model_does_as_each_robot_tells_it():
     odometry = ControlLoop(STEP_S, robot=ODOMETRY_BASE)
     creeping = (0.4 * MEASURED_STILL[0], 0.4 * MEASURED_STILL[1])
     odometry.observe(Pose2D(1.0, 1.0, 0.0), *creeping)
-    assert odometry.standing and odometry.model.standing
+    assert odometry.at_rest and odometry.model.at_rest
     odometry.observe(Pose2D(1.0, 1.0, 0.0), 2.0 * MEASURED_STILL[0], 0.0)
-    assert not odometry.standing
+    assert not odometry.at_rest
     turtlesim = ControlLoop(STEP_S)
     turtlesim.observe(Pose2D(1.0, 1.0, 0.0), *creeping)
-    assert not turtlesim.standing
+    assert not turtlesim.at_rest
     turtlesim.observe(Pose2D(1.0, 1.0, 0.0), 0.0, 0.0)
-    assert turtlesim.standing
+    assert turtlesim.at_rest
     # what the robot is, told by its description, not by how it is sensed
     pose = Pose2D(1.0, 1.0, 0.0)
     assert turtlesim.model.predict(pose, 0.0).turns_first

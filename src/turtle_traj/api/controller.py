@@ -9,9 +9,10 @@ parameters `<controller>.<name>`. See the tutorial "Write your own controller".
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.controller import Controller, Limits, State, Stroke
+from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.tuning import Tunable
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
 
-__all__ = ['Command', 'Controller', 'Limits', 'Pose2D', 'State', 'Stroke', 'Tunable',
-           'wrap_angle']
+__all__ = ['Command', 'Controller', 'Limits', 'Pose2D', 'Prediction', 'State', 'Stroke',
+           'Tunable', 'wrap_angle']

@@ -3,14 +3,14 @@
 Pure Python, no ROS. A `Controller` follows one *stroke* at a time: a polyline the robot drives
 without lifting the pen (a square's four sides, a letter's outline, a step curve). The node
 hands it the stroke and the base's limits when the stroke starts; then, once per control
-period, the robot's state as the model of the robot predicts it for the moment the command
-takes effect, with how uncertain that moment is; the controller answers with a velocity
-command, or None once it has arrived. Everything else is the node's (`walker.PlanWalker`, the
-same for every controller, the node's exact follower included): turns in place between strokes
-and at the end (`rotate`, a final heading), the pen, progress and laps, whether an end the
-controller claims is reached (driven in order to within `walker.ARRIVED_M`), the watchdogs, and
-keeping the robot safe from the controller (commands clamped to the limits; NaN, exceptions
-and late answers end the run with the robot stopped).
+period, a `State`: what the model of the robot predicts for the moment the command takes
+effect (and how uncertain that moment is), the pose measured, and the limits in effect; the
+controller answers with a velocity command, or None once it has arrived. Everything else is
+the node's (`walker.PlanWalker`, the same for every controller, the node's exact follower
+included): turns in place between strokes and at the end (`rotate`, a final heading), the pen,
+progress and laps, whether an end the controller claims is reached (driven in order to within
+`walker.ARRIVED_M`), the watchdogs, and keeping the robot safe from the controller (commands
+clamped to the limits; NaN, exceptions and late answers end the run with the robot stopped).
 
 A minimal controller (a proportional go-to-goal)::
 
@@ -34,6 +34,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.path import Polyline, Pose2D
 
@@ -79,30 +80,35 @@ class Stroke:
 
 @dataclass(frozen=True)
 class State:
-    """The robot as the model predicts it when this period's command takes effect."""
+    """What a controller is given each control period: the model of the robot's prediction
+    for the moment this period's command takes effect, the pose last measured, and the limits
+    in effect now.
 
-    pose: Pose2D  # predicted: where the commands already on their way will have taken it
-    velocity: Command  # the velocity in effect until then (the last command sent)
+    `robot` answers what a controller may ask of the model: `pose` and `velocity` there and
+    then, how many steps late the command may act (`late_steps`) and how far that carries the
+    robot (`overrun`, `braking_overrun`), whether it is `standing` (at rest, with nothing but
+    stops on their way), and whether each of its steps `turns_first` (turtlesim) or drives an
+    arc (a base).
+    """
+
+    robot: Prediction
     measured: Pose2D  # the last pose the robot reported
     elapsed_s: float  # control periods since the stroke started, in seconds
-    # How uncertain the moment is (`robot_model`): the next command may act this many control
-    # steps longer than one (a late arrival, a late tick), 99 times in 100,
-    late_steps: int = 0
-    # carrying the robot this much (m, rad) beyond `pose` with `velocity` as it does;
-    overrun: tuple[float, float] = (0.0, 0.0)
-    # as `overrun` for a whole braking at the deceleration limit, one of whose commands may
-    # act late (a base with inertia)
-    braking_overrun: tuple[float, float] = (0.0, 0.0)
-    standing: bool = True  # the robot stands, and every command on its way is a stop
-    # what the robot is: each of its steps turns first and then moves along the new heading
-    # (turtlesim); False: it drives arcs (a base)
-    turns_first: bool = True
-    # the limits in effect now: the node's parameters may change them during a stroke (None:
-    # those the stroke started with)
-    limits: Limits | None = None
+    # the limits in effect now: the node's parameters may change them during a stroke
+    limits: Limits
     # where the measured pose is along the stroke, as the node measures progress: the index of
     # the nearest segment (points[i] to points[i + 1]) and the fraction along it (0 to 1)
     nearest: tuple[int, float] | None = None
+
+    @property
+    def pose(self) -> Pose2D:
+        """Where the commands already on their way will have taken the robot."""
+        return self.robot.pose
+
+    @property
+    def velocity(self) -> Command:
+        """The velocity in effect until this period's command acts (the last command sent)."""
+        return self.robot.velocity
 
 
 @runtime_checkable

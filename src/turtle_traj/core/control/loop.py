@@ -68,9 +68,9 @@ class ControlLoop:
         return self.run
 
     @property
-    def standing(self) -> bool:
-        """The last pose shows the robot standing, as the model of the robot judges it."""
-        return self.model.standing
+    def at_rest(self) -> bool:
+        """The last pose shows the robot at rest, as the model of the robot judges it."""
+        return self.model.at_rest
 
     def take_run(self) -> RunSupervisor | None:
         """Detach the run (it has ended) and return it."""
@@ -92,7 +92,7 @@ class ControlLoop:
             run.watch(self.pose, config, arena, now_s)  # a wall, or no progress, all the same
             return None
         prediction = self.model.predict(self.pose, now_s)
-        command = run.command(self.pose, self.standing, config, arena, now_s, prediction)
+        command = run.command(self.pose, self.at_rest, config, arena, now_s, prediction)
         if run.ending is not None or (excess and alike(command, self.model.last_sent)):
             return None
         return self.model.distinct(command)

@@ -1,7 +1,7 @@
 """What the robot is, and how its poses tell which command acts: the model's two senses. Pure.
 
 `Robot` describes a robot for the model of it (`robot_model.RobotModel`): how its step moves
-it, when it counts as standing, and the observer its poses need. Each observer says, from a
+it, when it counts as at rest, and the observer its poses need. Each observer says, from a
 pose, which of the commands sent is in effect, and how many steps after it was sent it began
 to act (`Seen`):
 
@@ -47,7 +47,7 @@ class CommandLog(Protocol):
     in_effect: int | None  # the number of the command in effect at the last pose, if known
     poses: int  # robot steps, as counted by the poses observed
     floor: float | None  # the latency without a queue, in steps, once known
-    standing: bool  # the last pose shows the robot standing
+    at_rest: bool  # the last pose shows the robot at rest
 
 
 @dataclass(frozen=True)
@@ -90,7 +90,7 @@ class EchoObserver:
         # way between two stops, and the prediction would miss its step)
         expected = model.first if model.in_effect is None else model.in_effect + 1
         matches = _matches(model, echo)
-        if model.in_effect is None and model.standing:  # as it stood before any was taken
+        if model.in_effect is None and model.at_rest:  # as it stood before any was taken
             matches.insert(0, model.first - 1)
         if not matches:  # someone else's command (a stale one, the 1 s timeout): a step on
             if model.in_effect is None:
@@ -144,13 +144,13 @@ class Robot:
     # each step turns first and then moves along the new heading (turtlesim); False: it
     # drives arcs
     turns_first: bool
-    # reported velocities (m/s, rad/s) within which it counts as standing
-    still_within: tuple[float, float]
+    # reported velocities (m/s, rad/s) within which it counts as at rest
+    rest_within: tuple[float, float]
     observer: type  # how its poses tell which command acts: made with the step (s)
 
 
 # A base whose odometry measures less than this (m/s, rad/s) stands: a few encoder ticks a
 # period (an XL430's 4096 a turn on 33 mm wheels 0.16 m apart, at 62.5 Hz: 3 mm/s, 0.04 rad/s).
 MEASURED_STILL = (0.01, 0.05)
-TURTLESIM = Robot(turns_first=True, still_within=(0.0, 0.0), observer=EchoObserver)
-ODOMETRY_BASE = Robot(turns_first=False, still_within=MEASURED_STILL, observer=DelayFitObserver)
+TURTLESIM = Robot(turns_first=True, rest_within=(0.0, 0.0), observer=EchoObserver)
+ODOMETRY_BASE = Robot(turns_first=False, rest_within=MEASURED_STILL, observer=DelayFitObserver)

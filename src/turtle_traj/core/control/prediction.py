@@ -20,7 +20,8 @@ class Prediction:
     late_steps: int = 0  # how many steps longer than one the next command may act
     # m, rad the robot may move beyond `pose`: the last command sent, acting `late_steps` longer
     overrun: tuple[float, float] = (0.0, 0.0)
-    still: bool = True  # it stands, and every command on its way is a stop
+    # the robot stands: its last pose shows it at rest, and every command on its way is a stop
+    standing: bool = True
     # turtlesim's step turns first and then moves along the new heading; a base reporting
     # odometry drives arcs
     turns_first: bool = True

@@ -80,7 +80,7 @@ class RobotModel:
     """Commands sent, the evidence of which one acts, and the prediction they make.
 
     It is the `observers.CommandLog` its observer reads (`remembered`, `first`, `count`,
-    `in_effect`, `poses`, `floor`, `standing`).
+    `in_effect`, `poses`, `floor`, `at_rest`).
 
     :param step_s: how long each command acts at least (the robot's step, turtlesim's 16 ms).
     :param robot: what the robot is: turtlesim, or a base seen through its odometry.
@@ -177,11 +177,11 @@ class RobotModel:
         return due[-1] if due else first - 1
 
     @property
-    def standing(self) -> bool:
-        """The last pose shows the robot standing: its velocities within what counts as
-        standing for it (zero for turtlesim's echo, what odometry resolves for a base)."""
+    def at_rest(self) -> bool:
+        """The last pose shows the robot at rest: its velocities within what counts as rest
+        for it (zero for turtlesim's echo, what odometry resolves for a base)."""
         return all(abs(value) <= within
-                   for value, within in zip(self._echo, self.robot.still_within, strict=True))
+                   for value, within in zip(self._echo, self.robot.rest_within, strict=True))
 
     def _observe_latency(self, latency: float) -> None:
         """A command first seen in effect `latency` steps after it was sent. The floor takes
@@ -225,9 +225,9 @@ class RobotModel:
                 y += command.linear * math.sin(theta) * self.step_s
         late = self._late_steps(self._jitter_tail)
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
-        still = self.standing and all(sent.command == STOP for sent in pending)
+        standing = self.at_rest and all(sent.command == STOP for sent in pending)
         return Prediction(Pose2D(x, y, wrap_angle(theta)), last, late, self._overrun(last, late),
-                          still, turns_first=self.robot.turns_first,
+                          standing, turns_first=self.robot.turns_first,
                           braking_overrun=self._overrun(
                               last, self._late_steps(self._jitter_braking)))
 

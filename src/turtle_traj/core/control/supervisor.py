@@ -25,7 +25,7 @@ from turtle_traj.core.geometry.projection import PathDeviation
 from turtle_traj.core.geometry.shapes import Arena
 from turtle_traj.core.turtlesim_contract import STEP_S
 
-SETTLE_PERIODS = 10  # control periods to wait for the turtle to report standing still
+SETTLE_PERIODS = 10  # control periods to wait for the turtle to report rest
 # Three times the farthest a turtle at 10 m/s moves in one 16 ms step: longer is a jump.
 MAX_POSE_JUMP_M = 0.5
 PROGRESS_STEP = 1e-3  # of a leg: less is no progress (a hunt back and forth makes none)
@@ -143,11 +143,11 @@ class RunSupervisor:
                             'ROS domain, or this node fell behind the simulator)',
                      Ending.POSE_JUMPED)
 
-    def command(self, pose: Pose2D, standing: bool, config: ControlConfig, arena: Arena,
+    def command(self, pose: Pose2D, at_rest: bool, config: ControlConfig, arena: Arena,
                 now_s: float, prediction: Prediction | None = None) -> Command:
         """The command for this control period; may decide the verdict.
 
-        :param standing: the turtle reports zero velocity.
+        :param at_rest: the last pose shows the robot at rest (`RobotModel.at_rest`).
         :param prediction: the model's prediction for this period (`RobotModel.predict`).
         :param config: the node's control settings (the plan's speeds override them).
         :param now_s: the node clock, seconds.
@@ -157,7 +157,7 @@ class RunSupervisor:
         if self.ending is not None:
             return STOP
         if self.follower.done:
-            return self._settle(standing, now_s)
+            return self._settle(at_rest, now_s)
         if self._config is None or self._config[0] is not config:
             self._config = (config, self.plan.control(config))  # once per settings change
         hazard = self._hazard(pose, config, arena, now_s)
@@ -178,12 +178,12 @@ class RunSupervisor:
             if hazard is not None:
                 self.end(False, *hazard)
 
-    def _settle(self, standing: bool, now_s: float) -> Command:
-        """The path is done: wait for the turtle to report standing still (or enough periods)."""
+    def _settle(self, at_rest: bool, now_s: float) -> Command:
+        """The path is done: wait for the turtle to report rest (or enough periods)."""
         if self._path_done_s is None:
             self._path_done_s = now_s
         self._settled_periods += 1
-        if standing or self._settled_periods > SETTLE_PERIODS:
+        if at_rest or self._settled_periods > SETTLE_PERIODS:
             self.end(True, f'{self.name} done{self.follower.report()}', Ending.SUCCEEDED)
         return STOP
 

@@ -54,7 +54,7 @@ def _lands(remaining: float, prediction: Prediction, config: ControlConfig) -> b
     Once per leg, so a command that acts late again cannot start a hunt (it carries the turtle
     at most the tolerance past the end). Only where the prediction is exact to the step,
     turtlesim's: a base's odometry and inertia leave it a little off."""
-    return (prediction.late_steps > 0 and prediction.still and prediction.turns_first
+    return (prediction.late_steps > 0 and prediction.standing and prediction.turns_first
             and not config.limited and abs(remaining) > LANDED)
 
 
@@ -67,7 +67,7 @@ def _finished(arrived: bool, prediction: Prediction, config: ControlConfig,
     but not after a landing, which carries it at most the tolerance on (`_lands`).
     A base with acceleration limits must be able to stop within the next period.
     """
-    if (arrived and (prediction.late_steps == 0 or prediction.still or landed)
+    if (arrived and (prediction.late_steps == 0 or prediction.standing or landed)
             and (not config.limited or can_stop(prediction.velocity, config))):
         return None
     return STOP

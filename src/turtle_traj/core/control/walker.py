@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from bisect import bisect_left
 from collections.abc import Callable, Mapping
+from dataclasses import replace
 from itertools import chain
 from typing import Protocol
 
@@ -259,12 +260,15 @@ class PlanWalker:
         if self._along is None:
             self._start(stroke, config)
         nearest = self._along.nearest(pose)
-        velocity = prediction.velocity
-        state = State(Pose2D(prediction.pose.x, prediction.pose.y, prediction.pose.theta + flip),
-                      Command(-velocity.linear if flip else velocity.linear, velocity.angular),
-                      Pose2D(pose.x, pose.y, pose.theta + flip), self._periods * config.period_s,
-                      prediction.late_steps, prediction.overrun, prediction.braking_overrun,
-                      prediction.still, prediction.turns_first, self._limits_of(config), nearest)
+        seen, measured = prediction, pose
+        if flip:  # the pose turned round, the speeds mirrored
+            velocity = prediction.velocity
+            seen = replace(prediction, pose=Pose2D(
+                prediction.pose.x, prediction.pose.y, prediction.pose.theta + flip),
+                velocity=Command(-velocity.linear, velocity.angular))
+            measured = Pose2D(pose.x, pose.y, pose.theta + flip)
+        state = State(seen, measured, self._periods * config.period_s, self._limits_of(config),
+                      nearest)
         self._periods += 1
         answer = self._call('command', state, period_s=config.period_s)
         if answer is None:

@@ -4,8 +4,8 @@ It drives one stroke between two corners (`turns_at_corners`: the node turns in 
 so corners are exact) with `trackers.PolylineTracker`: curvature feed-forward, a heading
 set-point that steers back onto the path, speed capped by the curvature, the base's speed
 profile and a braking that lands on the end point. It steers from the state the model of the
-robot predicts, and allows for its uncertainty (`State.late_steps`, `overrun`,
-`braking_overrun`, `standing`) as the state hands it to every controller. It asks only for
+robot predicts, and allows for its uncertainty as the model answers it to every controller
+(`State.robot`: `late_steps`, `overrun`, `braking_overrun`, `standing`). It asks only for
 what the base can reach in one period (`dynamics.within_reach`), so the node clamps none of its
 commands.
 
@@ -20,7 +20,6 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controller import Limits, State, Stroke
 from turtle_traj.core.control.controllers.exact_tuning import ExactTuning
 from turtle_traj.core.control.dynamics import within_reach
-from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.trackers import UNPLANNED, PolylineTracker
 from turtle_traj.core.geometry.path import Polyline
 
@@ -44,13 +43,11 @@ class ExactFollower(ExactTuning):
         self._tracker = PolylineTracker(polyline, stroke.tolerance, profile)
 
     def command(self, state: State) -> Command | None:
-        if state.limits is not None and state.limits is not self._limits:
+        if state.limits is not self._limits:
             self._configure(state.limits)  # the node's parameters changed them
-        prediction = Prediction(state.pose, state.velocity, state.late_steps, state.overrun,
-                                state.standing, state.turns_first, state.braking_overrun)
         nearest = state.nearest if state.nearest is not None else self._tracker.locate(
             state.measured)
-        command = self._tracker.update(state.measured, prediction, self._config, nearest)
+        command = self._tracker.update(state.measured, state.robot, self._config, nearest)
         return None if command is None else within_reach(command, state.velocity, self._config)
 
     def _configure(self, limits: Limits) -> None:

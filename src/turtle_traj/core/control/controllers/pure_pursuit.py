@@ -75,7 +75,7 @@ class PurePursuit:
         pose, velocity = state.pose, state.velocity
         remaining = self.arc[-1] - self.arc[self._nearest(pose)]
         if self._arrived(pose, remaining):
-            return None if _standing(velocity) else self.stopping(velocity)
+            return None if _stopped(velocity) else self.stopping(velocity)
         curvature, bearing = self._steering(pose, abs(velocity.linear))
         speed = self._regulated_speed(curvature, remaining)
         return self.choose(speed, curvature, bearing, velocity)
@@ -149,5 +149,6 @@ def _densified(points: np.ndarray) -> np.ndarray:
     return np.concatenate(parts)
 
 
-def _standing(velocity: Command) -> bool:
+def _stopped(velocity: Command) -> bool:
+    """The velocity in effect is a stop."""
     return abs(velocity.linear) < 1e-9 and abs(velocity.angular) < 1e-9
