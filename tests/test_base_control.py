@@ -23,8 +23,7 @@ accels = st.floats(0.05, 5.0, allow_nan=False)
 def _config(accel: float, turn_accel: float, decel: float = 0.0, **speeds) -> ControlConfig:
     return ControlConfig(
         linear_speed=speeds.get('linear', 0.5), angular_speed=speeds.get('angular', 1.0),
-        heading_gain=8.0, cross_track_gain=2.5, deceleration=20.0, angular_deceleration=50.0,
-        position_tolerance=5e-4, heading_tolerance=5e-4, turn_first_angle=0.6,
+        angular_deceleration=50.0, position_tolerance=5e-4, heading_tolerance=5e-4,
         period_s=PERIOD, max_linear_accel=accel, max_linear_decel=decel,
         max_angular_accel=turn_accel)
 

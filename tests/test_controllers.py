@@ -411,16 +411,18 @@ def test_a_controller_is_handed_what_the_model_of_the_robot_knows():
                                                             (4.0, 5.0))
 
 
-def test_the_exact_followers_gains_are_the_nodes_settings():
-    """Its `Tunable`s named as node settings take the node's values as each stroke starts,
-    and are not served again under the controller's prefix."""
-    assert Chosen().tunables == ()
+def test_the_exact_follower_is_tuned_as_any_controller():
+    """Its gains are `Tunable`s served under its prefix, as every controller's, and the values
+    in effect are set as each stroke starts."""
+    assert [spec.name for spec in Chosen().tunables] == [
+        'heading_gain', 'cross_track_gain', 'deceleration', 'turn_first_angle']
+    assert Chosen().prefix == 'exact'
     start = Pose2D(2.0, 5.0, 0.0)
     plan = planner.plan('move', make_request(BY_NAME['move'], {'distance': 2.0}), start,
                         DEFAULT_SETTINGS)
-    walker = Chosen().driver(plan, manage_pen=False)
-    config = replace(DEFAULT_SETTINGS.control, heading_gain=3.0, cross_track_gain=7.0)
-    walker.update(start, config)
+    tuned = replace(Chosen(), tuning=lambda: {'heading_gain': 3.0, 'cross_track_gain': 7.0})
+    walker = tuned.driver(plan, manage_pen=False)
+    walker.update(start, DEFAULT_SETTINGS.control)
     assert (walker.controller.heading_gain, walker.controller.cross_track_gain) == (3.0, 7.0)
 
 

@@ -95,7 +95,8 @@ def test_live_parameters_change_speed_and_bad_values_are_refused(turtle_system):
     for name, value in [
         ('linear_speed', _double(-1.0)),
         ('linear_speed', _double(math.nan)),
-        ('heading_gain', ParameterValue(type=ParameterType.PARAMETER_STRING, string_value='fast')),
+        ('exact.heading_gain',
+         ParameterValue(type=ParameterType.PARAMETER_STRING, string_value='fast')),
         ('control_rate', _double(100.0)),
         ('wall_margin', _double(5.4)),
     ]:

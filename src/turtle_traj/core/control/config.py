@@ -12,13 +12,9 @@ class ControlConfig:
 
     linear_speed: float  # top speed
     angular_speed: float  # top turn rate
-    heading_gain: float  # turn rate per radian of heading error
-    cross_track_gain: float  # how hard curves pull the turtle back onto the path
-    deceleration: float  # braking towards the end of a curve, without acceleration limits
-    angular_deceleration: float  # braking towards the end of a turn, likewise
+    angular_deceleration: float  # braking towards the end of a turn, without acceleration limits
     position_tolerance: float  # end of a curve reached (corners, line ends)
     heading_tolerance: float  # end of a turn reached
-    turn_first_angle: float  # heading error beyond which the turtle turns in place
     period_s: float  # control period
     # A base's acceleration limits; 0: unlimited (turtlesim's instant response). With any of
     # them set, every command stays within reach of the one before (`dynamics`), and braking
@@ -35,8 +31,8 @@ class ControlConfig:
 
     @property
     def linear_braking(self) -> float:
-        """How hard the controller brakes along a path, m/s²."""
-        return self.max_linear_decel or self.max_linear_accel or self.deceleration
+        """The base's braking limit along a path, m/s²; 0: unlimited."""
+        return self.max_linear_decel or self.max_linear_accel
 
     @property
     def angular_braking(self) -> float:

@@ -16,6 +16,7 @@ reach. A polyline is driven forwards: the walker shows one driven backwards as a
 from __future__ import annotations
 
 import math
+from typing import Protocol
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
@@ -73,11 +74,20 @@ def _finished(arrived: bool, prediction: Prediction, config: ControlConfig,
     return STOP
 
 
-def _steering(error: float, config: ControlConfig) -> float:
+class TrackerGains(Protocol):
+    """The polyline tracker's gains (the exact follower's `Tunable`s)."""
+
+    heading_gain: float  # turn rate per radian of heading error [1/s]
+    cross_track_gain: float  # how hard curves pull back onto the path [1/m]
+    deceleration: float  # braking towards the end, without acceleration limits [m/s^2]
+    turn_first_angle: float  # heading error beyond which it turns before driving [rad]
+
+
+def _steering(error: float, gain: float, config: ControlConfig) -> float:
     """The turn rate that corrects a heading error: proportional, and on a base with an
     angular acceleration limit no faster than it can stop turning when the error is gone
     (sqrt(2 alpha |error|)), or a high gain would overshoot, rate-limited."""
-    rate = config.heading_gain * abs(error)
+    rate = gain * abs(error)
     if config.max_angular_accel:
         rate = min(rate, math.sqrt(2.0 * config.max_angular_accel * abs(error)))
     return math.copysign(rate, error)
@@ -174,7 +184,7 @@ class PolylineTracker:
         return self._project(pose)[:2]
 
     def update(self, pose: Pose2D, prediction: Prediction, config: ControlConfig,
-               nearest: tuple[int, float]) -> Command | None:
+               gains: TrackerGains, nearest: tuple[int, float]) -> Command | None:
         """Steer from the predicted pose; progress and arrival are the actual pose's.
 
         :param nearest: the segment nearest the actual pose and the fraction along it
@@ -209,8 +219,9 @@ class PolylineTracker:
                 fraction - 0.5)
         heading_error = wrap_angle(path_heading - facing)
 
-        speed = self._speed(fraction, remaining, curvature, prediction, config, landing)
-        if abs(heading_error) > config.turn_first_angle:
+        speed = self._speed(fraction, remaining, curvature, prediction, config, landing,
+                            config.linear_braking or gains.deceleration)
+        if abs(heading_error) > gains.turn_first_angle:
             speed = 0.0
         else:
             speed *= math.cos(heading_error)
@@ -218,14 +229,15 @@ class PolylineTracker:
         # leads the heading by the turn of one period: aim half a chord behind the tangent.
         lead = (abs(speed) * curvature * config.period_s / 2.0 if prediction.turns_first
                 else 0.0)
-        target = path_heading - lead - math.atan(config.cross_track_gain * offset)
-        steering = _steering(wrap_angle(target - facing), config)
+        target = path_heading - lead - math.atan(gains.cross_track_gain * offset)
+        steering = _steering(wrap_angle(target - facing), gains.heading_gain, config)
         angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
         return Command(speed, angular)
 
 
     def _speed(self, fraction: float, remaining: float, curvature: float,
-               prediction: Prediction, config: ControlConfig, landing: bool) -> float:
+               prediction: Prediction, config: ControlConfig, landing: bool,
+               braking: float) -> float:
         """The speed along the path for this period, before the heading's share: the top
         speed, the base's profile or the curve's turn rate, and braking towards the end (signed:
         negative to back up to it)."""
@@ -244,7 +256,7 @@ class PolylineTracker:
         if remaining != math.inf:
             overrun = prediction.overrun_when(config.limited)[0]
             speed = min(speed, _braking_speed(max(abs(remaining) - overrun, 0.0),
-                                              config.linear_braking, config.period_s,
+                                              braking, config.period_s,
                                               prediction, config.limited, landing))
             speed = math.copysign(speed, remaining)
         return speed

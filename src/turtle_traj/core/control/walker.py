@@ -148,8 +148,8 @@ class PlanWalker:
     names the state it waits for in `pen_wanted` (unknown, None, at first).
 
     :param name: the controller's name, for the messages.
-    :param tuning: the controller's own tuning now, by name; the rest of its `Tunable`s named
-        as one of the node's settings (`ControlConfig`, `heading_gain`) take the node's value.
+    :param tuning: the controller's tuning now, by name (the node's `<controller>.<name>`
+        parameters); None: its `Tunable`s' defaults.
     """
 
     def __init__(self, plan: Plan, controller: Controller, name: str, *,
@@ -287,8 +287,8 @@ class PlanWalker:
     def _start(self, stroke: Polyline, config: ControlConfig) -> None:
         """The controller's tuning set, and the stroke handed to it."""
         self._along, self._periods = _Along(stroke), 0
-        values = {**vars(config), **(self.tuning() if self.tuning is not None else {})}
-        tune(self.controller, values)
+        if self.tuning is not None:
+            tune(self.controller, self.tuning())
         last = self.step_index == len(self.steps) - 1
         tolerance = (self.plan.end_tolerance if last and self.plan.end_tolerance is not None
                      else config.position_tolerance)

@@ -67,11 +67,10 @@ def settings_from_values(value: dict[str, object]) -> Settings:
     """Settings from parameter values by name (a node's, or ones a client fetched)."""
     control = ControlConfig(
         linear_speed=value['linear_speed'], angular_speed=value['angular_speed'],
-        heading_gain=value['heading_gain'], cross_track_gain=value['cross_track_gain'],
-        deceleration=value['deceleration'], angular_deceleration=value['angular_deceleration'],
+        angular_deceleration=value['angular_deceleration'],
         position_tolerance=value['position_tolerance'],
         heading_tolerance=value['heading_tolerance'],
-        turn_first_angle=value['turn_first_angle'], period_s=1.0 / value['control_rate'],
+        period_s=1.0 / value['control_rate'],
         max_linear_accel=value['max_linear_accel'], max_linear_decel=value['max_linear_decel'],
         max_angular_accel=value['max_angular_accel'],
         progress_timeout_s=value['progress_timeout'])

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import os
 
-from turtle_traj.core.control.controllers.exact_tuning import ExactTuning
 from turtle_traj.core.control.tuning import Spec
 from turtle_traj.core.turtlesim_contract import DEFAULT_PEN, WORLD_SIZE_M
 
@@ -41,9 +40,6 @@ PARAMETERS = (
          0.01, 10.0),
     Spec('angular_speed', 2.0, 'Top turn rate, used when a request leaves it 0', 'rad/s',
          0.01, 10.0),
-    ExactTuning.heading_gain.spec,  # the exact follower's gains, served under their names
-    ExactTuning.cross_track_gain.spec,
-    ExactTuning.deceleration.spec,
     Spec('angular_deceleration', 50.0, 'Braking towards the end of a turn, on a base without '
          'acceleration limits (with them, max_angular_accel brakes)', 'rad/s^2', 0.1, 100.0),
     Spec('max_linear_accel', 0.0, "The base's linear acceleration limit: no command asks "
@@ -63,7 +59,6 @@ PARAMETERS = (
     Spec('goal_tolerance', 0.01, 'Go-to: arrived, when a request leaves it 0', 'm', 0.001, 1.0),
     Spec('corner_angle', 0.35, 'Direction changes sharper than this are turned in place',
          'rad', 0.01, 3.0),
-    ExactTuning.turn_first_angle.spec,
     Spec('control_rate', 62.5, 'Control timer rate (node clock)', 'Hz', 1.0, 500.0,
          read_only=True),
     Spec('arena', 'rectangle', "The arena check: 'rectangle' (arena_min_* to arena_max_*, "

@@ -9,9 +9,8 @@ shipped beside it.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
-from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controller import Controller
 from turtle_traj.core.control.controllers.dwpp import Dwpp
 from turtle_traj.core.control.controllers.exact import ExactFollower
@@ -22,9 +21,6 @@ from turtle_traj.core.control.walker import AnswerTimer, PlanWalker
 
 EXACT = 'exact'
 SHIPPED: dict[str, type] = {EXACT: ExactFollower, 'dwpp': Dwpp, 'pure_pursuit': PurePursuit}
-# A controller's tuning named as one of these is the node's own setting, served once under
-# its own name (the exact follower's `heading_gain`), not under the controller's prefix.
-NODE_SETTINGS = frozenset(field.name for field in fields(ControlConfig))
 
 ControllerFactory = Callable[[], Controller]
 TuningSource = Callable[[], Mapping[str, float]]  # the tuning's values now, by name
@@ -51,8 +47,8 @@ class Chosen:
 
     @property
     def tunables(self) -> tuple[Spec, ...]:
-        """The tuning its class declares of its own (`NODE_SETTINGS` are the node's)."""
-        return tuple(spec for spec in tunables(self.factory) if spec.name not in NODE_SETTINGS)
+        """The tuning its class declares."""
+        return tunables(self.factory)
 
     def driver(self, plan: Plan, *, manage_pen: bool) -> PlanWalker:
         """This run's plan, walked with a new controller of the class (its constructor's

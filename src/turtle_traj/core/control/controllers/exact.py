@@ -9,8 +9,9 @@ robot predicts, and allows for its uncertainty as the model answers it to every 
 what the base can reach in one period (`dynamics.within_reach`), so the node clamps none of its
 commands.
 
-Its four gains (`exact_tuning`) are the node's own parameters of the same names
-(`heading_gain`, ...): the walker sets them from the node's settings as each stroke starts.
+Its four gains are `Tunable`s like any controller's, served by the node as
+`exact.heading_gain`, `exact.cross_track_gain`, `exact.deceleration` and
+`exact.turn_first_angle`.
 """
 
 from __future__ import annotations
@@ -18,16 +19,23 @@ from __future__ import annotations
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controller import Limits, State, Stroke
-from turtle_traj.core.control.controllers.exact_tuning import ExactTuning
 from turtle_traj.core.control.dynamics import within_reach
 from turtle_traj.core.control.trackers import UNPLANNED, PolylineTracker
+from turtle_traj.core.control.tuning import Tunable
 from turtle_traj.core.geometry.path import Polyline
 
 
-class ExactFollower(ExactTuning):
+class ExactFollower:
     """Follows each stroke exactly, within the base's limits (see the module's docstring)."""
 
     turns_at_corners = True
+    heading_gain = Tunable(8.0, 'Turn rate per radian of heading error', '1/s', 0.1, 50.0)
+    cross_track_gain = Tunable(2.5, 'How hard curves pull back onto the path', '1/m', 0.0, 50.0)
+    deceleration = Tunable(20.0, 'Braking towards the end of a curve, on a base without '
+                           'acceleration limits (with them, max_linear_decel or '
+                           'max_linear_accel brakes)', 'm/s^2', 0.1, 100.0)
+    turn_first_angle = Tunable(0.6, 'Heading error beyond which the turtle turns before '
+                               'driving', 'rad', 0.05, 3.14159)
 
     def __init__(self) -> None:
         self._tracker: PolylineTracker | None = None
@@ -47,16 +55,14 @@ class ExactFollower(ExactTuning):
             self._configure(state.limits)  # the node's parameters changed them
         nearest = state.nearest if state.nearest is not None else self._tracker.locate(
             state.measured)
-        command = self._tracker.update(state.measured, state.robot, self._config, nearest)
+        command = self._tracker.update(state.measured, state.robot, self._config, self, nearest)
         return None if command is None else within_reach(command, state.velocity, self._config)
 
     def _configure(self, limits: Limits) -> None:
         self._limits = limits
         self._config = ControlConfig(
             linear_speed=limits.linear_speed, angular_speed=limits.angular_speed,
-            heading_gain=self.heading_gain, cross_track_gain=self.cross_track_gain,
-            deceleration=self.deceleration, angular_deceleration=0.0,
-            position_tolerance=self._tolerance, heading_tolerance=0.0,
-            turn_first_angle=self.turn_first_angle, period_s=limits.period_s,
+            angular_deceleration=0.0, position_tolerance=self._tolerance,
+            heading_tolerance=0.0, period_s=limits.period_s,
             max_linear_accel=limits.linear_accel, max_linear_decel=limits.linear_decel,
             max_angular_accel=limits.angular_accel)
