@@ -39,6 +39,23 @@ def test_the_site_shows_every_parameter_the_running_node_lists(site, rclpy_conte
     assert missing == []
 
 
+def test_the_architecture_page_lists_every_module_with_what_it_does(site):
+    """The list is generated from the modules' docstrings: every module has one, and is on
+    the page with its first sentence."""
+    import ast
+    package = ROOT / 'src' / 'turtle_traj'
+    modules = [path for path in package.rglob('*.py') if '__pycache__' not in path.parts
+               and path.name not in ('__init__.py', '__main__.py')]
+    assert len(modules) > 150
+    undocumented = [str(path) for path in modules
+                    if not ast.get_docstring(ast.parse(path.read_text()))]
+    assert undocumented == []
+    unlisted = [path.relative_to(package).as_posix() for path in modules
+                if f'<span class="pre">{path.relative_to(package).as_posix()}</span>'
+                not in site]
+    assert unlisted == []
+
+
 def test_the_site_shows_every_subcommand_every_service_and_the_action(site):
     from turtle_traj.cli.main import build_parser
     from turtle_traj.core.registry import TRAJECTORIES

@@ -4,10 +4,14 @@
   tuning (type, default, unit, range, read-only, description).
 - ``trajectories``: every trajectory service from the registry, with its request fields.
 - ``interface``: one .srv or .action file of `interfaces/`, as it is.
+- ``modules``: every module of `src/turtle_traj/`, package by package in the order of the
+  import layers, with the first sentence of its docstring.
 """
 
 from __future__ import annotations
 
+import ast
+import re
 from pathlib import Path
 
 from docutils import nodes
@@ -93,8 +97,44 @@ class Interface(Directive):
         return [nodes.rubric(text=f'turtle_traj_interfaces/{self.arguments[0]}'), block]
 
 
+# The packages in the order of the import layers (pyproject.toml), the core's after them.
+_LAYERS = ('cli', 'testing', 'apps', 'fleet', 'client', 'node', 'sim', 'base', 'bags', 'api',
+           'rosutils', 'web', 'core', 'core/registry.py', 'core/fields.py', 'core/fleet',
+           'core/planning', 'core/parameters', 'core/control', 'core/geometry')
+
+
+def _summary(path: Path) -> str:
+    """The first sentence of a module's docstring (its first paragraph where it has none)."""
+    doc = ast.get_docstring(ast.parse(path.read_text(encoding='utf-8'))) or ''
+    paragraph = ' '.join(doc.split('\n\n')[0].split())
+    found = re.match(r'(.+?[.])(\s|$)', paragraph)
+    return found[1] if found else paragraph
+
+
+def _layer(relative: str) -> int:
+    """The index of the most specific layer a module belongs to."""
+    best = (-1, 0)
+    for index, layer in enumerate(_LAYERS):
+        if relative == layer or relative.startswith(layer + '/'):
+            best = max(best, (len(layer), index))
+    return best[1] if best[0] >= 0 else len(_LAYERS)
+
+
+class Modules(Directive):
+    def run(self):
+        package = ROOT / 'src' / 'turtle_traj'
+        modules = [path for path in package.rglob('*.py')
+                   if '__pycache__' not in path.parts
+                   and path.name not in ('__init__.py', '__main__.py')]
+        relative = {path: path.relative_to(package).as_posix() for path in modules}
+        ordered = sorted(modules, key=lambda path: (_layer(relative[path]), relative[path]))
+        rows = [[_literal(relative[path]), _summary(path)] for path in ordered]
+        return _table(self, ['module', 'what it does'], rows)
+
+
 def setup(app):
     directives.register_directive('parameters', Parameters)
     directives.register_directive('trajectories', Trajectories)
     directives.register_directive('interface', Interface)
+    directives.register_directive('modules', Modules)
     return {'parallel_read_safe': True}
