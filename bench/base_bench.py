@@ -70,7 +70,7 @@ def stop_and_turn_bound(points: np.ndarray, limits: Limits) -> float:
 
 def curve_bound(points: np.ndarray, limits: Limits) -> float:
     """The time-optimal profile along the exact curve at the full limits (TOPP-RA)."""
-    return SpeedProfile.plan(Polyline(points), base_settings(limits).control,
+    return SpeedProfile.plan(Polyline(points), base_settings(limits).control.limits,
                              shares=FULL_LIMITS).duration_s
 
 

@@ -31,7 +31,7 @@ def _config(accel: float, turn_accel: float, decel: float = 0.0, **speeds) -> Co
 @given(speeds, speeds, speeds, speeds, accels, accels, accels)
 def test_a_command_stays_within_reach_of_the_one_before(v0, w0, v1, w1, accel, decel, alpha):
     config = _config(accel, alpha, decel)
-    result = within_reach(Command(v1, w1), Command(v0, w0), config)
+    result = within_reach(Command(v1, w1), Command(v0, w0), config.limits)
     assert abs(result.linear - v0) <= max(accel, decel) * PERIOD
     assert abs(result.angular - w0) <= alpha * PERIOD
     reach = 0.999 * PERIOD
@@ -54,7 +54,7 @@ def test_the_profile_on_an_arc_keeps_every_limit(radius, sweep, accel, alpha):
     angles = np.linspace(0.0, sweep, max(int(radius * sweep / 0.005), 8) + 1)
     arc = Polyline(np.stack([radius * np.sin(angles), radius * (1.0 - np.cos(angles))], axis=1))
     config = _config(accel, alpha)
-    profile = SpeedProfile.plan(arc, config)
+    profile = SpeedProfile.plan(arc, config.limits)
     v = profile.speed
     assert v[0] == 0.0 and v[-1] < 1e-6  # rest to rest
     assert np.all(v <= config.linear_speed + 1e-6)

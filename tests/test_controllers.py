@@ -511,8 +511,7 @@ def test_dwpp_brakes_within_the_deceleration_the_node_clamps_with(decel, braking
     that much a period, and speeds up by the acceleration limit."""
     config = replace(DEFAULT_SETTINGS.control, max_linear_accel=0.5, max_angular_accel=1.0,
                      max_linear_decel=decel)
-    limits = Limits(config.linear_speed, config.angular_speed, config.max_linear_accel,
-                    config.max_angular_accel, config.period_s, config.max_linear_decel)
+    limits = config.limits
     assert limits.linear_braking == braking
     controller = Dwpp()
     controller.start(Stroke(np.array([(0.0, 0.0), (0.05, 0.0)])), limits)

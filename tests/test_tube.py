@@ -98,7 +98,7 @@ def test_a_circle_is_kept_as_it_is_where_smoothing_would_slow_it():
     config = settings_from_values({**DEFAULTS, **PAPER_LIMITS, 'arena': 'none'}).control
 
     def duration(leg: Polyline) -> float:
-        return least_time_s(Path(legs=(leg,)), config, (profile_for(leg, config),))
+        return least_time_s(Path(legs=(leg,)), config, (profile_for(leg, config.limits),))
 
     angles = np.linspace(0.0, 2.0 * math.pi, 400)
     circle = Polyline(np.stack([5.0 + 0.5 * np.cos(angles), 5.0 + 0.5 * np.sin(angles)], axis=1))
@@ -106,5 +106,5 @@ def test_a_circle_is_kept_as_it_is_where_smoothing_would_slow_it():
     rounded = corners.rounded_path(Path(legs=(circle,)), tolerance, duration=duration)
     smoothed = Polyline(corners.smoothed_curve(circle.points, tolerance))
     assert duration(smoothed) > 1.5 * duration(circle)
-    assert least_time_s(rounded, config, tuple(profile_for(leg, config)
+    assert least_time_s(rounded, config, tuple(profile_for(leg, config.limits)
                                                for leg in rounded.legs)) <= duration(circle)

@@ -34,26 +34,10 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from turtle_traj.core.control.commands import Command
+from turtle_traj.core.control.config import Limits
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.path import Polyline, Pose2D
-
-
-@dataclass(frozen=True)
-class Limits:
-    """What the base can do. A command beyond them is clamped by the node (and counted)."""
-
-    linear_speed: float  # top forward speed [m/s]
-    angular_speed: float  # top turn rate [rad/s]
-    linear_accel: float  # [m/s^2] per period from the command before; 0: unlimited (turtlesim)
-    angular_accel: float  # [rad/s^2]; 0: unlimited
-    period_s: float  # the control period: one command each, acting for this long
-    linear_decel: float = 0.0  # [m/s^2] braking; 0: linear_accel (the node's max_linear_decel)
-
-    @property
-    def linear_braking(self) -> float:
-        """The deceleration the node clamps braking with [m/s^2]; 0: unlimited."""
-        return self.linear_decel or self.linear_accel
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from turtle_traj.core.control.commands import Command
-from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.config import Limits
 
 # Commands stay this much inside the window, so that rounding never puts one outside it.
 _INSIDE = 1.0 - 1e-9
@@ -24,21 +24,19 @@ def _reach(value: float, previous: float, limit: float, period_s: float) -> floa
     return min(max(value, previous - step), previous + step)
 
 
-def _linear_step(previous: float, wanted: float, config: ControlConfig) -> float:
-    """The linear change allowed: speeding up at max_linear_accel, slowing down at the
+def _linear_step(previous: float, wanted: float, limits: Limits) -> float:
+    """The linear change allowed: speeding up at the acceleration limit, slowing down at the
     braking limit (a change of sign is slowing down first)."""
     speeding_up = abs(wanted) > abs(previous) and wanted * previous >= 0.0
-    return config.max_linear_accel if speeding_up else (
-        config.max_linear_decel or config.max_linear_accel)
+    return limits.linear_accel if speeding_up else limits.linear_braking
 
 
-def within_reach(command: Command, previous: Command, config: ControlConfig) -> Command:
+def within_reach(command: Command, previous: Command, limits: Limits) -> Command:
     """`command`, limited to what the base can reach from `previous` in one period, keeping
     its curvature where slowing down allows."""
-    if not config.limited:
+    if not limits.limited:
         return command
-    angular = _reach(command.angular, previous.angular, config.max_angular_accel,
-                     config.period_s)
+    angular = _reach(command.angular, previous.angular, limits.angular_accel, limits.period_s)
     linear = command.linear
     if angular != command.angular and command.angular:
         # the turn rate cannot follow: slow down so that the curvature asked for holds
@@ -46,19 +44,18 @@ def within_reach(command: Command, previous: Command, config: ControlConfig) -> 
         share = angular / command.angular
         if 0.0 <= share < 1.0:
             linear *= share
-    linear = _reach(linear, previous.linear, _linear_step(previous.linear, linear, config),
-                    config.period_s)
+    linear = _reach(linear, previous.linear, _linear_step(previous.linear, linear, limits),
+                    limits.period_s)
     return Command(linear, angular)
 
 
-def can_stop(previous: Command, config: ControlConfig) -> bool:
+def can_stop(previous: Command, limits: Limits) -> bool:
     """A stop is within reach of `previous` (so a leg may end and the next begin)."""
-    period = config.period_s
-    linear_limited = bool(config.max_linear_accel or config.max_linear_decel)
-    linear_ok = (not linear_limited
-                 or abs(previous.linear) <= config.linear_braking * period)
-    angular_ok = (not config.max_angular_accel
-                  or abs(previous.angular) <= config.max_angular_accel * period)
+    period = limits.period_s
+    linear_ok = (not limits.linear_braking
+                 or abs(previous.linear) <= limits.linear_braking * period)
+    angular_ok = (not limits.angular_accel
+                  or abs(previous.angular) <= limits.angular_accel * period)
     return linear_ok and angular_ok
 
 

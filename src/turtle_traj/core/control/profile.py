@@ -15,7 +15,7 @@ import sys
 
 import numpy as np
 
-from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.config import Limits
 from turtle_traj.core.geometry.path import Polyline
 
 # Shares of the limits the profile plans with: the rest is the steering's, to pull the base
@@ -70,10 +70,10 @@ class SpeedProfile:
         return math.sqrt(float(np.interp(arc_length, self.arc, self.speed ** 2)))
 
     @classmethod
-    def plan(cls, polyline: Polyline, config: ControlConfig,
+    def plan(cls, polyline: Polyline, limits: Limits,
              shares: tuple[float, float, float] = PLANNING_SHARES,
              start_speed: float = 0.0) -> SpeedProfile:
-        """The time-optimal profile of `polyline` under `config`'s limits (a limit of 0 is
+        """The time-optimal profile of `polyline` under `limits` (a limit of 0 is
         unlimited: it is left out), taking these `shares` of the turn rate, the acceleration
         and the angular acceleration, from `start_speed` (from rest, if the limits cannot
         take that speed where the polyline begins)."""
@@ -88,12 +88,12 @@ class SpeedProfile:
         knots, headings = heading_knots(polyline)
         path = toppra.SplineInterpolator(knots, np.stack([knots, headings], axis=1))
         inf = 1e6  # "unlimited", finite for the solver
-        accel = (config.max_linear_accel or inf) * accel_share
-        decel = (config.max_linear_decel or config.max_linear_accel or inf) * accel_share
-        alpha = (config.max_angular_accel or inf) * angular_accel_share
+        accel = (limits.linear_accel or inf) * accel_share
+        decel = (limits.linear_braking or inf) * accel_share
+        alpha = (limits.angular_accel or inf) * angular_accel_share
         constraints = [
             toppra.constraint.JointVelocityConstraint(
-                np.array([config.linear_speed, config.angular_speed * angular_share])),
+                np.array([limits.linear_speed, limits.angular_speed * angular_share])),
             toppra.constraint.JointAccelerationConstraint(
                 np.array([[-decel, accel], [-alpha, alpha]]))]
         count = int(min(max(length / _GRID_STEP_M, _GRID_POINTS[0]), _GRID_POINTS[1]))
@@ -104,17 +104,17 @@ class SpeedProfile:
         if speed is None and start_speed:
             speed = instance.compute_parameterization(0.0, 0.0)[1]
         if speed is None:  # infeasible by the solver: fall back to the curvature's bound
-            return cls.curvature_bound(polyline, config)
+            return cls.curvature_bound(polyline, limits)
         speed = np.maximum(np.asarray(speed, dtype=float), 0.0)
         gaps = np.diff(grid)
         mean = np.maximum(0.5 * (speed[:-1] + speed[1:]), 1e-9)
         return cls(grid, speed, float(np.sum(gaps / mean)))
 
     @classmethod
-    def curvature_bound(cls, polyline: Polyline, config: ControlConfig) -> SpeedProfile:
+    def curvature_bound(cls, polyline: Polyline, limits: Limits) -> SpeedProfile:
         """The speed the curvature allows at each vertex, with no braking (endless loops)."""
         curvature = np.abs(polyline.curvatures)
-        per_segment = np.minimum(config.linear_speed, config.angular_speed * ANGULAR_SHARE
+        per_segment = np.minimum(limits.linear_speed, limits.angular_speed * ANGULAR_SHARE
                                  / np.maximum(curvature, 1e-9))
         speed = np.concatenate((per_segment, [per_segment[-1]]))
         speed[1:-1] = np.minimum(per_segment[:-1], per_segment[1:])
@@ -134,13 +134,13 @@ def load_solver() -> None:
     import toppra.constraint  # noqa: F401
 
 
-def profile_for(polyline: Polyline, config: ControlConfig,
+def profile_for(polyline: Polyline, limits: Limits,
                 start_speed: float = 0.0) -> SpeedProfile | None:
     """The profile a base with acceleration limits follows on `polyline` (from `start_speed`):
     the curvature's bound on an endless loop, the time-optimal profile on a curve, and None on
     a straight line (the window and braking alone bound it there)."""
     if polyline.repeat:
-        return SpeedProfile.curvature_bound(polyline, config)
+        return SpeedProfile.curvature_bound(polyline, limits)
     if not np.any(np.abs(polyline.curvatures) > 1e-9):
         return None
-    return SpeedProfile.plan(polyline, config, start_speed=start_speed)
+    return SpeedProfile.plan(polyline, limits, start_speed=start_speed)

@@ -8,7 +8,7 @@ towards the end of the polyline and, near the end, by the predicted remaining di
 control period, so the turtle stops on the end point. A turtle facing more than
 `turn_first_angle` away from the path turns in place first.
 
-On a base with acceleration limits (`ControlConfig.limited`) braking follows the limits, curves
+On a base with acceleration limits (`Limits.limited`) braking follows the limits, curves
 follow their time-optimal speed profile (`profile`), and a leg ends only once a stop is within
 reach. A polyline is driven forwards: the walker shows one driven backwards as a forward one.
 """
@@ -19,7 +19,7 @@ import math
 from typing import Protocol
 
 from turtle_traj.core.control.commands import STOP, Command
-from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.control.config import ControlConfig, Limits
 from turtle_traj.core.control.dynamics import can_stop, stopping_speed
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile, profile_for
@@ -49,17 +49,17 @@ def _braking_speed(remaining: float, deceleration: float, period_s: float,
     return min(braking, remaining / (share * period_s))
 
 
-def _lands(remaining: float, prediction: Prediction, config: ControlConfig) -> bool:
+def _lands(remaining: float, prediction: Prediction, limits: Limits) -> bool:
     """Whether to land on the end with one more command: the approach allowed for late
     commands and stopped inside the tolerance, short of the end, and the turtle stands there.
     Once per leg, so a command that acts late again cannot start a hunt (it carries the turtle
     at most the tolerance past the end). Only where the prediction is exact to the step,
     turtlesim's: a base's odometry and inertia leave it a little off."""
     return (prediction.late_steps > 0 and prediction.standing and prediction.turns_first
-            and not config.limited and abs(remaining) > LANDED)
+            and not limits.limited and abs(remaining) > LANDED)
 
 
-def _finished(arrived: bool, prediction: Prediction, config: ControlConfig,
+def _finished(arrived: bool, prediction: Prediction, limits: Limits,
               landed: bool = False) -> Command | None:
     """None when a leg is over: the predicted pose is there, and the turtle itself too.
 
@@ -69,7 +69,7 @@ def _finished(arrived: bool, prediction: Prediction, config: ControlConfig,
     A base with acceleration limits must be able to stop within the next period.
     """
     if (arrived and (prediction.late_steps == 0 or prediction.standing or landed)
-            and (not config.limited or can_stop(prediction.velocity, config))):
+            and (not limits.limited or can_stop(prediction.velocity, limits))):
         return None
     return STOP
 
@@ -83,13 +83,13 @@ class TrackerGains(Protocol):
     turn_first_angle: float  # heading error beyond which it turns before driving [rad]
 
 
-def _steering(error: float, gain: float, config: ControlConfig) -> float:
+def _steering(error: float, gain: float, limits: Limits) -> float:
     """The turn rate that corrects a heading error: proportional, and on a base with an
     angular acceleration limit no faster than it can stop turning when the error is gone
     (sqrt(2 alpha |error|)), or a high gain would overshoot, rate-limited."""
     rate = gain * abs(error)
-    if config.max_angular_accel:
-        rate = min(rate, math.sqrt(2.0 * config.max_angular_accel * abs(error)))
+    if limits.angular_accel:
+        rate = min(rate, math.sqrt(2.0 * limits.angular_accel * abs(error)))
     return math.copysign(rate, error)
 
 
@@ -122,9 +122,9 @@ class TurnTracker:
         error = remaining - wrap_angle(predicted.theta - pose.theta)
         landing = False
         if abs(error) < config.heading_tolerance:
-            if self.landed or not _lands(error, prediction, config):
-                return _finished(abs(remaining) < config.heading_tolerance, prediction, config,
-                                 self.landed)
+            if self.landed or not _lands(error, prediction, config.limits):
+                return _finished(abs(remaining) < config.heading_tolerance, prediction,
+                                 config.limits, self.landed)
             self.landed = landing = True
         overrun = prediction.overrun_when(config.limited)[1]
         rate = min(config.angular_speed,
@@ -183,7 +183,7 @@ class PolylineTracker:
         """The segment nearest `pose`, near the last one, and the fraction along it."""
         return self._project(pose)[:2]
 
-    def update(self, pose: Pose2D, prediction: Prediction, config: ControlConfig,
+    def update(self, pose: Pose2D, prediction: Prediction, limits: Limits,
                gains: TrackerGains, nearest: tuple[int, float]) -> Command | None:
         """Steer from the predicted pose; progress and arrival are the actual pose's.
 
@@ -198,10 +198,10 @@ class PolylineTracker:
         remaining = self._remaining(predicted, self.segment, fraction)
         landing = False
         if self._arrived(predicted, self.segment, remaining):
-            if self.landed or not _lands(remaining, prediction, config):
+            if self.landed or not _lands(remaining, prediction, limits):
                 arrived = self._arrived(pose, actual_segment,
                                         self._remaining(pose, actual_segment, actual_fraction))
-                return _finished(arrived, prediction, config, self.landed)
+                return _finished(arrived, prediction, limits, self.landed)
             self.landed = landing = True
         pose = predicted
 
@@ -212,69 +212,69 @@ class PolylineTracker:
         # acceleration limit at every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside
         # it), and started a circle from rest turning at half its rate (0.6 mm outside it);
         # turtlesim turns at once, and its chords are aimed at with the lead below
-        curvature = float((polyline.tangent_curvatures if config.limited
+        curvature = float((polyline.tangent_curvatures if limits.limited
                            else polyline.curvatures)[self.segment])
-        if config.limited:
+        if limits.limited:
             path_heading += curvature * float(polyline.segment_lengths[self.segment]) * (
                 fraction - 0.5)
         heading_error = wrap_angle(path_heading - facing)
 
-        speed = self._speed(fraction, remaining, curvature, prediction, config, landing,
-                            config.linear_braking or gains.deceleration)
+        speed = self._speed(fraction, remaining, curvature, prediction, limits, landing,
+                            limits.linear_braking or gains.deceleration)
         if abs(heading_error) > gains.turn_first_angle:
             speed = 0.0
         else:
             speed *= math.cos(heading_error)
         # turtlesim turns first and then moves along the new heading, so on an arc the motion
         # leads the heading by the turn of one period: aim half a chord behind the tangent.
-        lead = (abs(speed) * curvature * config.period_s / 2.0 if prediction.turns_first
+        lead = (abs(speed) * curvature * limits.period_s / 2.0 if prediction.turns_first
                 else 0.0)
         target = path_heading - lead - math.atan(gains.cross_track_gain * offset)
-        steering = _steering(wrap_angle(target - facing), gains.heading_gain, config)
-        angular = _clamp(abs(speed) * curvature + steering, config.angular_speed)
+        steering = _steering(wrap_angle(target - facing), gains.heading_gain, limits)
+        angular = _clamp(abs(speed) * curvature + steering, limits.angular_speed)
         return Command(speed, angular)
 
 
     def _speed(self, fraction: float, remaining: float, curvature: float,
-               prediction: Prediction, config: ControlConfig, landing: bool,
+               prediction: Prediction, limits: Limits, landing: bool,
                braking: float) -> float:
         """The speed along the path for this period, before the heading's share: the top
         speed, the base's profile or the curve's turn rate, and braking towards the end (signed:
         negative to back up to it)."""
-        speed = config.linear_speed
-        if config.limited:
-            profiled = self._profiled_speed(fraction, prediction.velocity, config)
+        speed = limits.linear_speed
+        if limits.limited:
+            profiled = self._profiled_speed(fraction, prediction.velocity, limits)
             if remaining != math.inf:
                 # the profile ends at rest, so it allows nothing on its last millimetre: a
                 # base that stopped a hair short (its motors lag, its tyres slip) may still
                 # creep there in one period, a move from rest to rest within reach
-                profiled = max(profiled, min(abs(remaining) / config.period_s,
-                                             config.max_linear_accel * config.period_s))
+                profiled = max(profiled, min(abs(remaining) / limits.period_s,
+                                             limits.linear_accel * limits.period_s))
             speed = min(speed, profiled)
         elif abs(curvature) > 1e-9:
-            speed = min(speed, 0.8 * config.angular_speed / abs(curvature))
+            speed = min(speed, 0.8 * limits.angular_speed / abs(curvature))
         if remaining != math.inf:
-            overrun = prediction.overrun_when(config.limited)[0]
+            overrun = prediction.overrun_when(limits.limited)[0]
             speed = min(speed, _braking_speed(max(abs(remaining) - overrun, 0.0),
-                                              braking, config.period_s,
-                                              prediction, config.limited, landing))
+                                              braking, limits.period_s,
+                                              prediction, limits.limited, landing))
             speed = math.copysign(speed, remaining)
         return speed
 
     def _profiled_speed(self, fraction: float, velocity: Command,
-                        config: ControlConfig) -> float:
+                        limits: Limits) -> float:
         """The profile's speed where this command's period ends (from a standstill the
         profile starts at 0: it is the window that accelerates the base). The profile is the
         plan's (`Plan.profiles`), planned with the request rather than in the control loop."""
         polyline = self.polyline
         if self._profile is UNPLANNED:  # not planned with the plan: the settings changed
-            self._profile = profile_for(polyline, config)
+            self._profile = profile_for(polyline, limits)
         if self._profile is None:  # a straight line
-            return config.linear_speed
+            return limits.linear_speed
         arc = (polyline.cumulative_length[self.segment]
                + fraction * polyline.segment_lengths[self.segment])
-        reach = abs(velocity.linear) + (config.max_linear_accel or 1e6) * config.period_s
-        ahead = min(reach, config.linear_speed) * config.period_s
+        reach = abs(velocity.linear) + (limits.linear_accel or 1e6) * limits.period_s
+        ahead = min(reach, limits.linear_speed) * limits.period_s
         if polyline.repeat:
             return self._profile.speed_at((arc + ahead) % max(polyline.length, 1e-12))
         return self._profile.speed_at(arc + ahead)

@@ -28,7 +28,7 @@ import numpy as np
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.controller import Controller, Limits, State, Stroke
+from turtle_traj.core.control.controller import Controller, State, Stroke
 from turtle_traj.core.control.dynamics import within_reach
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
@@ -174,7 +174,6 @@ class PlanWalker:
         self._periods = 0  # commands asked for in this stroke
         self._late = 0  # answers in a row later than the period
         self._last_command = STOP  # for a caller without a model of the robot
-        self._limits: tuple[ControlConfig, Limits] | None = None  # settings, their limits
         self._reach = ARRIVED_M  # the stroke's: how near its end counts as arrived
         self._driven_before = 0.0  # m of the strokes (and laps) finished
         self.path_m = plan.path.length
@@ -252,7 +251,8 @@ class PlanWalker:
         if self._turn is None:
             self._turn = TurnTracker(turn, pose)
         command = self._turn.update(pose, prediction, config)
-        return None if command is None else within_reach(command, prediction.velocity, config)
+        return None if command is None else within_reach(command, prediction.velocity,
+                                                         config.limits)
 
     def _stroke(self, stroke: Polyline, pose: Pose2D, config: ControlConfig,
                 prediction: Prediction) -> Command | None:
@@ -267,7 +267,7 @@ class PlanWalker:
                 prediction.pose.x, prediction.pose.y, prediction.pose.theta + flip),
                 velocity=Command(-velocity.linear, velocity.angular))
             measured = Pose2D(pose.x, pose.y, pose.theta + flip)
-        state = State(seen, measured, self._periods * config.period_s, self._limits_of(config),
+        state = State(seen, measured, self._periods * config.period_s, config.limits,
                       nearest)
         self._periods += 1
         answer = self._call('command', state, period_s=config.period_s)
@@ -295,7 +295,7 @@ class PlanWalker:
         profile = self._profiles[self.step_index] if self._profiles else None
         self._reach = max(tolerance, ARRIVED_M)
         self._call('start', Stroke(stroke.points, self._lap, stroke.repeat, tolerance, profile,
-                                   stroke), self._limits_of(config))
+                                   stroke), config.limits)
 
     def _check_arrival(self, stroke: Polyline, pose: Pose2D) -> None:
         """The controller answered None: accept that the stroke's end (or an endless stroke's
@@ -312,14 +312,6 @@ class PlanWalker:
             f"controller '{self.name}' claimed the end after {self.driven_m:.2f} m of "
             f'{self.path_m:.2f} m: {left:.3f} m of the stroke left, {miss:.3f} m from its end '
             f'(arrived is within {self._reach:.3f} m of it, along the stroke and straight)')
-
-    def _limits_of(self, config: ControlConfig) -> Limits:
-        """The limits of `config`, made again only when the settings change."""
-        if self._limits is None or self._limits[0] is not config:
-            self._limits = (config, Limits(
-                config.linear_speed, config.angular_speed, config.max_linear_accel,
-                config.max_angular_accel, config.period_s, config.max_linear_decel))
-        return self._limits[1]
 
     def _call(self, method: str, *args, period_s: float | None = None):
         """The controller's answer; timed against `period_s` when one is given and the
@@ -356,7 +348,7 @@ class PlanWalker:
         limited = within_reach(Command(
             max(-config.linear_speed, min(config.linear_speed, command.linear)),
             max(-config.angular_speed, min(config.angular_speed, command.angular))),
-            previous, config)
+            previous, config.limits)
         if (abs(limited.linear - command.linear) > 1e-9
                 or abs(limited.angular - command.angular) > 1e-9):
             self.clamped += 1

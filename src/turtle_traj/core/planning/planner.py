@@ -68,7 +68,7 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
                           drawn=checked.points())
     if run.limited:  # planned here, not in the control loop (a curve's takes milliseconds)
         planned = replace(planned, profiles=tuple(
-            profile_for(leg, run, start_speed if index == 0 else 0.0)
+            profile_for(leg, run.limits, start_speed if index == 0 else 0.0)
             if isinstance(leg, Polyline) else None
             for index, leg in enumerate(planned.path.legs)))
     return planned
@@ -89,7 +89,7 @@ def _rounded(path: Path, tolerance: float, run: ControlConfig) -> Path:
 
 def _stretch_duration(polyline: Polyline, *, config: ControlConfig) -> float:
     """The least time the controller drives `polyline` in, from rest to rest."""
-    profiles = (profile_for(polyline, config),) if config.limited else ()
+    profiles = (profile_for(polyline, config.limits),) if config.limited else ()
     return least_time_s(Path(legs=(polyline,)), config, profiles)
 
 
@@ -102,7 +102,7 @@ def _corner_cost(points: np.ndarray, heading_in: float, heading_out: float, *,
     before = points[0] - run_up * np.array([math.cos(heading_in), math.sin(heading_in)])
     after = points[-1] + run_up * np.array([math.cos(heading_out), math.sin(heading_out)])
     window = Polyline(np.concatenate(([before], points, [after])))
-    return SpeedProfile.plan(window, config).duration_s - window.length / speed
+    return SpeedProfile.plan(window, config.limits).duration_s - window.length / speed
 
 
 def largest_size(trajectory: str, request: Any, start: Pose2D,

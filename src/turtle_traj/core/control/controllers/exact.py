@@ -17,7 +17,6 @@ Its four gains are `Tunable`s like any controller's, served by the node as
 from __future__ import annotations
 
 from turtle_traj.core.control.commands import Command
-from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controller import Limits, State, Stroke
 from turtle_traj.core.control.dynamics import within_reach
 from turtle_traj.core.control.trackers import UNPLANNED, PolylineTracker
@@ -39,30 +38,15 @@ class ExactFollower:
 
     def __init__(self) -> None:
         self._tracker: PolylineTracker | None = None
-        self._tolerance = 0.0
-        self._limits: Limits | None = None
-        self._config: ControlConfig | None = None  # the tracker's, for `_limits`
 
     def start(self, stroke: Stroke, limits: Limits) -> None:
-        self._tolerance = stroke.tolerance
-        self._configure(limits)
         profile = stroke.profile if stroke.profile is not None else UNPLANNED
         polyline = stroke.polyline or Polyline(stroke.points, repeat=stroke.endless)
         self._tracker = PolylineTracker(polyline, stroke.tolerance, profile)
 
     def command(self, state: State) -> Command | None:
-        if state.limits is not self._limits:
-            self._configure(state.limits)  # the node's parameters changed them
         nearest = state.nearest if state.nearest is not None else self._tracker.locate(
             state.measured)
-        command = self._tracker.update(state.measured, state.robot, self._config, self, nearest)
-        return None if command is None else within_reach(command, state.velocity, self._config)
-
-    def _configure(self, limits: Limits) -> None:
-        self._limits = limits
-        self._config = ControlConfig(
-            linear_speed=limits.linear_speed, angular_speed=limits.angular_speed,
-            angular_deceleration=0.0, position_tolerance=self._tolerance,
-            heading_tolerance=0.0, period_s=limits.period_s,
-            max_linear_accel=limits.linear_accel, max_linear_decel=limits.linear_decel,
-            max_angular_accel=limits.angular_accel)
+        command = self._tracker.update(state.measured, state.robot, state.limits, self,
+                                       nearest)
+        return None if command is None else within_reach(command, state.velocity, state.limits)
