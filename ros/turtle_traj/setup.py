@@ -36,5 +36,6 @@ setup(
         'turtle_traj = turtle_traj.cli.main:main',
         'teleop = turtle_traj.cli.teleop:main',
         'fleet = turtle_traj.apps.fleet:main',
+        'controller_server = turtle_traj.apps.controller_server:main',
     ]},
 )

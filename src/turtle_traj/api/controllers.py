@@ -2,7 +2,8 @@
 
 `exact` (the node's own follower) and the shipped `dwpp` and `pure_pursuit` by name; entry
 points in the group `turtle_traj.controllers` add more by name; and `package.module:Class`
-names any importable class (or one in a module in the current folder).
+names any importable class (or one in a module in the current folder). In a Nav2 parameter
+file (`<id>.plugin`), the shipped ones are `turtle_traj::<Class>` (`plugin_names`).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from turtle_traj.core.control.controllers.catalogue import (
 )
 
 ENTRY_POINT_GROUP = 'turtle_traj.controllers'
+PLUGIN_PREFIX = 'turtle_traj::'
 
 
 class UnknownController(ValueError):
@@ -32,6 +34,29 @@ def names() -> list[str]:
     """Every controller offered by name: shipped, then installed entry points."""
     installed = sorted(point.name for point in entry_points(group=ENTRY_POINT_GROUP))
     return [*SHIPPED, *(name for name in installed if name not in SHIPPED)]
+
+
+def plugin_names() -> dict[str, str]:
+    """The shipped controllers' names in a Nav2 parameter file (`turtle_traj::Dwpp`), to ours."""
+    return {f'{PLUGIN_PREFIX}{factory.__name__}': name for name, factory in SHIPPED.items()}
+
+
+def from_plugin_name(plugin: str) -> str:
+    """Our name of the controller a Nav2 parameter file's `<id>.plugin` names: a shipped one
+    as `turtle_traj::<Class>`, or a class of one's own as `package.module:Class`.
+
+    :raises UnknownController: any other, a Nav2 C++ plugin among them, with the names to use.
+    """
+    shipped = plugin_names()
+    if plugin in shipped:
+        return shipped[plugin]
+    if '::' not in plugin and ':' in plugin:
+        resolve(plugin)
+        return plugin
+    kind = ("a Nav2 C++ plugin, which this server cannot load" if '::' in plugin
+            and not plugin.startswith(PLUGIN_PREFIX) else 'not a controller of this server')
+    raise UnknownController(f"{plugin!r} is {kind}: name one of {', '.join(shipped)}, or "
+                            'your own as package.module:Class')
 
 
 def choose(name: str) -> Chosen:

@@ -1,8 +1,9 @@
 """`turtle-traj`: the command line of the trajectory node.
 
 One subcommand per entry of the trajectory registry (`draw square`, `go-to`, ...), each with
-an option or argument per request field, plus stop, reset, save, menu, params, up, teleop,
-record, play and plot. A trajectory runs as a goal of the node's draw action.
+an option or argument per request field, plus stop, reset, save, menu, params, up,
+controller-server, teleop, record, play and plot. A trajectory runs as a goal of the node's
+draw action.
 """
 
 from __future__ import annotations
@@ -158,6 +159,11 @@ def build_parser() -> argparse.ArgumentParser:
                     help='the physics base (MuJoCo, a TurtleBot3 Burger) instead of turtlesim: '
                          'the node drives it by odom and TwistStamped cmd_vel, within its limits')
     add_priority_option(up)
+    server = commands.add_parser(
+        'controller-server', help="run the managed controller server (a lifecycle node, as "
+        "Nav2's controller_server) for a Nav2 stack")
+    server.add_argument('--params-file', metavar='FILE',
+                        help="a Nav2 parameter file, whose controller_server section it reads")
     commands.add_parser('teleop', help="drive turtle1 with the keyboard, as turtlesim's "
                         'turtle_teleop_key (arrows; g t r e d c v b turn; f cancels; q quits)')
     record = commands.add_parser('record', help='record a rosbag2 bag (MCAP) until Ctrl-C: by '

@@ -1,5 +1,6 @@
-"""The subcommands that run a program of their own here (the simulator and node, the score,
-teleop, bags) rather than ask a running node: each loads what it needs only when chosen."""
+"""The subcommands that run a program of their own here (the simulator and node, the
+controller server, the score, teleop, bags) rather than ask a running node: each loads what it
+needs only when chosen."""
 
 from __future__ import annotations
 
@@ -11,6 +12,11 @@ from turtle_traj.sim.options import options_from
 def up(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
     from turtle_traj.apps.node import Options, run  # loads the simulator: only here
     return run(Options(sim=options_from(options), base=options.base, nice=options.nice))
+
+
+def controller_server(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
+    from turtle_traj.apps.controller_server import run
+    return run(options.params_file, ['turtle-traj'])
 
 
 def score(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
@@ -46,5 +52,5 @@ def bags(parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
 
 
 # by subcommand
-LOCAL_PROGRAMS = {'up': up, 'score': score, 'teleop': teleop, 'record': bags, 'play': bags,
-                  'plot': bags}
+LOCAL_PROGRAMS = {'up': up, 'controller-server': controller_server, 'score': score,
+                  'teleop': teleop, 'record': bags, 'play': bags, 'plot': bags}

@@ -19,11 +19,12 @@ Nav2's error codes with `error_msg`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
 
 import numpy as np
 from geometry_msgs.msg import Point
 from nav2_msgs.action import FollowPath
-from rclpy.action import ActionServer, CancelResponse
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import CallbackGroup
 from rclpy.node import Node
@@ -61,14 +62,37 @@ class GoalFailed(Exception):
 
 
 class Nav2FollowPath:
-    """`follow_path` on `node`: each goal's path driven through `runs`."""
+    """`follow_path` on `node`: each goal's path driven through `runs`.
 
-    def __init__(self, node: Node, runs: RunningNode, callback_group: CallbackGroup) -> None:
+    :param accepting: whether goals are accepted now (a managed server rejects them while it
+        is inactive); None: always.
+    :param controller_ids: a goal's `controller_id` -> our controller's name (a Nav2 parameter
+        file's ids, the first for an empty one); None: the id is the name.
+    """
+
+    def __init__(self, node: Node, runs: RunningNode, callback_group: CallbackGroup, *,
+                 accepting: Callable[[], bool] | None = None,
+                 controller_ids: Mapping[str, str] | None = None) -> None:
         self._runs, self._ros = runs, node
+        self._accepting = accepting
+        self._controller_ids = controller_ids
         self._running: tuple[ServerGoalHandle, RunSupervisor] | None = None
         self._server = ActionServer(node, FollowPath, ACTION, self._execute,
+                                    goal_callback=self._on_goal,
                                     cancel_callback=self._on_cancel,
                                     callback_group=callback_group)
+
+    @property
+    def running(self) -> RunSupervisor | None:
+        """The run of the goal being driven, if one is."""
+        return self._running[1] if self._running is not None else None
+
+    def _on_goal(self, _goal) -> GoalResponse:
+        if self._accepting is not None and not self._accepting():
+            self._ros.get_logger().warning(f'{ACTION}: a goal arrived while the server is '
+                                           'inactive: rejected')
+            return GoalResponse.REJECT
+        return GoalResponse.ACCEPT
 
     def destroy(self) -> None:
         self._server.destroy()
@@ -122,9 +146,16 @@ class Nav2FollowPath:
         points = _points(goal.path)
         self._check_frames(goal.path)
         controller = None
-        if goal.controller_id:
+        name = goal.controller_id
+        if self._controller_ids is not None:
+            name = self._controller_ids.get(name or next(iter(self._controller_ids)))
+            if name is None:
+                raise GoalFailed(Result.INVALID_CONTROLLER, f'controller_id '
+                                 f'{goal.controller_id!r} is not one of this server\'s: '
+                                 f"{', '.join(self._controller_ids)}")
+        if name:
             try:
-                controller = self._runs.choose_controller(goal.controller_id)
+                controller = self._runs.choose_controller(name)
             except UnknownController as error:
                 raise GoalFailed(Result.INVALID_CONTROLLER, str(error)) from None
         request = FollowPathRequest.Request(

@@ -32,7 +32,10 @@ from turtle_traj.node.trajectory_services import TrajectoryServices
 class TrajectoryNode(Node):
     """Drives one turtle along trajectories on request (node name `turtle_traj`)."""
 
-    def __init__(self, node_name: str = 'turtle_traj', **kwargs) -> None:
+    def __init__(self, node_name: str = 'turtle_traj', *, follow_path: bool = True,
+                 **kwargs) -> None:
+        """:param follow_path: serve Nav2's FollowPath action (`nav2_follow_path`); a managed
+        controller server serves it on its own node instead."""
         super().__init__(node_name, **kwargs)
         self._runs: RunManager | None = None
         # The validator goes first so that overrides given at start-up are checked too; a new
@@ -58,7 +61,7 @@ class TrajectoryNode(Node):
         self.pose_topic = runs.pose_topic
         TrajectoryServices(self, runs, group)  # ~/draw_square, ...: one per registry entry
         self._draw_action = DrawActionServer(self, runs, group)
-        self._nav2 = _nav2_follow_path(self, runs, group)
+        self._nav2 = _nav2_follow_path(self, runs, group) if follow_path else None
         self._commands = CommandServices(self, runs, group)  # ~/stop and ~/reset
         self._lease = LeaseWatch(self, lambda why: self.abort_run(why))  # ~/lease
         self.stop_service = self._commands.stop_service
@@ -89,6 +92,11 @@ class TrajectoryNode(Node):
                 and not solver_loaded()):
             self._solver_loader = threading.Thread(target=load_solver, name='load_solver')
             self._solver_loader.start()
+
+    @property
+    def runs(self) -> RunManager:
+        """What drives the runs, for a server that serves requests on a node of its own."""
+        return self._runs
 
     @property
     def pose(self) -> Pose2D | None:
