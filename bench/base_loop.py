@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from types import SimpleNamespace
 
 import numpy as np
 
 from turtle_traj.api.controllers import choose
+from turtle_traj.apps.score.courses import follow_request
 from turtle_traj.apps.score.loop import drive
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.geometry.path import Pose2D
@@ -83,13 +83,6 @@ def base_settings(limits: Limits, **values) -> Settings:
         'max_linear_accel': limits.a, 'max_angular_accel': limits.alpha,
         'arena_min_x': -100.0, 'arena_min_y': -100.0, 'arena_max_x': 100.0,
         'arena_max_y': 100.0, **values})
-
-
-def follow_request(points: np.ndarray, **fields) -> SimpleNamespace:
-    return SimpleNamespace(points=[SimpleNamespace(x=float(x), y=float(y), z=0.0)
-                                   for x, y in points],
-                           **{'linear_speed': 0.0, 'closed': False, 'corner_tolerance': 0.0,
-                              **fields})
 
 
 def drive_turtle_traj(points: np.ndarray, start: Pose2D, limits: Limits, *,

@@ -228,3 +228,47 @@ def test_a_goal_picks_its_controller_by_the_files_id(system):
     driven = np.array([(pose.x, pose.y) for pose in server.poses])
     # the exact follower: on the L to the millimetre, corners turned in place
     assert distance_to_polyline(driven, points).max() < 0.002
+
+
+def test_a_speed_limit_caps_the_speed_from_the_next_control_period_and_lifts(system):
+    """Nav2's speed filter publishes SpeedLimit on speed_limit: 50 % of the top speed (0.5 m/s
+    in the file), then 0 (no limit). Braking at 10 m/s² (ax_min), half the speed is within
+    reach of one 50 ms period."""
+    from nav2_msgs.msg import SpeedLimit
+    server = system(**{'FollowPath.ax_min': -10.0,
+                       'FollowPath.plugin': 'turtle_traj::ExactFollower'})
+    limits = server.client.create_publisher(SpeedLimit, '/speed_limit', 10)
+    assert server.transition(Transition.TRANSITION_CONFIGURE)
+    assert server.transition(Transition.TRANSITION_ACTIVATE)
+    assert server.spin_until(lambda: bool(server.poses), timeout_s=10.0)
+    start = server.poses[-1]
+    handle = send(server, [(start.x, start.y), (start.x + 4.0, start.y)])
+    assert handle.accepted
+    assert server.spin_until(lambda: server.poses[-1].linear_velocity > 0.499, timeout_s=10.0)
+    limits.publish(SpeedLimit(percentage=True, speed_limit=50.0))
+    assert server.spin_until(
+        lambda: server.server.follower.get_parameter('linear_speed').value == 0.25,
+        timeout_s=1.0)
+    limited_at, period = server.sim_time_s, 1.0 / 20.0
+    server.commands.clear()
+    poses_from = len(server.poses)
+    server.spin_sim_seconds(1.0)
+    later = [msg.twist.linear.x for stamp, msg in server.commands if stamp > limited_at + period]
+    assert later and max(later) <= 0.25 + 1e-9  # commanded
+    measured = [pose.linear_velocity for pose in server.poses[poses_from:]]
+    assert max(measured[4:]) <= 0.25 + 1e-6  # and measured, a control period on (3 steps)
+    limits.publish(SpeedLimit(percentage=False, speed_limit=0.0))  # lifted
+    assert server.spin_until(lambda: server.poses[-1].linear_velocity > 0.499, timeout_s=2.0)
+    result = handle.get_result_async()
+    assert server.spin_until(result.done, timeout_s=30.0)
+    assert result.result().status == GoalStatus.STATUS_SUCCEEDED
+
+
+@pytest.mark.parametrize(('percentage', 'value', 'speed'), [
+    (True, 50.0, 0.25), (False, 0.1, 0.1), (False, 2.0, 0.5), (True, 0.0, 0.5), (False, 0.0, 0.5),
+    (True, 150.0, None), (False, -1.0, None), (False, math.nan, None), (True, 1e-6, 0.01)])
+def test_speed_limits_as_nav2_states_them(percentage, value, speed):
+    from nav2_msgs.msg import SpeedLimit
+
+    from turtle_traj.node.speed_limit import limited_speed
+    assert limited_speed(SpeedLimit(percentage=percentage, speed_limit=value), 0.5) == speed

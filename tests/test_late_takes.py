@@ -74,11 +74,9 @@ def _follow(late: set[int]) -> tuple[np.ndarray, list[int], list[float], list[in
 
 
 def _follow_request(points: np.ndarray):
-    from types import SimpleNamespace
+    from turtle_traj.apps.score.courses import follow_request
 
-    return SimpleNamespace(points=[SimpleNamespace(x=float(x), y=float(y), z=0.0)
-                                   for x, y in points],
-                           linear_speed=0.0, closed=False, corner_tolerance=0.0)
+    return follow_request(points)
 
 
 def test_the_late_take_falls_amid_the_braking_for_the_first_corner():

@@ -17,6 +17,7 @@ from turtle_traj_interfaces.action import Draw
 from turtlesim.srv import TeleportAbsolute
 
 from turtle_traj.apps.score.courses import planner_path
+from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 from turtle_traj.testing.geometry import distance_to_polyline, xy
 
@@ -167,6 +168,26 @@ def test_a_grid_planners_staircase_is_followed_exactly_to_its_goal(turtle_system
     driven = xy(turtle_system.poses)
     assert distance_to_polyline(driven, points).max() < 3e-3
     assert math.dist(driven[-1], points[-1]) < 0.01
+
+
+@pytest.mark.parametrize(('orientation', 'heading'), [
+    ((0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4)), math.pi / 2),  # yaw 90 degrees
+    ((0.0, 0.0, 0.0, 0.0), 0.0),  # unset: it ends facing along the last segment
+])
+def test_the_goal_is_a_pose_its_last_orientation_reached(turtle_system, follow, orientation,
+                                                         heading):
+    start = turtle_system.poses[-1]
+    points = np.array([(start.x, start.y), (start.x + 1.0, start.y)])  # along +x
+    path = path_message(points)
+    last = path.poses[-1].pose.orientation
+    last.x, last.y, last.z, last.w = orientation
+    future = follow.send_goal_async(FollowPath.Goal(path=path))
+    assert turtle_system.spin_until(future.done, timeout_s=10.0)
+    outcome = path_result(turtle_system, future.result())
+    assert outcome.status == GoalStatus.STATUS_SUCCEEDED
+    end = turtle_system.poses[-1]
+    assert math.dist((end.x, end.y), points[-1]) < 0.002
+    assert abs(wrap_angle(end.theta - heading)) < 0.002  # turtlesim's float32 heading
 
 
 @pytest.mark.parametrize(('fields', 'code', 'said'), [

@@ -230,6 +230,8 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
         (Field('points', f'points as x,y pairs (at most {MAX_POINTS})', 'm', type=POINTS,
                default=None, positional=True),
          Field('closed', 'return to the first point', type=BOOL, default=False),
+         Field('theta', 'final heading (default: none)', 'deg', default=None,
+               given='use_theta', low=-180.0, high=180.0, menu=False),
          LINEAR_SPEED, CORNER_TOLERANCE),
         ('follow-path',), Example((2.5, 2.5, 0.0), {
             'points': [(8.5, 2.5), (8.5, 8.5), (5.5, 5.5), (2.5, 8.5)], 'closed': True})),

@@ -10,7 +10,8 @@ behave as Nav2's servers' do:
   robot's follower made: a trajectory node (`<name>_follower`, in the same namespace) with the
   settings the file gives, which reads the odometry and publishes the commands;
 - active: `follow_path` (nav2_msgs/action/FollowPath) on this node drives goals; a goal's
-  `controller_id` names one of the file's `controller_plugins`;
+  `controller_id` names one of the file's `controller_plugins`; speed limits on
+  `speed_limit_topic` (Nav2's speed filter's) cap the speed from the next control period;
 - deactivate: a goal under way is aborted and the robot stopped at once; new goals are
   rejected until it is active again;
 - cleanup and shutdown: the action server and the follower are destroyed.
@@ -32,6 +33,7 @@ from turtle_traj.core.parameters.nav2_file import (
     ServerConfig,
     read_server_section,
 )
+from turtle_traj.node.speed_limit import SpeedLimits
 from turtle_traj.node.trajectory_node import TrajectoryNode
 
 NODE_NAME = 'controller_server'
@@ -48,6 +50,7 @@ class ControllerServer(LifecycleNode):
         self.configure_error: str | None = None  # why the last configure failed
         self.follower: TrajectoryNode | None = None
         self._follow_path = None
+        self._speed_limits: SpeedLimits | None = None
         self._active = False
         self._group = ReentrantCallbackGroup()
         self._change_state = self._service_change_state.callback
@@ -86,6 +89,7 @@ class ControllerServer(LifecycleNode):
         self._follow_path = Nav2FollowPath(self, self.follower.runs, self._group,
                                            accepting=lambda: self._active,
                                            controller_ids=config.controllers)
+        self._speed_limits = SpeedLimits(self, config.speed_limit_topic, self.follower)
         if config.ignored:
             self.get_logger().warning('keys of the controller_server section this server does '
                                       'not use: ' + '; '.join(config.ignored))
@@ -155,6 +159,9 @@ class ControllerServer(LifecycleNode):
         if self._follow_path is not None:
             self._follow_path.destroy()
             self._follow_path = None
+        if self._speed_limits is not None:
+            self._speed_limits.destroy()
+            self._speed_limits = None
         if self.follower is not None:
             follower, self.follower = self.follower, None
             if follower.executor is not None:

@@ -6,7 +6,9 @@ path is followed exactly (turns in place at its corners, as `follow_path` does),
 the poses the node reads, from the robot: a planner's path begins where the robot stood when it
 was planned, so the poses up to the end of the segment nearest the robot (walking from the
 path's start) are behind it, and the robot drives from where it stands to the next one.
-`controller_id` picks a controller for the goal (empty: the node's `controller`). Feedback at
+`controller_id` picks a controller for the goal (empty: the node's `controller`). The goal is
+a pose: the run ends turning in place to the last pose's orientation (none where it is a zero
+quaternion). Feedback at
 10 Hz: the path length left from the nearest point and the speed commanded. A new goal while
 one runs replaces it, as Nav2's controller server does: the old run drives on while the new path
 is planned, then the new one takes over from where the robot is, without a stop (on a base
@@ -160,6 +162,9 @@ class Nav2FollowPath:
                 raise GoalFailed(Result.INVALID_CONTROLLER, str(error)) from None
         request = FollowPathRequest.Request(
             points=[Point(x=x, y=y) for x, y in self._ahead(points)])
+        heading = _final_heading(goal.path)
+        if heading is not None:  # the goal is a pose: end facing its orientation
+            request.use_theta, request.theta = True, heading
         return controller, request
 
     def _check_frames(self, path) -> None:
@@ -204,6 +209,16 @@ class Nav2FollowPath:
             self._ros.get_logger().warning(f'{ACTION}: {message}')
         goal_handle.abort()
         return Result(error_code=code, error_msg=message)
+
+
+def _final_heading(path) -> float | None:
+    """The yaw of the path's last pose; None where its orientation is unset (a zero
+    quaternion)."""
+    q = path.poses[-1].pose.orientation
+    norm = math.sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w)
+    if not math.isfinite(norm) or norm < 1e-9:
+        return None
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def _points(path) -> list[tuple[float, float]]:

@@ -61,11 +61,13 @@ def paper_sine() -> np.ndarray:
     return np.stack([2.0 + x, 5.0 + np.sin(2.0 * math.pi * x / 6.0)], axis=1)
 
 
-def follow_request(points: np.ndarray) -> SimpleNamespace:
-    """A FollowPath request through `points`: exact corners, the node's speeds."""
+def follow_request(points: np.ndarray, **fields) -> SimpleNamespace:
+    """A FollowPath request through `points`: exact corners, the node's speeds, no final
+    heading, but for `fields`."""
     return SimpleNamespace(points=[SimpleNamespace(x=float(x), y=float(y), z=0.0)
                                    for x, y in points],
-                           linear_speed=0.0, closed=False, corner_tolerance=0.0)
+                           **{'linear_speed': 0.0, 'closed': False, 'corner_tolerance': 0.0,
+                              'use_theta': False, 'theta': 0.0, **fields})
 
 
 def _demo_courses() -> list[Course]:

@@ -171,9 +171,11 @@ def go_to(start: Pose2D, *, x: float, y: float, final_heading: float | None,
 
 
 def follow(start: Pose2D, *, points: Sequence[tuple[float, float]], closed: bool,
-           corner_angle_rad: float, reached: float = 0.0) -> Path:
+           corner_angle_rad: float, reached: float = 0.0,
+           final_heading: float | None = None) -> Path:
     """A polyline through `points`, reached from the current position unless that is within
-    `reached` of the first point (a turtle standing there needs no leg to it)."""
+    `reached` of the first point (a turtle standing there needs no leg to it); then a turn to
+    `final_heading`, if one is given."""
     waypoints = np.array(points, dtype=float).reshape(-1, 2)
     if closed:
         waypoints = np.vstack((waypoints, waypoints[:1]))
@@ -181,6 +183,10 @@ def follow(start: Pose2D, *, points: Sequence[tuple[float, float]], closed: bool
     route = (waypoints if float(np.hypot(*(waypoints[0] - here))) <= reached
              else np.vstack((here, waypoints)))
     legs = legs_from_polyline(start, route, corner_angle_rad=corner_angle_rad)
+    if final_heading is not None:
+        x, y = (float(value) for value in route[-1])
+        heading = Path(tuple(legs)).end_heading if legs else start.theta
+        legs.append(Turn(x, y, heading, shortest_angular_distance(heading, final_heading)))
     return Path(tuple(legs), closed=closed)
 
 

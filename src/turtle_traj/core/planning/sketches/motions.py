@@ -165,7 +165,8 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     corner_angle = settings.defaults.corner_angle
     reached = settings.defaults.goal_tolerance  # arrived there, as a go-to: no leg to it
     given = shapes.follow(start, points=points, closed=request.closed,
-                          corner_angle_rad=corner_angle, reached=reached)
+                          corner_angle_rad=corner_angle, reached=reached,
+                          final_heading=request.theta if request.use_theta else None)
     return Sketch(f'path through {len(points)} points', lambda _: given,
                   linear_speed=requested_speed('linear_speed', request.linear_speed))
 
