@@ -1,7 +1,7 @@
 """The tutorials run as written, each in a folder of its own.
 
-In page order: a Python block whose first line is `# file: NAME` is saved as NAME; any other
-Python block runs as a script; each `$ ` line of a console block runs as a shell user would
+In page order: a Python or YAML block whose first line is `# file: NAME` is saved as NAME;
+any other Python block runs as a script; each `$ ` line of a console block runs as a shell user would
 type it (`turtle-traj` and `python` from this venv), a command ending in `&` in the background
 (waited for until it says it serves, and ended after the page). The lines shown under a command
 are its expected output: each must match a line it printed, in order, `...` standing for any
@@ -28,10 +28,13 @@ def tutorial_steps(page: Path) -> list[tuple[str, str, list[str]]]:
     """('file', name, [text]) | ('python', '', [text]) | ('command', line, expected lines)."""
     steps = []
     for language, text in BLOCK.findall(page.read_text()):
-        if language == 'python':
+        if language in ('python', 'yaml'):
             first, _, rest = text.partition('\n')
             named = re.fullmatch(r'# file: (\S+)', first)
-            steps.append(('file', named[1], [rest]) if named else ('python', '', [text]))
+            if named:
+                steps.append(('file', named[1], [rest]))
+            elif language == 'python':
+                steps.append(('python', '', [text]))
         elif language == 'console':
             for line in text.splitlines():
                 if line.startswith('$ '):

@@ -94,7 +94,7 @@ class BaseNode(Node):
         self.get_logger().info(
             f'physics base: wheels r={self.spec.wheel_radius:g} m, {self.spec.wheel_separation:g}'
             f' m apart, {self.spec.mass:g} kg; {message.__name__} on '
-            f'{self.resolve_topic_name("cmd_vel")}, odometry on {self._odom.topic_name}')
+            f'{self.resolve_topic_name("cmd_vel")}, serving odometry on {self._odom.topic_name}')
 
     def _apply_parameters(self, parameters: list[Parameter]) -> None:
         values = {p.name: p.value for p in parameters}

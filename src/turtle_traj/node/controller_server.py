@@ -55,6 +55,8 @@ class ControllerServer(LifecycleNode):
         self._group = ReentrantCallbackGroup()
         self._change_state = self._service_change_state.callback
         self._service_change_state.callback = self._on_change_state
+        self.get_logger().info(f'{self.get_fully_qualified_name()}: unconfigured, serving its '
+                               'lifecycle services (configure, then activate it)')
 
     def _on_change_state(self, request: ChangeState.Request,
                          response: ChangeState.Response) -> ChangeState.Response:
