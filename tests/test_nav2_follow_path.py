@@ -13,11 +13,13 @@ from ament_index_python.packages import get_package_share_directory
 from geometry_msgs.msg import PoseStamped
 from nav2_msgs.action import FollowPath
 from nav_msgs.msg import Path as PathMsg
+from rclpy.parameter import Parameter
 from turtle_traj_interfaces.action import Draw
 from turtlesim.srv import TeleportAbsolute
 
 from turtle_traj.apps.score.courses import planner_path
 from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.parameters.table import PARAMETER
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 from turtle_traj.testing.geometry import distance_to_polyline, xy
 
@@ -36,6 +38,9 @@ Result = FollowPath.Result
 
 @pytest.fixture
 def follow(turtle_system):
+    """The action's client; the node follows goals exactly (path_tolerance 0), as the tests
+    check them to the millimetre, but for the navigation default's own test."""
+    turtle_system.node.set_parameters([Parameter('path_tolerance', value=0.0)])
     client = turtle_system.action_client(FollowPath, ACTION)
     assert turtle_system.spin_until(client.server_is_ready, timeout_s=60.0)
     return client
@@ -168,6 +173,44 @@ def test_a_grid_planners_staircase_is_followed_exactly_to_its_goal(turtle_system
     driven = xy(turtle_system.poses)
     assert distance_to_polyline(driven, points).max() < 3e-3
     assert math.dist(driven[-1], points[-1]) < 0.01
+
+
+def test_by_default_a_staircase_is_driven_as_the_way_it_sketches(turtle_system, follow):
+    """A grid planner's 24 steps of 5 cm along a 0.85 m diagonal, its goal facing along it: with
+    the node's default path_tolerance (5 cm), no turn in place at any cell, within the tolerance
+    of the staircase, in at most 1.5 times the diagonal's own time."""
+    default = PARAMETER['path_tolerance'].default
+    turtle_system.node.set_parameters([Parameter('path_tolerance', value=default)])
+    x, y = SPAWN_XY_M, SPAWN_XY_M
+    turtle_system.call(TeleportAbsolute, '/turtle1/teleport_absolute', TeleportAbsolute.Request(
+        x=x, y=y, theta=math.pi / 4))
+    stairs = [(x, y)]
+    for step in range(24):
+        last = stairs[-1]
+        stairs.append((last[0] + 0.05, last[1]) if step % 2 == 0 else (last[0], last[1] + 0.05))
+    stairs = np.array(stairs)
+
+    def drive(points) -> tuple[float, np.ndarray, list]:
+        path = path_message(points)
+        last = path.poses[-1].pose.orientation
+        last.z, last.w = math.sin(math.pi / 8), math.cos(math.pi / 8)  # facing 45 degrees
+        future = follow.send_goal_async(FollowPath.Goal(path=path))
+        assert turtle_system.spin_until(future.done, timeout_s=10.0)
+        turtle_system.poses.clear()
+        outcome = path_result(turtle_system, future.result())
+        assert outcome.status == GoalStatus.STATUS_SUCCEEDED, outcome.result.error_msg
+        moving = [pose for pose in turtle_system.poses
+                  if pose.linear_velocity or pose.angular_velocity]
+        return 0.016 * len(moving), xy(turtle_system.poses), moving
+    staircase_s, driven, moving = drive(stairs)
+    turtle_system.call(TeleportAbsolute, '/turtle1/teleport_absolute', TeleportAbsolute.Request(
+        x=x, y=y, theta=math.pi / 4))
+    diagonal_s, _, _ = drive(stairs[[0, -1]])
+    assert staircase_s <= 1.5 * diagonal_s, (staircase_s, diagonal_s)
+    in_place = [pose for pose in moving if pose.linear_velocity == 0.0]
+    assert in_place == []  # never turning in place
+    assert distance_to_polyline(driven, stairs).max() < default + 0.005
+    assert math.dist(driven[-1], stairs[-1]) < 0.01
 
 
 @pytest.mark.parametrize(('orientation', 'heading'), [

@@ -1,11 +1,11 @@
 """The tutorials run as written, each in a folder of its own.
 
 In page order: a Python or YAML block whose first line is `# file: NAME` is saved as NAME;
-any other Python block runs as a script; each `$ ` line of a console block runs as a shell user would
-type it (`turtle-traj` and `python` from this venv), a command ending in `&` in the background
-(waited for until it says it serves, and ended after the page). The lines shown under a command
-are its expected output: each must match a line it printed, in order, `...` standing for any
-text. A command shown without output must succeed.
+any other Python block runs as a script; each `$ ` line of a console block runs as a shell
+user would type it (`turtle-traj` and `python` from this venv), a command ending in `&` in the
+background (waited for until it says it serves, and ended after the page). The lines shown
+under a command are its expected output: each must match a line it printed, in order, `...`
+standing for any text. A command shown without output must succeed.
 """
 
 import os

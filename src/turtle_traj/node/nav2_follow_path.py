@@ -2,10 +2,12 @@
 
 `follow_path` in the node's namespace, of type nav2_msgs/action/FollowPath (Nav2 Jazzy's, or the
 subset interfaces/nav2_msgs builds where Nav2 is not installed: the same type hash). A goal's
-path is followed exactly (turns in place at its corners, as `follow_path` does), in the frame of
-the poses the node reads, from the robot: a planner's path begins where the robot stood when it
-was planned, so the poses up to the end of the segment nearest the robot (walking from the
-path's start) are behind it, and the robot drives from where it stands to the next one.
+path is a planner's sketch of the way: it is smoothed within the node's `path_tolerance` (a
+grid planner's staircase becomes a line; 0: followed exactly, turning in place at its corners,
+as `follow_path` does), in the frame of the poses the node reads, from the robot: a planner's
+path begins where the robot stood when it was planned, so the poses up to the end of the
+segment nearest the robot (walking from the path's start) are behind it, and the robot drives
+from where it stands to the next one.
 `controller_id` picks a controller for the goal (empty: the node's `controller`). The goal is
 a pose: the run ends turning in place to the last pose's orientation (none where it is a zero
 quaternion). Feedback at
@@ -161,7 +163,8 @@ class Nav2FollowPath:
             except UnknownController as error:
                 raise GoalFailed(Result.INVALID_CONTROLLER, str(error)) from None
         request = FollowPathRequest.Request(
-            points=[Point(x=x, y=y) for x, y in self._ahead(points)])
+            points=[Point(x=x, y=y) for x, y in self._ahead(points)],
+            corner_tolerance=self._runs.settings.defaults.path_tolerance)
         heading = _final_heading(goal.path)
         if heading is not None:  # the goal is a pose: end facing its orientation
             request.use_theta, request.theta = True, heading

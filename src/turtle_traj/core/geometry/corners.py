@@ -41,6 +41,7 @@ _SMOOTHING_SEARCH_STEPS = 12
 _SHAPE_SHARE = 0.97
 _SMOOTHING_SHARE = 0.95
 _TRACKING_M = 0.0005
+_AIM_RAD = 1e-9  # a turn in place off the heading of a stroke beside it by more is re-aimed
 
 
 def _shape_width(tolerance: float, share: float) -> float:
@@ -157,7 +158,32 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
             legs.append(min(candidates, key=duration))
         else:
             legs.append(candidates[0])
-    return replace(path, legs=tuple(legs))
+    return replace(path, legs=_turns_aimed(legs))
+
+
+def _turns_aimed(legs: list[Leg]) -> tuple[Leg, ...]:
+    """The turns in place beside a rounded stretch, aimed along it: a smoothed curve leaves
+    its start (and reaches its end) along its own tangent, not the path's first (last)
+    segment, and a turn that ended on that segment's heading left the robot facing away from
+    the curve it is to follow."""
+    aimed = list(legs)
+    for index, leg in enumerate(legs):
+        if not isinstance(leg, Turn):
+            continue
+        before = legs[index - 1] if index > 0 else None
+        after = legs[index + 1] if index + 1 < len(legs) else None
+        start = leg.start_heading
+        if isinstance(before, Polyline) and len(before.points) > 1:
+            start = float(before.headings[-1]) + (math.pi if before.reverse else 0.0)
+        end = leg.start_heading + leg.sweep_rad
+        if isinstance(after, Polyline) and len(after.points) > 1:
+            end = float(after.headings[0]) + (math.pi if after.reverse else 0.0)
+        shift_start = wrap_angle(start - leg.start_heading)
+        shift_end = wrap_angle(end - (leg.start_heading + leg.sweep_rad))
+        if abs(shift_start) > _AIM_RAD or abs(shift_end) > _AIM_RAD:
+            aimed[index] = Turn(leg.x, leg.y, leg.start_heading + shift_start,
+                                leg.sweep_rad + shift_end - shift_start)
+    return tuple(aimed)
 
 
 def _smoothed_in_tube(stretch: Sequence[Leg], tolerance: float) -> list[Polyline]:

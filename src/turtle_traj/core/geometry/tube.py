@@ -1,7 +1,7 @@
 """A polyline smoothed within a tube around it: the whole of a tolerance spent where that pays.
 
 `tube_smoothed` repeats two steps. It averages the points with a Gaussian window along the
-curve (`gaussian_smoothed`: the ends and their directions kept), then brings each point that
+curve (`gaussian_smoothed`: the ends kept), then brings each point that
 left the tube back to its edge: to `width` from the nearest sample of the path near the part
 the point came from. Where the path runs straight or gently curved the passes smooth on; at a
 corner or a tight turn the points rest on the tube's edge, so the curve cuts across as far as
@@ -37,8 +37,9 @@ def resampled(points: np.ndarray, spacing: float) -> np.ndarray:
 
 
 def gaussian_smoothed(samples: np.ndarray, sigma: float) -> np.ndarray:
-    """`samples` averaged with a Gaussian window `sigma` samples wide, the ends kept and their
-    directions too (the curve is extended by its point reflection at either end)."""
+    """`samples` averaged with a Gaussian window `sigma` samples wide, the ends kept (the curve
+    is extended by its point reflection at either end, so it leaves each end along the mean
+    direction of the samples near it)."""
     reach = min(int(3.0 * sigma) + 1, len(samples) - 1)
     window = np.exp(-0.5 * (np.arange(-reach, reach + 1) / sigma) ** 2)
     window /= window.sum()
@@ -72,6 +73,9 @@ def tube_smoothed(points: np.ndarray, width: float, window_m: float) -> np.ndarr
         distance = np.hypot(away[:, 0], away[:, 1])
         curve = path[nearest] + away * np.minimum(1.0, edge / np.maximum(distance, 1e-12))[:, None]
     curve = resampled(curve, SPACING_M)
+    # no segment of no length: its heading would be nobody's (a pass can bring the first
+    # samples back onto the start)
+    curve = curve[np.concatenate(([True], np.hypot(*np.diff(curve, axis=0).T) > 1e-12))]
     drawn = np.asarray(points, dtype=float)
     return curve if (all_near(curve, drawn, width)
                      and all_near(path, curve, _PASSING_SHARE * width)) else None

@@ -40,6 +40,7 @@ LIMIT_KEYS = {
     'decel_lim_x': ('max_linear_decel', -1.0),
     'az_max': ('max_angular_accel', 1.0), 'max_angular_accel': ('max_angular_accel', 1.0),
     'acc_lim_theta': ('max_angular_accel', 1.0),
+    'path_tolerance': ('path_tolerance', 1.0),  # ours: how far a goal's path may be smoothed
 }
 # Keys of the server itself that it reads, with Nav2's defaults.
 SERVER_DEFAULTS: dict[str, object] = {
