@@ -274,3 +274,28 @@ def test_speed_limits_as_nav2_states_them(percentage, value, speed):
 
     from turtle_traj.node.speed_limit import limited_speed
     assert limited_speed(SpeedLimit(percentage=percentage, speed_limit=value), 0.5) == speed
+
+
+def test_the_goal_checker_a_goal_names_judges_where_it_ended(system):
+    """DWPP ends within its own 1 cm: a checker with no tolerance says the goal is not
+    reached; an unknown checker id fails the goal as Nav2 fails it."""
+    server = system(**{'goal_checker_plugins': ['general_goal_checker', 'exact_checker'],
+                       'exact_checker.plugin': 'nav2_controller::SimpleGoalChecker',
+                       'exact_checker.xy_goal_tolerance': 0.0})
+    assert server.transition(Transition.TRANSITION_CONFIGURE)
+    assert server.transition(Transition.TRANSITION_ACTIVATE)
+    assert server.spin_until(lambda: bool(server.poses), timeout_s=10.0)
+
+    def ended(**fields):
+        handle = send(server, l_path(server.poses[-1]), **fields)
+        result = handle.get_result_async()
+        assert server.spin_until(result.done, timeout_s=60.0)
+        return result.result()
+    unknown = ended(goal_checker_id='precise')
+    assert unknown.result.error_code == FollowPath.Result.UNKNOWN
+    assert "goal_checker_id 'precise' is not one of this server's" in unknown.result.error_msg
+    strict = ended(goal_checker_id='exact_checker')
+    assert strict.status == GoalStatus.STATUS_ABORTED
+    assert 'beyond xy_goal_tolerance 0 m' in strict.result.error_msg
+    loose = ended(goal_checker_id='general_goal_checker')
+    assert loose.status == GoalStatus.STATUS_SUCCEEDED

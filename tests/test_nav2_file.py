@@ -54,3 +54,32 @@ def test_what_cannot_be_honoured_is_refused_by_name(values, said):
     with pytest.raises(Nav2ConfigError) as refused:
         read(values)
     assert said in str(refused.value)
+
+
+def test_goal_checkers_as_nav2_states_them():
+    from turtle_traj.core.control.goal_check import GoalChecker, checker_for
+    from turtle_traj.core.geometry.path import Pose2D
+    config = read({'FollowPath.plugin': 'turtle_traj::Dwpp',
+                   'goal_checker_plugins': ['loose', 'stopped'],
+                   'loose.plugin': 'nav2_controller::SimpleGoalChecker',
+                   'loose.xy_goal_tolerance': 0.1, 'loose.stateful': True,
+                   'stopped.plugin': 'nav2_controller::StoppedGoalChecker',
+                   'stopped.trans_stopped_velocity': 0.05})
+    loose, stopped = config.goal_checkers['loose'], config.goal_checkers['stopped']
+    assert config.ignored == ()  # stateful is read (a check made once needs no state)
+    assert (loose.xy_tolerance, loose.yaw_tolerance, loose.stopped) == (0.1, 0.25, None)
+    at = Pose2D(1.0, 0.0, 0.2)
+    assert loose.miss(at, (0.0, 0.0), (1.05, 0.0), 0.0) is None
+    assert loose.miss(at, (0.0, 0.0), (1.2, 0.0), 0.0) == (
+        'goal checker loose: 0.200 m from the goal, beyond xy_goal_tolerance 0.1 m')
+    assert 'beyond yaw_goal_tolerance 0.25 rad' in loose.miss(at, (0.0, 0.0), (1.0, 0.0), -0.1)
+    assert loose.miss(at, (0.0, 0.0), (1.0, 0.0), None) is None  # no orientation: any heading
+    assert stopped.stopped == (0.05, 0.25)
+    assert 'still moving at 0.100 m/s' in stopped.miss(at, (0.1, 0.0), (1.0, 0.0), 0.2)
+    assert checker_for(config.goal_checkers, 'stopped') is stopped
+    with pytest.raises(KeyError, match="goal_checker_id '' is not one of this server's"):
+        checker_for(config.goal_checkers, '')  # empty picks the only one, not one of two
+    assert checker_for({'only': loose}, '') is loose
+    with pytest.raises(ValueError, match='loose.xy_goal_tolerance must be a number of at least'):
+        GoalChecker.from_values('loose', 'nav2_controller::SimpleGoalChecker',
+                                {'xy_goal_tolerance': -1.0})

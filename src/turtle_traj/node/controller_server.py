@@ -10,7 +10,8 @@ behave as Nav2's servers' do:
   robot's follower made: a trajectory node (`<name>_follower`, in the same namespace) with the
   settings the file gives, which reads the odometry and publishes the commands;
 - active: `follow_path` (nav2_msgs/action/FollowPath) on this node drives goals; a goal's
-  `controller_id` names one of the file's `controller_plugins`; speed limits on
+  `controller_id` names one of the file's `controller_plugins`, and its `goal_checker_id` the
+  goal checker that judges where its run ended (`core.control.goal_check`); speed limits on
   `speed_limit_topic` (Nav2's speed filter's) cap the speed from the next control period;
 - deactivate: a goal under way is aborted and the robot stopped at once; new goals are
   rejected until it is active again;
@@ -90,7 +91,8 @@ class ControllerServer(LifecycleNode):
         from turtle_traj.node.nav2_follow_path import Nav2FollowPath
         self._follow_path = Nav2FollowPath(self, self.follower.runs, self._group,
                                            accepting=lambda: self._active,
-                                           controller_ids=config.controllers)
+                                           controller_ids=config.controllers,
+                                           goal_checkers=config.goal_checkers)
         self._speed_limits = SpeedLimits(self, config.speed_limit_topic, self.follower)
         if config.ignored:
             self.get_logger().warning('keys of the controller_server section this server does '

@@ -37,6 +37,7 @@ from turtle_traj_interfaces.srv import FollowPath as FollowPathRequest
 from turtle_traj.api.controllers import UnknownController
 from turtle_traj.core.control.controllers.catalogue import Chosen
 from turtle_traj.core.control.ending import Ending
+from turtle_traj.core.control.goal_check import GoalChecker, checker_for
 from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.core.geometry.projection import LengthLeft, PolylineSegments
 from turtle_traj.core.registry import BY_NAME
@@ -72,12 +73,16 @@ class Nav2FollowPath:
         is inactive); None: always.
     :param controller_ids: a goal's `controller_id` -> our controller's name (a Nav2 parameter
         file's ids, the first for an empty one); None: the id is the name.
+    :param goal_checkers: Nav2's goal checkers by id, one of which (`goal_checker_id`) judges
+        the pose a goal's run ends at (`goal_check`); None: none.
     """
 
     def __init__(self, node: Node, runs: RunningNode, callback_group: CallbackGroup, *,
                  accepting: Callable[[], bool] | None = None,
-                 controller_ids: Mapping[str, str] | None = None) -> None:
+                 controller_ids: Mapping[str, str] | None = None,
+                 goal_checkers: Mapping[str, GoalChecker] | None = None) -> None:
         self._runs, self._ros = runs, node
+        self._goal_checkers = goal_checkers
         self._accepting = accepting
         self._controller_ids = controller_ids
         self._running: tuple[ServerGoalHandle, RunSupervisor] | None = None
@@ -112,6 +117,7 @@ class Nav2FollowPath:
     async def _execute(self, goal_handle: ServerGoalHandle) -> FollowPath.Result:
         try:
             controller, request = self._checked(goal_handle.request)
+            checker = self._goal_checker(goal_handle.request.goal_checker_id)
             replacing = self._running[1] if self._running is not None else None
             run, finished = await self._start(request, controller, replacing)
         except GoalFailed as failure:
@@ -131,6 +137,9 @@ class Nav2FollowPath:
             goal_handle.canceled()
             return Result(error_code=Result.NONE, error_msg=outcome.message)
         if outcome.success:
+            missed = self._missed(checker, goal_handle.request.path)
+            if missed is not None:
+                return self._end(goal_handle, Result.UNKNOWN, f'{outcome.message}, but {missed}')
             goal_handle.succeed()
             return Result(error_code=Result.NONE)
         return self._end(goal_handle, ERROR_CODES.get(outcome.reason, Result.UNKNOWN),
@@ -144,6 +153,25 @@ class Nav2FollowPath:
         except RunRefused as refusal:  # busy, no robot, a path too big, stopped meanwhile
             raise GoalFailed(ERROR_CODES.get(refusal.reason, Result.UNKNOWN), str(refusal)) \
                 from None
+
+    def _goal_checker(self, name: str) -> GoalChecker | None:
+        """The goal checker `goal_checker_id` picks; GoalFailed for one not loaded."""
+        if self._goal_checkers is None:
+            return None
+        try:
+            return checker_for(self._goal_checkers, name)
+        except KeyError as error:
+            raise GoalFailed(Result.UNKNOWN, error.args[0]) from None
+
+    def _missed(self, checker: GoalChecker | None, path) -> str | None:
+        """Why `checker` says the goal is not reached where the run ended; None if it is."""
+        pose = self._runs.pose
+        if checker is None or pose is None:
+            return None
+        end = path.poses[-1].pose.position
+        command = self._runs.last_command
+        return checker.miss(pose, (command.linear, command.angular), (end.x, end.y),
+                            _final_heading(path))
 
     def _checked(self, goal: FollowPath.Goal) -> tuple[Chosen | None, object]:
         """The goal's controller and the request it makes; GoalFailed if it cannot run."""

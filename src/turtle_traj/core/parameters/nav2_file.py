@@ -21,12 +21,15 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
+from turtle_traj.core.control.goal_check import GoalChecker
 from turtle_traj.core.control.tuning import Spec
 from turtle_traj.core.parameters.table import PARAMETER as NODE_PARAMETERS
 
 PLUGIN_PREFIX = 'turtle_traj::'
 GOAL_CHECKERS = ('nav2_controller::SimpleGoalChecker', 'nav2_controller::StoppedGoalChecker')
 PROGRESS_CHECKERS = ('nav2_controller::SimpleProgressChecker',)
+GOAL_CHECKER_KEYS = ('xy_goal_tolerance', 'yaw_goal_tolerance', 'stateful',
+                     'trans_stopped_velocity', 'rot_stopped_velocity')
 # The node's parameter each Nav2 controller's limit sets, and its sign (MPPI's ax_min and DWB's
 # decel_lim_x are negative), by the names MPPI, Regulated Pure Pursuit and DWB give them.
 LIMIT_KEYS = {
@@ -79,7 +82,7 @@ class ServerConfig:
 
     controllers: Mapping[str, str]  # controller id -> our controller's name
     node_parameters: Mapping[str, object]  # the trajectory node's parameters, by name
-    goal_checkers: Mapping[str, Checker]
+    goal_checkers: Mapping[str, GoalChecker]
     progress_checkers: Mapping[str, Checker]
     speed_limit_topic: str
     ignored: Sequence[str] = field(default_factory=tuple)  # keys read and not used, with why
@@ -138,7 +141,14 @@ def read_server_section(values: Mapping[str, object], *,
                 continue
             used.add(dotted)
     parameters.update(limits)
-    goal_checkers = _checkers(values, server, 'goal_checker_plugins', GOAL_CHECKERS, used)
+    goal_checkers = {}
+    for index, checker in _checkers(values, server, 'goal_checker_plugins', GOAL_CHECKERS,
+                                    used).items():
+        try:
+            goal_checkers[index] = GoalChecker.from_values(index, checker.plugin, checker.values)
+        except ValueError as error:
+            raise Nav2ConfigError(str(error)) from None
+        used.update(f'{index}.{key}' for key in GOAL_CHECKER_KEYS if key in checker.values)
     progress_checkers = _checkers(values, server, 'progress_checker_plugins', PROGRESS_CHECKERS,
                                   used)
     for index in progress_checkers:
@@ -148,18 +158,14 @@ def read_server_section(values: Mapping[str, object], *,
             _agree(parameters, 'progress_timeout', _number(values, key, spec.low, spec.high),
                    key)
             used.add(key)
-    ignored += [f'{key} ({_why_unused(key, goal_checkers, progress_checkers)})'
+    ignored += [f'{key} ({_why_unused(key, progress_checkers)})'
                 for key in sorted(values) if key not in used and not _is_ours(key)]
     return ServerConfig(controllers, parameters, goal_checkers, progress_checkers,
                         _text(server, 'speed_limit_topic'), tuple(ignored))
 
 
-def _why_unused(key: str, goal_checkers: Mapping[str, Checker],
-                progress_checkers: Mapping[str, Checker]) -> str:
+def _why_unused(key: str, progress_checkers: Mapping[str, Checker]) -> str:
     index = key.partition('.')[0]
-    if index in goal_checkers:
-        return ('a goal ends when its path is driven to the end, as the node judges it for '
-                'every controller')
     if index in progress_checkers:
         return 'progress is measured along the path'
     return 'not used by this server'
