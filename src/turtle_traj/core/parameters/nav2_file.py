@@ -107,40 +107,14 @@ def read_server_section(values: Mapping[str, object], *,
     """
     server = {**SERVER_DEFAULTS, **{key: value for key, value in values.items()
                                     if key in SERVER_DEFAULTS}}
-    used = set(SERVER_DEFAULTS)
-    frequency = _number(server, 'controller_frequency', 1.0, 500.0)
-    parameters: dict[str, object] = {
-        'control_rate': frequency, 'pose_source': 'odometry',
-        'odom_topic': _text(server, 'odom_topic'), 'turtle_name': '',
-        'cmd_vel_type': 'TwistStamped' if _flag(server, 'enable_stamped_cmd_vel') else 'Twist',
-        'arena': 'none'}
-    ignored = [f'{key} ({why})' for key, why in NOT_USED.items() if key in values]
-    used |= set(NOT_USED)
-    if not _flag(server, 'publish_zero_velocity'):
-        ignored.append('publish_zero_velocity (false: the robot is always stopped when a goal '
-                       'ends)')
-    if _number(server, 'failure_tolerance', -1.0, math.inf) != 0.0:
-        ignored.append('failure_tolerance (a controller fault ends the goal at once)')
-    controllers, limits = {}, {}
+    used = set(SERVER_DEFAULTS) | set(NOT_USED)
+    parameters, ignored = _server_settings(server, values)
+    controllers: dict[str, str] = {}
     for index in _ids(server, 'controller_plugins'):
-        name = _plugin(values, index, controller_name)
-        controllers[index] = name
+        controllers[index] = _plugin(values, index, controller_name)
         used.add(f'{index}.plugin')
-        own = {spec.name: spec for spec in tunables(name)}
-        for key in _keys_under(values, index):
-            dotted = f'{index}.{key}'
-            if key in LIMIT_KEYS:
-                target, sign = LIMIT_KEYS[key]
-                spec = NODE_PARAMETERS[target]
-                low, high = sorted((sign * spec.low, sign * spec.high))
-                _agree(limits, target, sign * _number(values, dotted, low, high), dotted)
-            elif key in own:
-                _agree(limits, f'{prefix(name)}.{key}', _number(
-                    values, dotted, own[key].low, own[key].high), dotted)
-            else:
-                continue
-            used.add(dotted)
-    parameters.update(limits)
+        _plugin_settings(values, index, tunables(controllers[index]),
+                         prefix(controllers[index]), parameters, used)
     goal_checkers = {}
     for index, checker in _checkers(values, server, 'goal_checker_plugins', GOAL_CHECKERS,
                                     used).items():
@@ -162,6 +136,43 @@ def read_server_section(values: Mapping[str, object], *,
                 for key in sorted(values) if key not in used and not _is_ours(key)]
     return ServerConfig(controllers, parameters, goal_checkers, progress_checkers,
                         _text(server, 'speed_limit_topic'), tuple(ignored))
+
+
+def _server_settings(server: Mapping[str, object], values: Mapping[str, object]
+                     ) -> tuple[dict[str, object], list[str]]:
+    """The node's parameters the server's own keys set, and those of its keys not used."""
+    parameters: dict[str, object] = {
+        'control_rate': _number(server, 'controller_frequency', 1.0, 500.0),
+        'pose_source': 'odometry', 'odom_topic': _text(server, 'odom_topic'),
+        'turtle_name': '', 'arena': 'none',
+        'cmd_vel_type': 'TwistStamped' if _flag(server, 'enable_stamped_cmd_vel') else 'Twist'}
+    ignored = [f'{key} ({why})' for key, why in NOT_USED.items() if key in values]
+    if not _flag(server, 'publish_zero_velocity'):
+        ignored.append('publish_zero_velocity (false: the robot is always stopped when a goal '
+                       'ends)')
+    if _number(server, 'failure_tolerance', -1.0, math.inf) != 0.0:
+        ignored.append('failure_tolerance (a controller fault ends the goal at once)')
+    return parameters, ignored
+
+
+def _plugin_settings(values: Mapping[str, object], index: str, own: Sequence[Spec],
+                     prefix: str, parameters: dict[str, object], used: set[str]) -> None:
+    """The node's parameters a controller id's keys set: its limits under Nav2's names, and
+    its controller's tunables (`<prefix>.<name>`); the keys read are added to `used`."""
+    tunable = {spec.name: spec for spec in own}
+    for key in _keys_under(values, index):
+        dotted = f'{index}.{key}'
+        if key in LIMIT_KEYS:
+            target, sign = LIMIT_KEYS[key]
+            spec = NODE_PARAMETERS[target]
+            low, high = sorted((sign * spec.low, sign * spec.high))
+            _agree(parameters, target, sign * _number(values, dotted, low, high), dotted)
+        elif key in tunable:
+            _agree(parameters, f'{prefix}.{key}',
+                   _number(values, dotted, tunable[key].low, tunable[key].high), dotted)
+        else:
+            continue
+        used.add(dotted)
 
 
 def _why_unused(key: str, progress_checkers: Mapping[str, Checker]) -> str:
