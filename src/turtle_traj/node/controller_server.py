@@ -29,11 +29,8 @@ from rclpy.task import Future
 from turtle_traj.api.controllers import choose, from_plugin_name
 from turtle_traj.core.control.controllers.catalogue import parameter_prefix
 from turtle_traj.core.control.ending import Ending
-from turtle_traj.core.parameters.nav2_file import (
-    Nav2ConfigError,
-    ServerConfig,
-    read_server_section,
-)
+from turtle_traj.core.parameters.nav2_file import ServerConfig, read_server_section
+from turtle_traj.node.nav2_follow_path import Nav2FollowPath
 from turtle_traj.node.speed_limit import SpeedLimits
 from turtle_traj.node.trajectory_node import TrajectoryNode
 
@@ -86,9 +83,8 @@ class ControllerServer(LifecycleNode):
                 self._file_values(), controller_name=from_plugin_name,
                 tunables=lambda name: choose(name).tunables, prefix=parameter_prefix)
             self.follower = self._make_follower(config)
-        except (Nav2ConfigError, ValueError) as error:
+        except ValueError as error:  # Nav2ConfigError, or a value rclpy refused
             return self._fail(str(error))
-        from turtle_traj.node.nav2_follow_path import Nav2FollowPath
         self._follow_path = Nav2FollowPath(self, self.follower.runs, self._group,
                                            accepting=lambda: self._active,
                                            controller_ids=config.controllers,
