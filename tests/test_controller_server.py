@@ -75,6 +75,14 @@ def system(rclpy_context, tmp_path):
         system_.close()
 
 
+def destroyed(node) -> bool:
+    try:
+        node.get_name()
+    except InvalidHandle:
+        return True
+    return False
+
+
 def path_message(points) -> PathMsg:
     path = PathMsg()
     path.header.frame_id = 'odom'
@@ -172,13 +180,31 @@ def test_cleanup_and_shutdown_release_everything(system):
     assert server.transition(Transition.TRANSITION_CLEANUP)
     assert server.state() == State.PRIMARY_STATE_UNCONFIGURED
     assert server.server.follower is None
-    with pytest.raises(InvalidHandle):  # destroyed
-        follower.get_name()
+    assert server.spin_until(lambda: destroyed(follower), timeout_s=1.0)
     assert server.transition(Transition.TRANSITION_CONFIGURE)  # and configures again
     assert not server.transition(Transition.TRANSITION_UNCONFIGURED_SHUTDOWN)  # not inactive's
     assert server.transition(Transition.TRANSITION_INACTIVE_SHUTDOWN)
     assert server.state() == State.PRIMARY_STATE_FINALIZED
     assert server.server.follower is None
+
+
+def test_shutting_down_mid_goal_stops_the_robot_and_releases_everything(system):
+    server = system()
+    assert server.transition(Transition.TRANSITION_CONFIGURE)
+    assert server.transition(Transition.TRANSITION_ACTIVATE)
+    assert server.spin_until(lambda: bool(server.poses), timeout_s=10.0)
+    handle = send(server, l_path(server.poses[-1]))
+    result = handle.get_result_async()  # asked for at once, as Nav2's clients do
+    assert server.spin_until(lambda: server.poses[-1].linear_velocity > 0.3, timeout_s=10.0)
+    follower = server.server.follower
+    assert server.transition(Transition.TRANSITION_ACTIVE_SHUTDOWN)
+    assert server.state() == State.PRIMARY_STATE_FINALIZED
+    assert server.spin_until(result.done, timeout_s=5.0)  # its result goes out before it goes
+    assert result.result().status == GoalStatus.STATUS_ABORTED
+    server.spin_sim_seconds(0.2)
+    assert server.poses[-1].linear_velocity == 0.0 and server.server.follower is None
+    assert destroyed(follower)
+    assert not server.transition(Transition.TRANSITION_CONFIGURE)  # finalized is final
 
 
 @pytest.mark.parametrize(('changes', 'said'), [

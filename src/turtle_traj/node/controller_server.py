@@ -35,6 +35,7 @@ from turtle_traj.node.speed_limit import SpeedLimits
 from turtle_traj.node.trajectory_node import TrajectoryNode
 
 NODE_NAME = 'controller_server'
+RETIRE_PERIOD_S = 0.01  # how often released parts look whether their goal's result is out
 
 
 class ControllerServer(LifecycleNode):
@@ -49,6 +50,8 @@ class ControllerServer(LifecycleNode):
         self.follower: TrajectoryNode | None = None
         self._follow_path = None
         self._speed_limits: SpeedLimits | None = None
+        self._retired: list[tuple] = []  # released parts waiting for their goal's result
+        self._retire_timer = None
         self._active = False
         self._group = ReentrantCallbackGroup()
         self._change_state = self._service_change_state.callback
@@ -125,7 +128,7 @@ class ControllerServer(LifecycleNode):
         return self.follower.shutdown_turtle() if self.follower is not None else None
 
     def destroy_node(self) -> None:
-        self._release()
+        self._release(now=True)
         super().destroy_node()
 
     def _file_values(self) -> dict[str, object]:
@@ -154,24 +157,66 @@ class ControllerServer(LifecycleNode):
             self.executor.add_node(follower)
         return follower
 
-    def _release(self) -> None:
-        """Destroy the action server and the follower, if they exist."""
-        if self._follow_path is not None:
-            self._follow_path.destroy()
-            self._follow_path = None
-        if self._speed_limits is not None:
-            self._speed_limits.destroy()
-            self._speed_limits = None
-        if self.follower is not None:
-            follower, self.follower = self.follower, None
-            if follower.executor is not None:
-                follower.executor.remove_node(follower)
-            follower.shutdown_turtle()
-            follower.destroy_node()
+    def _release(self, *, now: bool = False) -> None:
+        """Let go of what configure made: the action server, the speed limits, the follower.
+        They go in steps, on a timer (`_Retired`), unless `now` (the node itself is being
+        destroyed, its executor no longer spinning)."""
+        retired = _Retired(self._follow_path, self._speed_limits, self.follower)
+        self._follow_path = self._speed_limits = self.follower = None
         self.config = None
+        if not retired.gone:
+            self._retired.append(retired)
+        self._destroy_retired(now=now)
+
+    def _destroy_retired(self, *, now: bool = False) -> None:
+        self._retired = [retired for retired in self._retired if not retired.step(now)]
+        if self._retired and self._retire_timer is None:
+            # on the node clock: lock-step time steps while the executor works on
+            self._retire_timer = self.create_timer(RETIRE_PERIOD_S, self._destroy_retired)
+        elif not self._retired and self._retire_timer is not None:
+            self.destroy_timer(self._retire_timer)
+            self._retire_timer = None
 
     def _fail(self, message: str) -> TransitionCallbackReturn:
         self.configure_error = message
         self.get_logger().error(f'configure failed: {message}')
         self._release()
         return TransitionCallbackReturn.FAILURE
+
+
+class _Retired:
+    """What a configure made, released: a goal whose run was just aborted still has its
+    result to send, so the action server goes once it has; the follower leaves the executor
+    then, and is destroyed a step later, when no callback of its can still be on its way (an
+    executor may run one it collected before the node left it)."""
+
+    def __init__(self, follow_path, speed_limits, follower: TrajectoryNode | None) -> None:
+        self.follow_path, self.speed_limits, self.follower = follow_path, speed_limits, follower
+        self._removed = False
+
+    @property
+    def gone(self) -> bool:
+        return self.follow_path is None and self.speed_limits is None and self.follower is None
+
+    def step(self, now: bool) -> bool:
+        """One step of letting go (every step, `now`); whether all is gone."""
+        if self.follow_path is not None:
+            if self.follow_path.running is not None and not now:
+                return False
+            self.follow_path.destroy()
+            self.follow_path = None
+        if self.speed_limits is not None:
+            self.speed_limits.destroy()
+            self.speed_limits = None
+        follower = self.follower
+        if follower is not None and not self._removed:
+            self._removed = True
+            follower.shutdown_turtle()
+            if follower.executor is not None:
+                follower.executor.remove_node(follower)
+            if not now:
+                return False
+        if follower is not None:
+            follower.destroy_node()
+            self.follower = None
+        return True
