@@ -147,19 +147,26 @@ def test_the_server_comes_up_as_nav2s_manager_brings_it_and_drives_a_goal(system
     assert max(abs(msg.twist.angular.z) for _, msg in server.commands) <= 1.9 + 1e-9
 
 
-def test_deactivating_mid_goal_stops_the_robot_within_a_control_period(system):
-    server = system()
+def driving(server: ServerSystem):
+    """Bring the server up, send it an L and wait until the robot drives: the goal's handle
+    and its result's future (asked for at once, as Nav2's clients do)."""
     assert server.transition(Transition.TRANSITION_CONFIGURE)
     assert server.transition(Transition.TRANSITION_ACTIVATE)
     assert server.spin_until(lambda: bool(server.poses), timeout_s=10.0)
     handle = send(server, l_path(server.poses[-1]))
     assert handle.accepted
+    result = handle.get_result_async()
     assert server.spin_until(lambda: server.poses[-1].linear_velocity > 0.3, timeout_s=10.0)
+    return handle, result
+
+
+def test_deactivating_mid_goal_stops_the_robot_within_a_control_period(system):
+    server = system()
+    handle, result = driving(server)
     server.commands.clear()
     deactivated_at = server.sim_time_s
     assert server.transition(Transition.TRANSITION_DEACTIVATE)
     assert server.state() == State.PRIMARY_STATE_INACTIVE
-    result = handle.get_result_async()
     assert server.spin_until(result.done, timeout_s=5.0)
     assert result.result().status == GoalStatus.STATUS_ABORTED
     assert 'deactivated' in result.result().result.error_msg
@@ -190,12 +197,7 @@ def test_cleanup_and_shutdown_release_everything(system):
 
 def test_shutting_down_mid_goal_stops_the_robot_and_releases_everything(system):
     server = system()
-    assert server.transition(Transition.TRANSITION_CONFIGURE)
-    assert server.transition(Transition.TRANSITION_ACTIVATE)
-    assert server.spin_until(lambda: bool(server.poses), timeout_s=10.0)
-    handle = send(server, l_path(server.poses[-1]))
-    result = handle.get_result_async()  # asked for at once, as Nav2's clients do
-    assert server.spin_until(lambda: server.poses[-1].linear_velocity > 0.3, timeout_s=10.0)
+    _, result = driving(server)
     follower = server.server.follower
     assert server.transition(Transition.TRANSITION_ACTIVE_SHUTDOWN)
     assert server.state() == State.PRIMARY_STATE_FINALIZED

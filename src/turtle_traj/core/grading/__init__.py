@@ -1,0 +1,1 @@
+"""Grading a lab: task files, and drawings judged from what the simulator recorded."""

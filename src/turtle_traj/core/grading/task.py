@@ -1,0 +1,174 @@
+"""A lab's task file: what is run, what drawing is expected, and what each check is worth.
+Pure Python.
+
+A task file is YAML::
+
+    name: square
+    run:
+      script: square.py      # or entry_point: my_package/my_node
+      args: []
+      time_limit: 40         # s of wall time the run may take
+    expected:
+      shape: square          # square, polygon, circle or points
+      size: 2.0              # side (square, polygon), radius (circle)
+      tolerance: 0.1         # m: how far the drawing may lie from the reference
+      allow: [position, orientation, direction]   # and scale
+    checks:                  # points for each
+      shape: 4
+      sides: 3
+      closure: 1
+      stops: 1
+      in_bounds: 1
+      no_teleport: 1
+
+`read_task` checks every field and raises `TaskError` naming the one that is wrong.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+SHAPES = ('square', 'polygon', 'circle', 'points')
+TRANSFORMS = ('position', 'orientation', 'direction', 'scale')
+CHECKS = ('shape', 'sides', 'closure', 'stops', 'in_bounds', 'no_teleport')
+_POLYGONAL = ('square', 'polygon')
+MAX_TIME_LIMIT_S = 600.0
+MAX_POINTS = 1000
+
+
+class TaskError(ValueError):
+    """A task file this grader cannot use: the message names the field."""
+
+
+@dataclass(frozen=True)
+class Expected:
+    """The drawing expected, and what may differ from the reference."""
+
+    shape: str
+    size: float = 0.0
+    sides: int = 4  # a polygon's
+    points: tuple[tuple[float, float], ...] = ()  # a path given as points (x, y)
+    tolerance: float = 0.1
+    allow: frozenset[str] = frozenset({'position', 'orientation', 'direction'})
+
+    @property
+    def closed(self) -> bool:
+        return self.shape != 'points'
+
+    @property
+    def polygonal(self) -> bool:
+        return self.shape in _POLYGONAL
+
+
+@dataclass(frozen=True)
+class Task:
+    """A lab's task (see the module)."""
+
+    name: str
+    script: str = ''  # a script of the submission, run with Python
+    entry_point: str = ''  # package/executable, as `ros2 run` names it
+    args: tuple[str, ...] = ()
+    time_limit_s: float = 60.0
+    expected: Expected = field(default_factory=lambda: Expected('square', 2.0))
+    points: Mapping[str, float] = field(default_factory=dict)  # check -> points
+
+    @property
+    def max_score(self) -> float:
+        return sum(self.points.values())
+
+
+def read_task(data: object) -> Task:
+    """The task a task file's parsed YAML describes.
+
+    :raises TaskError: naming the field that is missing or wrong.
+    """
+    top = _mapping(data, 'the task file')
+    run = _mapping(top.get('run', {}), 'run')
+    script, entry_point = str(run.get('script', '') or ''), str(run.get('entry_point', '') or '')
+    if bool(script) == bool(entry_point):
+        raise TaskError('run: give a script or an entry_point (package/executable), one of them')
+    if entry_point and entry_point.count('/') != 1:
+        raise TaskError(f'run.entry_point {entry_point!r} must be package/executable')
+    args = run.get('args', [])
+    if not isinstance(args, list) or not all(isinstance(arg, (str, int, float)) for arg in args):
+        raise TaskError('run.args must be a list of words')
+    time_limit = _number(run.get('time_limit', 60.0), 'run.time_limit', 1.0, MAX_TIME_LIMIT_S)
+    points = _mapping(top.get('checks', {}), 'checks')
+    unknown = sorted(set(points) - set(CHECKS))
+    if unknown:
+        raise TaskError(f"checks: {', '.join(unknown)} is not a check: choose from "
+                        f"{', '.join(CHECKS)}")
+    scores = {name: _number(value, f'checks.{name}', 0.0, MAX_POINTS)
+              for name, value in points.items()}
+    if not scores:
+        raise TaskError('checks: give at least one check its points')
+    expected = _expected(_mapping(top.get('expected'), 'expected'))
+    if 'sides' in scores and not expected.polygonal:
+        raise TaskError(f"checks.sides needs a square or a polygon, not a {expected.shape}")
+    return Task(str(top.get('name', 'task')), script, entry_point,
+                tuple(str(arg) for arg in args), time_limit, expected, scores)
+
+
+def _expected(values: Mapping[str, object]) -> Expected:
+    shape = values.get('shape')
+    if shape not in SHAPES:
+        raise TaskError(f"expected.shape {shape!r} is not one of {', '.join(SHAPES)}")
+    tolerance = _number(values.get('tolerance', 0.1), 'expected.tolerance', 0.001, 5.0)
+    allow = values.get('allow', ['position', 'orientation', 'direction'])
+    if not isinstance(allow, list) or not set(allow) <= set(TRANSFORMS):
+        raise TaskError(f"expected.allow must list some of {', '.join(TRANSFORMS)}, not "
+                        f'{allow!r}')
+    if shape == 'points':
+        return Expected(shape, points=_points(values.get('points')), tolerance=tolerance,
+                        allow=frozenset(allow))
+    size = _number(values.get('size'), 'expected.size', 0.01, 11.0)
+    sides = 4
+    if shape == 'polygon':
+        sides = int(_number(values.get('sides'), 'expected.sides', 3, 12))
+    return Expected(shape, size, sides, tolerance=tolerance, allow=frozenset(allow))
+
+
+def _points(values: object) -> tuple[tuple[float, float], ...]:
+    if not isinstance(values, list) or len(values) < 2:
+        raise TaskError('expected.points must list at least two points [x, y]')
+    points = []
+    for index, point in enumerate(values):
+        if not isinstance(point, list) or len(point) != 2:
+            raise TaskError(f'expected.points[{index}] must be [x, y], not {point!r}')
+        points.append((_number(point[0], f'expected.points[{index}]', -100.0, 100.0),
+                       _number(point[1], f'expected.points[{index}]', -100.0, 100.0)))
+    return tuple(points)
+
+
+def _mapping(value: object, name: str) -> Mapping[str, object]:
+    if not isinstance(value, Mapping):
+        raise TaskError(f'{name} must be a mapping of names to values, not {value!r}')
+    return value
+
+
+def _number(value: object, name: str, low: float, high: float) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (
+            math.isfinite(value) and low <= value <= high):
+        raise TaskError(f'{name} must be a number within [{low:g}, {high:g}], not {value!r}')
+    return float(value)
+
+
+def reference(expected: Expected, samples: int = 720) -> Sequence[tuple[float, float]]:
+    """The reference drawing as points from its start (at the origin, leaving along +x,
+    counter-clockwise): a polygon's vertices (closed), a circle's samples, the given points."""
+    if expected.shape == 'points':
+        return list(expected.points)
+    if expected.polygonal:
+        sides = 4 if expected.shape == 'square' else expected.sides
+        vertices = [(0.0, 0.0)]
+        for index in range(sides):
+            heading = 2.0 * math.pi * index / sides
+            x, y = vertices[-1]
+            vertices.append((x + expected.size * math.cos(heading),
+                             y + expected.size * math.sin(heading)))
+        return vertices
+    radius = expected.size
+    return [(radius * math.sin(angle), radius * (1.0 - math.cos(angle)))
+            for angle in (2.0 * math.pi * index / samples for index in range(samples + 1))]
