@@ -14,7 +14,6 @@ from geometry_msgs.msg import Point, Twist
 from rcl_interfaces.msg import Parameter as ParameterMsg
 from rcl_interfaces.msg import ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
-from rclpy.parameter import Parameter
 from turtle_traj_interfaces.msg import Ending
 from turtle_traj_interfaces.srv import DrawShape, DrawText, FollowPath, GoTo, Move
 
@@ -214,7 +213,6 @@ def test_nav2s_follow_path_on_a_base_with_inertia_is_exact_and_counts_down(base)
 
     from tests.test_nav2_follow_path import path_result, planner_like, send_path
 
-    base.node.set_parameters([Parameter('path_tolerance', value=0.0)])  # exact, to the mm
     follow = base.action_client(FollowPath, '/follow_path')
     assert base.spin_until(follow.server_is_ready, timeout_s=60.0)
     points = planner_like(radius=1.5)
@@ -239,7 +237,6 @@ def test_a_path_taking_over_on_a_base_with_inertia_starts_at_the_speed_it_drives
 
     from tests.test_nav2_follow_path import path_result, send_path
 
-    base.node.set_parameters([Parameter('path_tolerance', value=0.0)])  # exact, to the mm
     follow = base.action_client(FollowPath, '/follow_path')
     assert base.spin_until(follow.server_is_ready, timeout_s=60.0)
     x, y = base.poses[-1].x, base.poses[-1].y

@@ -236,12 +236,11 @@ def test_the_program_refuses_a_parameter_file_it_cannot_read(tmp_path, capsys):
 def test_a_goal_picks_its_controller_by_the_files_id(system):
     server = system(**{'controller_plugins': ['FollowPath', 'Precise'],
                        'Precise.plugin': 'turtle_traj::ExactFollower',
-                       'Precise.heading_gain': 6.0, 'Precise.path_tolerance': 0.0})
+                       'Precise.heading_gain': 6.0})
     assert server.transition(Transition.TRANSITION_CONFIGURE)
     assert server.transition(Transition.TRANSITION_ACTIVATE)
     follower = server.server.follower
     assert follower.get_parameter('exact.heading_gain').value == 6.0
-    assert follower.get_parameter('path_tolerance').value == 0.0  # goals followed exactly
     assert server.spin_until(lambda: bool(server.poses), timeout_s=10.0)
     unknown = send(server, l_path(server.poses[-1]), controller_id='MPPI')
     result = unknown.get_result_async()

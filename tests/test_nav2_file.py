@@ -18,12 +18,13 @@ def read(values):
 def test_defaults_as_nav2s_and_limits_under_dwbs_names():
     config = read({'FollowPath.plugin': 'turtle_traj::PurePursuit', 'FollowPath.max_vel_x': 0.26,
                    'FollowPath.acc_lim_x': 2.5, 'FollowPath.decel_lim_x': -2.0,
-                   'FollowPath.lookahead_time': 2.0})
+                   'FollowPath.lookahead_time': 2.0, 'FollowPath.path_tolerance': 0.05})
     assert dict(config.controllers) == {'FollowPath': 'pure_pursuit'}
     parameters = config.node_parameters
     assert (parameters['linear_speed'], parameters['max_linear_accel'],
             parameters['max_linear_decel']) == (0.26, 2.5, 2.0)
     assert parameters['pure_pursuit.lookahead_time'] == 2.0  # its Tunable, by its own name
+    assert parameters['path_tolerance'] == 0.05  # how far its goals' paths may be smoothed
     assert parameters['control_rate'] == 20.0 and parameters['cmd_vel_type'] == 'Twist'
     assert list(config.goal_checkers) == ['goal_checker']  # Nav2's default ids
     assert config.speed_limit_topic == 'speed_limit' and config.ignored == ()

@@ -19,7 +19,6 @@ from turtlesim.srv import TeleportAbsolute
 
 from turtle_traj.apps.score.courses import planner_path
 from turtle_traj.core.geometry.angles import wrap_angle
-from turtle_traj.core.parameters.table import PARAMETER
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M
 from turtle_traj.testing.geometry import distance_to_polyline, xy
 
@@ -38,9 +37,6 @@ Result = FollowPath.Result
 
 @pytest.fixture
 def follow(turtle_system):
-    """The action's client; the node follows goals exactly (path_tolerance 0), as the tests
-    check them to the millimetre, but for the navigation default's own test."""
-    turtle_system.node.set_parameters([Parameter('path_tolerance', value=0.0)])
     client = turtle_system.action_client(FollowPath, ACTION)
     assert turtle_system.spin_until(client.server_is_ready, timeout_s=60.0)
     return client
@@ -175,12 +171,13 @@ def test_a_grid_planners_staircase_is_followed_exactly_to_its_goal(turtle_system
     assert math.dist(driven[-1], points[-1]) < 0.01
 
 
-def test_by_default_a_staircase_is_driven_as_the_way_it_sketches(turtle_system, follow):
+def test_with_a_path_tolerance_a_staircase_is_driven_as_the_way_it_sketches(turtle_system,
+                                                                             follow):
     """A grid planner's 24 steps of 5 cm along a 0.85 m diagonal, its goal facing along it: with
-    the node's default path_tolerance (5 cm), no turn in place at any cell, within the tolerance
-    of the staircase, in at most 1.5 times the diagonal's own time."""
-    default = PARAMETER['path_tolerance'].default
-    turtle_system.node.set_parameters([Parameter('path_tolerance', value=default)])
+    path_tolerance 5 cm, no turn in place at any cell, within the tolerance of the staircase,
+    in at most 1.5 times the diagonal's own time."""
+    tolerance = 0.05
+    turtle_system.node.set_parameters([Parameter('path_tolerance', value=tolerance)])
     x, y = SPAWN_XY_M, SPAWN_XY_M
     turtle_system.call(TeleportAbsolute, '/turtle1/teleport_absolute', TeleportAbsolute.Request(
         x=x, y=y, theta=math.pi / 4))
@@ -209,7 +206,7 @@ def test_by_default_a_staircase_is_driven_as_the_way_it_sketches(turtle_system, 
     assert staircase_s <= 1.5 * diagonal_s, (staircase_s, diagonal_s)
     in_place = [pose for pose in moving if pose.linear_velocity == 0.0]
     assert in_place == []  # never turning in place
-    assert distance_to_polyline(driven, stairs).max() < default + 0.005
+    assert distance_to_polyline(driven, stairs).max() < tolerance + 0.005
     assert math.dist(driven[-1], stairs[-1]) < 0.01
 
 

@@ -224,11 +224,9 @@ def test_the_live_view_shows_the_ground_truth_trail(base):
 def test_nav2s_follow_path_drives_the_physics_base_in_its_odometry_frame(base):
     from action_msgs.msg import GoalStatus
     from nav2_msgs.action import FollowPath
-    from rclpy.parameter import Parameter
 
     from tests.test_nav2_follow_path import path_result, planner_like, send_path
 
-    base.node.set_parameters([Parameter('path_tolerance', value=0.0)])  # exact, to the mm
     follow = base.action_client(FollowPath, '/follow_path')
     assert base.spin_until(follow.server_is_ready, timeout_s=60.0)
     points = planner_like(radius=0.5, start=(0.0, 0.0))  # where the base stands

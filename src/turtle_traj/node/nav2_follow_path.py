@@ -2,9 +2,9 @@
 
 `follow_path` in the node's namespace, of type nav2_msgs/action/FollowPath (Nav2 Jazzy's, or the
 subset interfaces/nav2_msgs builds where Nav2 is not installed: the same type hash). A goal's
-path is a planner's sketch of the way: it is smoothed within the node's `path_tolerance` (a
-grid planner's staircase becomes a line; 0: followed exactly, turning in place at its corners,
-as `follow_path` does), in the frame of the poses the node reads, from the robot: a planner's
+path is smoothed within the node's `path_tolerance` (a grid planner's staircase becomes a
+line; 0, the default: followed exactly, turning in place at its corners, as `follow_path`
+does), in the frame of the poses the node reads, from the robot: a planner's
 path begins where the robot stood when it was planned, so the poses up to the end of the
 segment nearest the robot (walking from the path's start) are behind it, and the robot drives
 from where it stands to the next one.

@@ -162,10 +162,11 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
 
 
 def _turns_aimed(legs: list[Leg]) -> tuple[Leg, ...]:
-    """The turns in place beside a rounded stretch, aimed along it: a smoothed curve leaves
-    its start (and reaches its end) along its own tangent, not the path's first (last)
-    segment, and a turn that ended on that segment's heading left the robot facing away from
-    the curve it is to follow."""
+    """The turns in place beside a rounded stretch, aimed along it where that turns less: a
+    smoothed curve leaves its start (and reaches its end) along its own tangent, not the
+    path's first (last) segment, and a turn that ended on that segment's heading left the
+    robot facing away from the curve it is to follow. A turn is never made longer: where the
+    curve's tangent is further from the robot's heading, the follower steers onto it."""
     aimed = list(legs)
     for index, leg in enumerate(legs):
         if not isinstance(leg, Turn):
@@ -180,9 +181,10 @@ def _turns_aimed(legs: list[Leg]) -> tuple[Leg, ...]:
             end = float(after.headings[0]) + (math.pi if after.reverse else 0.0)
         shift_start = wrap_angle(start - leg.start_heading)
         shift_end = wrap_angle(end - (leg.start_heading + leg.sweep_rad))
-        if abs(shift_start) > _AIM_RAD or abs(shift_end) > _AIM_RAD:
-            aimed[index] = Turn(leg.x, leg.y, leg.start_heading + shift_start,
-                                leg.sweep_rad + shift_end - shift_start)
+        sweep = leg.sweep_rad + shift_end - shift_start
+        if ((abs(shift_start) > _AIM_RAD or abs(shift_end) > _AIM_RAD)
+                and abs(sweep) < abs(leg.sweep_rad)):
+            aimed[index] = Turn(leg.x, leg.y, leg.start_heading + shift_start, sweep)
     return tuple(aimed)
 
 

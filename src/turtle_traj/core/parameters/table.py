@@ -51,10 +51,10 @@ PARAMETERS = (
     Spec('corner_tolerance', 0.0, 'Corners may be rounded by up to this much, so the base '
          'keeps moving, when a request leaves it 0; 0 = exact corners, turned in place', 'm',
          0.0, 1.0),
-    Spec('path_tolerance', 0.05, "Nav2's goals (the follow_path action): the path may be "
+    Spec('path_tolerance', 0.0, "Nav2's goals (the follow_path action): the path may be "
          "smoothed within this of the planner's, its corners rounded, so a grid planner's "
-         'staircase is driven as the way it sketches (a corner_tolerance for its goals); '
-         '0 = exact', 'm', 0.0, 1.0),
+         'staircase is driven as the way it sketches (a corner_tolerance for its goals; '
+         '0.05 suits 5 cm cells); 0 = exact', 'm', 0.0, 1.0),
     Spec('progress_timeout', 3.0, 'A run that makes no progress along its path for this long '
          'ends with a message (a base slower than its limits, a blocked robot)', 's',
          0.5, 60.0),
