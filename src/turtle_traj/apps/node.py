@@ -104,7 +104,7 @@ def run(options: Options) -> int:
     def on_exit() -> list[Future | None]:
         ends = [controller.shutdown_turtle() for controller in controllers]
         if beside is not None:
-            beside.save_snapshot()
+            beside.save_outputs()
         return ends
 
     def make_executor() -> Executor:

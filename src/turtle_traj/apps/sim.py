@@ -60,7 +60,8 @@ def create_sim(options: SimOptions, stop: Callable[[], None], *,
     :param lockstep: the simulator has no timer: a `LockstepExecutor` steps it.
     :raises SimUnavailable: the window cannot open, or the live view cannot listen.
     """
-    node = SimNode(lockstep=lockstep, parameter_overrides=parameter_overrides(options))
+    node = SimNode(lockstep=lockstep, record=options.record is not None,
+                   parameter_overrides=parameter_overrides(options))
     for name, (x, y, theta) in zip(options.turtle_names[1:], starting_places(options.turtles)[1:],
                                    strict=True):
         node.spawn_turtle(name, x, y, theta)
@@ -94,12 +95,14 @@ def starting_places(count: int) -> list[tuple[float, float, float]]:
          0.0) for angle in others)]
 
 
-def save_snapshot(node: SimNode, path: Path | None) -> None:
-    """Write the simulator canvas to `path`, if one was asked for."""
-    if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        node.render().save(path)
-        print(f'saved {path}')
+def save_outputs(node: SimNode, options: SimOptions) -> None:
+    """Write the canvas (`--snapshot`) and what the simulator saw (`--record`), as asked."""
+    for path, save in ((options.snapshot, lambda target: node.render().save(target)),
+                       (options.record, node.record.save if node.record else None)):
+        if path is not None and save is not None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            save(path)
+            print(f'saved {path}')
 
 
 def main(args: Sequence[str] | None = None) -> int:
@@ -122,6 +125,6 @@ def main(args: Sequence[str] | None = None) -> int:
         # parameters, rotate_absolute with its awaited future and cancel, SIGTERM) is tested
         # through this program in tests/test_sim_node.py.
         return run_nodes(create_nodes, args=argv,
-                         on_exit=lambda: save_snapshot(nodes[0], options.snapshot))
+                         on_exit=lambda: save_outputs(nodes[0], options))
     except SimUnavailable as error:
         return fail(str(error))

@@ -26,6 +26,6 @@ class SimBeside:
         self.node = nodes[0]
         return nodes
 
-    def save_snapshot(self) -> None:
+    def save_outputs(self) -> None:
         if self.node is not None:
-            sim_main.save_snapshot(self.node, self.options.snapshot)
+            sim_main.save_outputs(self.node, self.options)

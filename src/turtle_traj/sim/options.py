@@ -32,6 +32,10 @@ def add_sim_options(parser: argparse.ArgumentParser, prefix: str = '') -> None:
                         help=f'{prefix}its port (default {WEB_PORT}; 0: any free one)')
     parser.add_argument('--snapshot', type=Path, metavar='PNG',
                         help=f'{prefix}save the canvas to this PNG file on exit')
+    parser.add_argument('--record', type=Path, metavar='JSON',
+                        help=f"{prefix}save what the simulator saw (every turtle's poses, the "
+                             "pen's segments, the teleports, clears and resets called) to this "
+                             'JSON file on exit, for a grader')
     parser.add_argument('--turtles', type=int, default=1, metavar='N',
                         help=f'{prefix}start with N turtles, turtle1 to turtleN, placed apart '
                              f'(1 to {MAX_TURTLES}); beside the node, a trajectory node drives '
@@ -46,6 +50,7 @@ class SimOptions:
     holonomic: bool = False
     gui: bool = False
     snapshot: Path | None = None
+    record: Path | None = None  # what the simulator saw, saved as JSON on exit
     output_dir: Path | None = None
     web: bool = False
     web_host: str = WEB_HOST
@@ -58,6 +63,8 @@ class SimOptions:
             return f'--time-scale must be within 0.1 and 1000, got {self.time_scale}'
         if self.snapshot is not None and self.snapshot.suffix.lower() != '.png':
             return f'--snapshot must name a .png file, got {self.snapshot}'
+        if self.record is not None and self.record.suffix.lower() != '.json':
+            return f'--record must name a .json file, got {self.record}'
         if not 0 <= self.web_port <= 65535:
             return f'--web-port must be within 0 and 65535, got {self.web_port}'
         if not self.web and (self.web_host, self.web_port) != (WEB_HOST, WEB_PORT):
@@ -75,6 +82,7 @@ class SimOptions:
 def options_from(parsed: argparse.Namespace) -> SimOptions:
     """SimOptions from parsed options (those `add_sim_options` added, and any others)."""
     return SimOptions(time_scale=parsed.time_scale, gui=parsed.gui, snapshot=parsed.snapshot,
+                      record=getattr(parsed, 'record', None),
                       holonomic=getattr(parsed, 'holonomic', False),
                       output_dir=getattr(parsed, 'output_dir', None), web=parsed.web,
                       web_host=parsed.web_host, web_port=parsed.web_port,

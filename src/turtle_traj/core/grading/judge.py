@@ -25,7 +25,8 @@ from turtle_traj.core.turtlesim_contract import WORLD_SIZE_M
 
 STOPPED = (1e-3, 1e-3)  # m/s, rad/s: slower counts as stopped
 WALL_MARGIN_M = 0.1  # closer to a wall is off the arena's floor
-CHEATS = ('teleport_absolute', 'teleport_relative', 'clear', 'reset')
+CHEATS = ('teleport_absolute', 'teleport_relative', 'clear', 'reset', 'kill')
+_JOINED_M = 1e-9  # a segment starting this close to the last one's end continues its stroke
 _SIMPLIFY_SHARE = 0.5  # of the tolerance: a drawn corner's wobble is not a side
 _COARSE = 120  # points of the drawing and the reference in the search over angles
 
@@ -38,6 +39,21 @@ class Record:
     poses: np.ndarray  # (N, 6)
     strokes: Sequence[np.ndarray] = ()  # each (M, 2)
     calls: Sequence[tuple[float, str]] = ()
+
+    @classmethod
+    def from_simulator(cls, data: dict, turtle: str = 'turtle1') -> Record:
+        """The record our simulator keeps (`sim.run_record.RunRecord.as_dict`, or its JSON),
+        of `turtle`: its poses, the pen's segments joined into strokes where each goes on
+        from the last, and the calls on it or on every turtle (a clear, a reset)."""
+        poses = np.array(data['poses'].get(turtle, []), dtype=float).reshape(-1, 6)
+        strokes: list[list[tuple[float, float]]] = []
+        for _time, x0, y0, x1, y1 in data['segments']:
+            if not strokes or math.dist(strokes[-1][-1], (x0, y0)) > _JOINED_M:
+                strokes.append([(x0, y0)])
+            strokes[-1].append((x1, y1))
+        calls = [(time, service) for time, service, name in data['calls']
+                 if name in ('', turtle)]
+        return cls(poses, [np.array(stroke) for stroke in strokes], calls)
 
 
 @dataclass(frozen=True)
