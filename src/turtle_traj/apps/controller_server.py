@@ -37,15 +37,15 @@ def main(args: Sequence[str] | None = None) -> int:
 
 
 def run(params_file: str | None, argv: Sequence[str]) -> int:
-    """Spin the server until Ctrl-C or SIGTERM; `argv` carries the ROS arguments."""
+    """Spin the server until Ctrl-C or SIGTERM; `argv` carries the ROS arguments (rclpy reads
+    only those after --ros-args, so our own --params-file there is passed to it again as one)."""
     ros_args = list(argv)
     if params_file is not None:
         try:
             open(params_file, encoding='utf-8').close()
         except OSError as error:
             return fail(f'--params-file: {error.strerror}: {params_file}')
-        ros_args = [*_without(ros_args, '--params-file', params_file), '--ros-args',
-                    '--params-file', params_file]
+        ros_args += ['--ros-args', '--params-file', params_file]
     servers: list[ControllerServer] = []
 
     def create_nodes(_stop) -> list[ControllerServer]:
@@ -55,13 +55,3 @@ def run(params_file: str | None, argv: Sequence[str]) -> int:
     return run_nodes(create_nodes, args=ros_args,
                      on_exit=lambda: [server.shutdown_turtle() for server in servers])
 
-
-def _without(argv: Sequence[str], option: str, value: str) -> list[str]:
-    """`argv` without our `option value` (before any --ros-args)."""
-    words = list(argv)
-    for index in range(len(words) - 1):
-        if words[index] == '--ros-args':
-            break
-        if words[index] == option and words[index + 1] == value:
-            return words[:index] + words[index + 2:]
-    return [word for word in words if word != f'{option}={value}']

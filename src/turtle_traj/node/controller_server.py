@@ -50,7 +50,7 @@ class ControllerServer(LifecycleNode):
         self.follower: TrajectoryNode | None = None
         self._follow_path = None
         self._speed_limits: SpeedLimits | None = None
-        self._retired: list[tuple] = []  # released parts waiting for their goal's result
+        self._retired: list[_Retired] = []  # released, not yet all destroyed
         self._retire_timer = None
         self._active = False
         self._group = ReentrantCallbackGroup()

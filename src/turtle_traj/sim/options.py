@@ -34,8 +34,8 @@ def add_sim_options(parser: argparse.ArgumentParser, prefix: str = '') -> None:
                         help=f'{prefix}save the canvas to this PNG file on exit')
     parser.add_argument('--record', type=Path, metavar='JSON',
                         help=f"{prefix}save what the simulator saw (every turtle's poses, the "
-                             "pen's segments, the teleports, clears and resets called) to this "
-                             'JSON file on exit, for a grader')
+                             "pen's segments, the teleports, clears, resets, spawns and kills "
+                             'called) to this JSON file on exit, for a grader')
     parser.add_argument('--turtles', type=int, default=1, metavar='N',
                         help=f'{prefix}start with N turtles, turtle1 to turtleN, placed apart '
                              f'(1 to {MAX_TURTLES}); beside the node, a trajectory node drives '

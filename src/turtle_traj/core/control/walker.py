@@ -176,7 +176,6 @@ class PlanWalker:
         self._last_command = STOP  # for a caller without a model of the robot
         self._reach = ARRIVED_M  # the stroke's: how near its end counts as arrived
         self._driven_before = 0.0  # m of the strokes (and laps) finished
-        self.path_m = plan.path.length
 
     @property
     def done(self) -> bool:
@@ -310,8 +309,9 @@ class PlanWalker:
             return
         raise ControllerFault(
             f"controller '{self.name}' claimed the end after {self.driven_m:.2f} m of "
-            f'{self.path_m:.2f} m: {left:.3f} m of the stroke left, {miss:.3f} m from its end '
-            f'(arrived is within {self._reach:.3f} m of it, along the stroke and straight)')
+            f'{self.plan.path.length:.2f} m: {left:.3f} m of the stroke left, {miss:.3f} m '
+            f'from its end (arrived is within {self._reach:.3f} m of it, along the stroke and '
+            'straight)')
 
     def _call(self, method: str, *args, period_s: float | None = None):
         """The controller's answer; timed against `period_s` when one is given and the

@@ -231,4 +231,4 @@ def _no_teleport(record: Record) -> tuple[bool, str]:
         time, name = cheats[0]
         return False, (f'the run called {name} after {time:.1f} s: the drawing must be '
                        'driven')
-    return True, 'no teleport, clear or reset was called'
+    return True, 'no teleport, clear, reset or kill was called'
