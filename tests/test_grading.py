@@ -116,16 +116,24 @@ def test_a_circle_is_judged_against_a_circle():
     assert not judge(task, too_big)[0].passed
 
 
-def test_nothing_drawn_scores_nothing():
+def test_standing_still_scores_nothing():
+    """A program that never moves the turtle (it crashed at its start) earns no point, not
+    even for standing still at the end or staying off the walls."""
     task = read_task(SQUARE_TASK)
     still = open_loop([])
-    judged = scores(task, Record(still.poses, []))
+    assert set(scores(task, still).values()) == {(0.0, 'the turtle never moved')}
+
+
+def test_moving_with_the_pen_up_draws_nothing():
+    task = read_task(SQUARE_TASK)
+    driven = open_loop([(1.0, 0.0, 2.0)])
+    judged = scores(task, Record(driven.poses, []))
     assert judged['shape'] == (0.0, 'nothing was drawn: the pen left no line')
-    assert judged['stops'][0] == 1  # it stood still, for what that is worth
+    assert judged['stops'][0] == 1 and judged['in_bounds'][0] == 1
 
 
 @pytest.mark.parametrize(('change', 'said'), [
-    ({'run': {}}, 'run: give a script or an entry_point'),
+    ({'run': {}}, 'run: give a script, an entry_point (package/executable), or both'),
     ({'run': {'entry_point': 'lab'}}, "run.entry_point 'lab' must be package/executable"),
     ({'expected': {'shape': 'hexagram', 'size': 1.0}}, "expected.shape 'hexagram' is not one"),
     ({'expected': {'shape': 'square', 'size': math.nan}}, 'expected.size must be a number'),

@@ -37,6 +37,9 @@ if TYPE_CHECKING:
 # answer at once (the registry and the parameter table are plain data).
 
 
+MAX_JOBS = 64
+
+
 def _parser_of(parse: Callable[[str], Any]) -> Callable[[str], Any]:
     """The registry's parser, as argparse calls it (its reason shown in the usage error)."""
     def parsed(text: str) -> Any:
@@ -127,6 +130,13 @@ def _fleet_size(text: str) -> int:
     return count
 
 
+def _jobs(text: str) -> int:
+    count = int(text)
+    if not 1 <= count <= MAX_JOBS:
+        raise ValueError(f'--jobs must be within 1 and {MAX_JOBS}')
+    return count
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='turtle-traj', description='Drive a turtle along trajectories through the '
@@ -200,6 +210,21 @@ def build_parser() -> argparse.ArgumentParser:
                        help="also run the exact follower with each other controller's maximum "
                             'error as its corner_tolerance, and say whether it is then no '
                             'slower within that error (about twice the time)')
+    grade = commands.add_parser(
+        'grade', help="grade a class's turtlesim lab: run each submission isolated against "
+        'the simulator, judge its drawing, write the class page')
+    grade.add_argument('task', type=Path, metavar='TASK', help='the task file (YAML)')
+    grade.add_argument('submissions', type=Path, metavar='SUBMISSIONS',
+                       help='a folder with a sub-folder per student: a script, or a package')
+    grade.add_argument('--output', type=Path, default=Path('grades'), metavar='DIR',
+                       help='where the class page, grades.csv, summary.json and each run go '
+                            '(default: %(default)s)')
+    grade.add_argument('--jobs', type=_jobs, metavar='N',
+                       help='runs at once (default: four a core: an open-loop script sleeps)')
+    lab = commands.add_parser('lab', help="copy a ready-made lab: its task file and sample "
+                              'submissions (right, wrong, hostile) to grade')
+    lab.add_argument('name', metavar='NAME', help='the lab: square')
+    lab.add_argument('folder', type=Path, metavar='DIR', help='where to copy it')
     plot = commands.add_parser('plot', help="PNG plots of a recorded run: path over plan, "
                                'deviation, v and omega against their limits, progress')
     plot.add_argument('bag', type=Path, nargs='?', metavar='BAG',

@@ -25,6 +25,16 @@ def score(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
                      matched=options.matched)
 
 
+def grade(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
+    from turtle_traj.apps.grade import run
+    return run(options.task, options.submissions, options.output, options.jobs)
+
+
+def lab(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
+    from turtle_traj.apps.grade import copy_lab
+    return copy_lab(options.name, options.folder)
+
+
 def teleop(_parser: argparse.ArgumentParser, _options: argparse.Namespace) -> int:
     from turtle_traj.cli import teleop
     return teleop.main([])
@@ -53,4 +63,5 @@ def bags(parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
 
 # by subcommand
 LOCAL_PROGRAMS = {'up': up, 'controller-server': controller_server, 'score': score,
+                  'grade': grade, 'lab': lab,
                   'teleop': teleop, 'record': bags, 'play': bags, 'plot': bags}

@@ -1,9 +1,9 @@
 """A run judged from what the simulator recorded, never from the student's output. Pure Python.
 
 `judge` takes a task and a `Record` (the simulator's poses, what the pen drew, and the
-services the run called) and answers a `Check` per check the task scores: its points, and a
-sentence a student can act on ("side 3 is 1.62 m, expected 2.00 ± 0.10 m"; "the turtle never
-stopped: still turning at 1.57 rad/s after 30.0 s").
+services the run called) and answers a `Check` per check the task scores (none passes if the
+turtle never moved): its points, and a sentence a student can act on ("side 3 is 1.62 m,
+expected 2.00 ± 0.10 m"; "the turtle never stopped: still turning at 1.57 rad/s after 30.0 s").
 
 The drawing is compared with the reference under the transforms the task allows
 (`Expected.allow`): the reference is placed by the centroid (position), turned by the angle
@@ -81,13 +81,16 @@ class Fit:
 
 def judge(task: Task, record: Record) -> list[Check]:
     """Every check `task` scores, judged on `record`, in the task's order."""
-    drawn = _drawn(record)
+    drawn = drawn_points(record)
     verdicts = {'shape': lambda: _shape(task.expected, drawn),
                 'sides': lambda: _sides(task.expected, drawn),
                 'closure': lambda: _closure(task.expected, drawn),
                 'stops': lambda: _stops(record),
                 'in_bounds': lambda: _in_bounds(record),
                 'no_teleport': lambda: _no_teleport(record)}
+    if not _moved(record):  # standing still earns nothing: not even 'stops' or 'in_bounds'
+        return [Check(name, 0.0, points, 'the turtle never moved')
+                for name, points in task.points.items()]
     checks = []
     for name, points in task.points.items():
         passed, message = verdicts[name]()
@@ -154,7 +157,7 @@ def _spread(points: np.ndarray) -> float:
     return float(np.sqrt(np.mean(np.sum((samples - _centre(points)) ** 2, axis=1))))
 
 
-def _drawn(record: Record) -> np.ndarray:
+def drawn_points(record: Record) -> np.ndarray:
     """What the pen drew, its strokes joined in order ((0, 2) when nothing was drawn)."""
     strokes = [np.asarray(stroke, dtype=float).reshape(-1, 2) for stroke in record.strokes]
     strokes = [stroke for stroke in strokes if len(stroke) >= 2]
@@ -175,7 +178,7 @@ def _sides(expected: Expected, drawn: np.ndarray) -> tuple[bool, str]:
     if len(drawn) < 2:
         return False, 'nothing was drawn: no sides to measure'
     corners = np.asarray(shapely.LineString(drawn).simplify(
-        _SIMPLIFY_SHARE * expected.tolerance).coords)
+        _SIMPLIFY_SHARE * expected.tolerance, preserve_topology=False).coords)
     lengths = np.hypot(*np.diff(corners, axis=0).T)
     lengths = lengths[lengths > expected.tolerance]  # a hook at a corner is not a side
     wanted = 4 if expected.shape == 'square' else expected.sides
@@ -199,6 +202,11 @@ def _closure(expected: Expected, drawn: np.ndarray) -> tuple[bool, str]:
     within = gap <= expected.tolerance
     return within, (f'the drawing ends {gap:.3f} m from where it began '
                     f"({'within' if within else 'beyond'} {expected.tolerance:g} m)")
+
+
+def _moved(record: Record) -> bool:
+    speeds = np.abs(record.poses[:, 4:6]) if len(record.poses) else np.zeros((0, 2))
+    return bool(np.any((speeds[:, 0] > STOPPED[0]) | (speeds[:, 1] > STOPPED[1])))
 
 
 def _stops(record: Record) -> tuple[bool, str]:

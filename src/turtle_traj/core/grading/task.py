@@ -5,9 +5,11 @@ A task file is YAML::
 
     name: square
     run:
-      script: square.py      # or entry_point: my_package/my_node
+      entry_point: turtle_square/square   # a package's, as `ros2 run` names it
+      script: square.py      # or a single script (a task may take either)
       args: []
       time_limit: 40         # s of wall time the run may take
+      settle: 5              # s the turtle stands after moving before a run still going ends
     expected:
       shape: square          # square, polygon, circle or points
       size: 2.0              # side (square, polygon), radius (circle)
@@ -68,9 +70,10 @@ class Task:
 
     name: str
     script: str = ''  # a script of the submission, run with Python
-    entry_point: str = ''  # package/executable, as `ros2 run` names it
+    entry_point: str = ''  # package/executable, as `ros2 run` names it (taken first)
     args: tuple[str, ...] = ()
     time_limit_s: float = 60.0
+    settle_s: float = 5.0
     expected: Expected = field(default_factory=lambda: Expected('square', 2.0))
     points: Mapping[str, float] = field(default_factory=dict)  # check -> points
 
@@ -87,14 +90,15 @@ def read_task(data: object) -> Task:
     top = _mapping(data, 'the task file')
     run = _mapping(top.get('run', {}), 'run')
     script, entry_point = str(run.get('script', '') or ''), str(run.get('entry_point', '') or '')
-    if bool(script) == bool(entry_point):
-        raise TaskError('run: give a script or an entry_point (package/executable), one of them')
+    if not (script or entry_point):
+        raise TaskError('run: give a script, an entry_point (package/executable), or both')
     if entry_point and entry_point.count('/') != 1:
         raise TaskError(f'run.entry_point {entry_point!r} must be package/executable')
     args = run.get('args', [])
     if not isinstance(args, list) or not all(isinstance(arg, (str, int, float)) for arg in args):
         raise TaskError('run.args must be a list of words')
     time_limit = _number(run.get('time_limit', 60.0), 'run.time_limit', 1.0, MAX_TIME_LIMIT_S)
+    settle = _number(run.get('settle', 5.0), 'run.settle', 0.5, MAX_TIME_LIMIT_S)
     points = _mapping(top.get('checks', {}), 'checks')
     unknown = sorted(set(points) - set(CHECKS))
     if unknown:
@@ -108,7 +112,7 @@ def read_task(data: object) -> Task:
     if 'sides' in scores and not expected.polygonal:
         raise TaskError(f"checks.sides needs a square or a polygon, not a {expected.shape}")
     return Task(str(top.get('name', 'task')), script, entry_point,
-                tuple(str(arg) for arg in args), time_limit, expected, scores)
+                tuple(str(arg) for arg in args), time_limit, settle, expected, scores)
 
 
 def _expected(values: Mapping[str, object]) -> Expected:

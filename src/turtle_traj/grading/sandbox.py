@@ -1,0 +1,210 @@
+"""The walls round a student's run: bubblewrap's namespaces, a control group's limits, and
+resource limits on each process. Linux.
+
+A run is two sandboxes, one inside the other:
+
+- the *room* (`room_command`): a network namespace of its own (only a loopback interface, so
+  DDS traffic cannot cross between runs nor leave the machine), its own process namespace,
+  the system read-only and the run's folder writable. The grader's simulator runs in it
+  (`grading.room`) and writes the record the run is judged from.
+- the *student's* sandbox inside it (`student_command`): the room's network (the simulator is
+  reachable on the loopback), a process namespace of its own (it cannot see nor signal the
+  simulator), the system read-only with the submissions, the grader's output and the home
+  folders hidden, and its private work folder the only writable place. Its processes join the
+  run's control group (`RunGroup`: tasks and memory) and carry resource limits (CPU seconds,
+  file size, open files, no core dumps).
+
+Nothing here runs a process; it makes the commands and the control groups.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shlex
+import shutil
+import signal
+import sys
+import time
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+CGROUP_ROOT = Path('/sys/fs/cgroup')
+GROUP_PARENT = 'turtle_traj_grading'
+HIDDEN = ('/root', '/home')  # empty and read-only, besides the grader's own folders
+SCRATCH = ('/tmp', '/var/tmp', '/dev/shm', '/run')  # empty and the run's own
+ROOM_NICE = -10  # the room's simulator steps in real time: it goes first (when root)
+_CPU_PERIOD_US = 20_000  # short: a throttled run waits at most this long
+_REMOVE_S = 10.0
+ROOM_GROUPS = Path('/tmp/run-groups')  # where the room sees the student's control groups
+
+
+class SandboxUnavailable(RuntimeError):
+    """This machine cannot isolate a run: the message says what is missing."""
+
+
+@dataclass(frozen=True)
+class RunLimits:
+    """What a student's run may use."""
+
+    wall_s: float = 60.0  # from the student's start to its end
+    cpu_s: int = 60  # of CPU time, each process
+    memory_mb: int = 1024  # all its processes together
+    tasks: int = 256  # processes and threads together (a ROS node has about 20 threads)
+    file_mb: int = 16  # the largest file it may write (its log included)
+    open_files: int = 256
+    cpu_share: float = 0.25  # of a core, all its processes together (a ROS node takes ~0.05)
+
+
+def bubblewrap() -> str:
+    """bubblewrap's path.
+
+    :raises SandboxUnavailable: it is not installed, or cannot make namespaces here.
+    """
+    path = shutil.which('bwrap')
+    if path is None:
+        raise SandboxUnavailable('bubblewrap (bwrap) is not installed: `apt-get install '
+                                 'bubblewrap` (Debian, Ubuntu)')
+    return path
+
+
+def room_command(python: str, spec: Path, run_dir: Path, groups: RunGroup | None) -> list[str]:
+    """The room's command: `python -m turtle_traj.grading.room spec` in a network and process
+    namespace of its own, with none of the grader's environment (its DDS settings are the
+    room's own), the system read-only, `run_dir` writable, the run's control groups at
+    `ROOM_GROUPS/<controller>`."""
+    command = [bubblewrap(), '--unshare-net', '--unshare-pid', '--unshare-ipc',
+               '--unshare-uts', '--die-with-parent', '--new-session', '--clearenv',
+               '--setenv', 'PATH', os.environ.get('PATH', '/usr/bin:/bin'),
+               '--setenv', 'HOME', str(run_dir), '--setenv', 'LANG', 'C.UTF-8',
+               '--ro-bind', '/', '/', '--dev', '/dev', '--proc', '/proc', '--tmpfs', '/tmp',
+               '--bind', str(run_dir), str(run_dir)]
+    for controller, path in (groups.paths.items() if groups else ()):
+        command += ['--bind', str(path), str(ROOM_GROUPS / controller)]
+    command += ['--', python, '-m', 'turtle_traj.grading.room', str(spec)]
+    if os.geteuid() == 0:  # the simulator ahead of the students' programs and other work
+        return ['nice', '-n', str(ROOM_NICE), *command]
+    return command
+
+
+def student_command(argv: Sequence[str], work: Path, hidden: Iterable[Path],
+                    environment: dict[str, str], limits: RunLimits, *,
+                    network: bool = True, grouped: bool = False) -> list[str]:
+    """The student's command `argv`, run in `work` (its only writable folder) with nothing
+    but `environment`, `hidden` folders (and the home folders, /tmp, /run) empty, in a
+    process namespace of its own; without `network`, in a network namespace of its own too
+    (a build). With `grouped`, it first joins the control groups the room sees at
+    `ROOM_GROUPS`."""
+    command = [bubblewrap(), '--unshare-pid', '--unshare-ipc', '--unshare-uts',
+               '--unshare-cgroup-try', '--die-with-parent', '--new-session', '--clearenv',
+               '--ro-bind', '/', '/', '--dev', '/dev', '--proc', '/proc']
+    if not network:
+        command.append('--unshare-net')
+    hidden_folders = [Path(folder) for folder in (*SCRATCH, *HIDDEN, *hidden)
+                      if Path(folder).exists()]
+    for folder in hidden_folders:
+        command += ['--tmpfs', str(folder)]
+    for folder in _python_prefixes():  # the Python the student runs with, where it was hidden
+        if any(folder.is_relative_to(hidden_folder) for hidden_folder in hidden_folders):
+            command += ['--ro-bind', str(folder), str(folder)]
+    command += ['--bind', str(work), str(work), '--chdir', str(work)]
+    for folder in hidden_folders:  # empty and read-only, but for what is bound in them
+        if str(folder) not in SCRATCH:
+            command += ['--remount-ro', str(folder)]
+    for name, value in sorted(environment.items()):
+        command += ['--setenv', name, value]
+    command += ['--', 'prlimit', f'--cpu={limits.cpu_s}', f'--fsize={limits.file_mb << 20}',
+                f'--nofile={limits.open_files}', '--core=0']
+    if not grouped:  # the tasks limit without a control group: per user, the best there is
+        command.append(f'--nproc={limits.tasks}')
+    # back to the grader's own priority from the room's
+    command += ['--', 'nice', '-n', str(-ROOM_NICE if os.geteuid() == 0 else 0), *argv]
+    if not grouped:
+        return command
+    joins = ' && '.join(f'echo 0 > {ROOM_GROUPS / controller}/cgroup.procs'
+                        for controller in RunGroup.CONTROLLERS)
+    return ['sh', '-c', f'{joins} && exec "$@"', 'join', *command]
+
+
+class RunGroup:
+    """A run's control groups (cgroup v1's pids, memory and cpu controllers): how many tasks,
+    how much memory and how much CPU the student's processes have together. Made by the
+    grader, which must be root; `remove` kills whatever is left in them."""
+
+    CONTROLLERS = ('pids', 'memory', 'cpu')
+
+    def __init__(self, name: str, limits: RunLimits) -> None:
+        self.paths = {controller: CGROUP_ROOT / controller / GROUP_PARENT / name
+                      for controller in self.CONTROLLERS}
+        try:
+            for path in self.paths.values():
+                path.mkdir(parents=True, exist_ok=True)
+            (self.paths['pids'] / 'pids.max').write_text(str(limits.tasks))
+            (self.paths['memory'] / 'memory.limit_in_bytes').write_text(
+                str(limits.memory_mb << 20))
+            # a share of a core, and no more weight than one ordinary process: a fork bomb's
+            # hundreds of processes, or a flood, cannot take the CPU that the simulators and
+            # the other runs need (two hogs of a core each left simulators 20 steps behind)
+            (self.paths['cpu'] / 'cpu.cfs_period_us').write_text(str(_CPU_PERIOD_US))
+            (self.paths['cpu'] / 'cpu.cfs_quota_us').write_text(
+                str(round(limits.cpu_share * _CPU_PERIOD_US)))
+        except OSError as error:
+            self.remove()
+            raise SandboxUnavailable(f'cannot make a control group ({error})') from None
+
+    @classmethod
+    def available(cls) -> bool:
+        """Whether cgroup v1's pids, memory and cpu controllers can be written here."""
+        return all(os.access(CGROUP_ROOT / controller, os.W_OK)
+                   for controller in cls.CONTROLLERS)
+
+    def peak(self) -> dict[str, float]:
+        """The most tasks and memory (MB) the student's processes took at once."""
+        values = {}
+        with contextlib.suppress(OSError, ValueError):
+            values['tasks'] = int((self.paths['pids'] / 'pids.peak').read_text())
+        with contextlib.suppress(OSError, ValueError):
+            values['memory_mb'] = int(
+                (self.paths['memory'] / 'memory.max_usage_in_bytes').read_text()) / 2**20
+        return values
+
+    def hit_tasks_limit(self) -> bool:
+        """Whether a fork or a thread was refused for the tasks limit."""
+        with contextlib.suppress(OSError, ValueError, IndexError):
+            return int((self.paths['pids'] / 'pids.events').read_text().split()[1]) > 0
+        return False
+
+    def remove(self) -> None:
+        """Kill the processes left in the groups (none may fork any more first), then remove
+        the groups. A group still busy after `_REMOVE_S` is left behind."""
+        with contextlib.suppress(OSError):
+            (self.paths['pids'] / 'pids.max').write_text('0')
+        deadline = time.monotonic() + _REMOVE_S
+        for path in self.paths.values():
+            while path.exists() and time.monotonic() < deadline:
+                for pid in _members(path):
+                    with contextlib.suppress(ProcessLookupError):
+                        os.kill(pid, signal.SIGKILL)
+                try:
+                    path.rmdir()
+                except FileNotFoundError:
+                    break
+                except OSError:  # busy: its processes are still dying
+                    time.sleep(0.02)
+
+
+def _python_prefixes() -> list[Path]:
+    """The folders the grader's Python lives in (the virtual environment and its base)."""
+    return sorted({Path(sys.prefix).resolve(), Path(sys.base_prefix).resolve()})
+
+
+def _members(path: Path) -> list[int]:
+    with contextlib.suppress(OSError):
+        return [int(pid) for pid in (path / 'cgroup.procs').read_text().split()]
+    return []
+
+
+def shell_line(argv: Sequence[str]) -> str:
+    """`argv` as one shell line (for a log)."""
+    return shlex.join(argv)

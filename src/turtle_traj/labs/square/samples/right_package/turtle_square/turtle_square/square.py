@@ -1,0 +1,61 @@
+"""A node that moves the turtle in a square of 2 m sides, closed loop on /turtle1/pose: it
+drives each side to its length and turns to each heading, then stops and exits."""
+
+import math
+
+import rclpy
+from geometry_msgs.msg import Twist
+from rclpy.node import Node
+from turtlesim.msg import Pose
+
+SIDE = 2.0
+
+
+class Square(Node):
+    def __init__(self):
+        super().__init__('square')
+        self.cmd_vel = self.create_publisher(Twist, '/turtle1/cmd_vel', 10)
+        self.create_subscription(Pose, '/turtle1/pose', self.on_pose, 10)
+        self.pose = None
+        self.leg = 0  # even legs drive, odd legs turn
+        self.start = None
+        self.done = False
+        self.create_timer(0.02, self.tick)
+
+    def on_pose(self, pose):
+        self.pose = pose
+
+    def tick(self):
+        if self.pose is None or self.done:
+            return
+        if self.start is None:
+            self.start = (self.pose.x, self.pose.y, self.pose.theta)
+        command = Twist()
+        x0, y0, heading = self.start
+        if self.leg % 2 == 0:
+            left = SIDE - math.hypot(self.pose.x - x0, self.pose.y - y0)
+            command.linear.x = min(1.0, 2.0 * left)
+            finished = left < 0.005
+        else:
+            error = math.remainder(heading + math.pi / 2 - self.pose.theta, math.tau)
+            command.angular.z = max(-1.5, min(1.5, 3.0 * error))
+            finished = abs(error) < 0.002
+        if finished:
+            command = Twist()
+            self.leg += 1
+            self.start = None
+            self.done = self.leg == 8
+        self.cmd_vel.publish(command)
+
+
+def main():
+    rclpy.init()
+    node = Square()
+    while rclpy.ok() and not node.done:
+        rclpy.spin_once(node, timeout_sec=0.1)
+    node.destroy_node()
+    rclpy.shutdown()
+
+
+if __name__ == '__main__':
+    main()
