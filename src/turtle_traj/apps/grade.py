@@ -57,7 +57,7 @@ def run(task_file: Path, submissions: Path, out: Path, jobs: int | None = None) 
     for result in results:
         print(f'{result.name:<{width}}  {result.score:>4g} / {result.max_score:g}  '
               f'{result.ended.splitlines()[0]}')
-    print(f'{len(results)} graded: {page}')
+    print(f'{len(results)} graded: {out / page.name}')  # the folder as the user named it
     return exit_status(results)
 
 

@@ -85,10 +85,11 @@ def grade_class(task: Task, submissions: Path, out: Path, *, jobs: int | None = 
     :raises SandboxUnavailable: this machine cannot isolate the runs.
     """
     bubblewrap()
+    submissions, out = submissions.resolve(), out.resolve()  # the sandboxes bind absolute paths
     folders = submissions_in(submissions)
     runs = out / 'runs'
     runs.mkdir(parents=True, exist_ok=True)
-    hidden = [submissions.resolve(), out.resolve()]
+    hidden = [submissions, out]
 
     def one(index_folder: tuple[int, Path]) -> StudentResult:
         index, folder = index_folder

@@ -91,7 +91,7 @@ def write_reports(task: Task, results: Sequence[StudentResult], out: Path) -> Pa
                              *(f'{check.score:g}' for check in result.checks), result.ended])
     (out / 'summary.json').write_text(json.dumps(summary(task, results), indent=1))
     page = out / 'index.html'
-    page.write_text(class_page(task, results, out), encoding='utf-8')
+    page.write_text(class_page(task, results, out.resolve()), encoding='utf-8')
     return page
 
 
