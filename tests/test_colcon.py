@@ -86,7 +86,8 @@ def test_the_installed_package_carries_the_pip_packages_data(install):
     patterns = load_file(ROOT / 'pyproject.toml')['tool']['setuptools']['package-data'][
         'turtle_traj']
     source = ROOT / 'src' / 'turtle_traj'
-    wanted = {path.relative_to(source) for pattern in patterns for path in source.glob(pattern)}
+    wanted = {path.relative_to(source) for pattern in patterns for path in source.glob(pattern)
+              if path.is_file() and '__pycache__' not in path.parts}
     assert Path('rosutils/fastdds.xml') in wanted
     [installed] = install.glob('turtle_traj/lib/python3*/site-packages/turtle_traj')
     assert {path for path in wanted if not (installed / path).is_file()} == set()

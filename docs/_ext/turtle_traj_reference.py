@@ -123,8 +123,8 @@ def _layer(relative: str) -> int:
 class Modules(Directive):
     def run(self):
         package = ROOT / 'src' / 'turtle_traj'
-        modules = [path for path in package.rglob('*.py')
-                   if '__pycache__' not in path.parts
+        modules = [path for path in package.rglob('*.py')  # labs/: students' programs
+                   if not {'__pycache__', 'labs'} & set(path.relative_to(package).parts)
                    and path.name not in ('__init__.py', '__main__.py')]
         relative = {path: path.relative_to(package).as_posix() for path in modules}
         ordered = sorted(modules, key=lambda path: (_layer(relative[path]), relative[path]))

@@ -80,6 +80,9 @@ def room_command(python: str, spec: Path, run_dir: Path, groups: RunGroup | None
                '--setenv', 'HOME', str(run_dir), '--setenv', 'LANG', 'C.UTF-8',
                '--ro-bind', '/', '/', '--dev', '/dev', '--proc', '/proc', '--tmpfs', '/tmp',
                '--bind', str(run_dir), str(run_dir)]
+    for folder in _grader_folders(with_package=True):  # where the room's /tmp hid them
+        if folder.is_relative_to('/tmp'):
+            command += ['--ro-bind', str(folder), str(folder)]
     for controller, path in (groups.paths.items() if groups else ()):
         command += ['--bind', str(path), str(ROOM_GROUPS / controller)]
     command += ['--', python, '-m', 'turtle_traj.grading.room', str(spec)]
@@ -105,7 +108,7 @@ def student_command(argv: Sequence[str], work: Path, hidden: Iterable[Path],
                       if Path(folder).exists()]
     for folder in hidden_folders:
         command += ['--tmpfs', str(folder)]
-    for folder in _python_prefixes():  # the Python the student runs with, where it was hidden
+    for folder in _grader_folders():  # the Python the student runs with, where it was hidden
         if any(folder.is_relative_to(hidden_folder) for hidden_folder in hidden_folders):
             command += ['--ro-bind', str(folder), str(folder)]
     command += ['--bind', str(work), str(work), '--chdir', str(work)]
@@ -194,9 +197,14 @@ class RunGroup:
                     time.sleep(0.02)
 
 
-def _python_prefixes() -> list[Path]:
-    """The folders the grader's Python lives in (the virtual environment and its base)."""
-    return sorted({Path(sys.prefix).resolve(), Path(sys.base_prefix).resolve()})
+def _grader_folders(*, with_package: bool = False) -> list[Path]:
+    """The folders the grader's Python lives in (the virtual environment and its base) and,
+    `with_package`, our package's (an editable install's source: the room's, never a
+    student's, whose view would hold the labs' sample solutions)."""
+    folders = {Path(sys.prefix).resolve(), Path(sys.base_prefix).resolve()}
+    if with_package:
+        folders.add(Path(__file__).resolve().parents[1])
+    return sorted(folders)
 
 
 def _members(path: Path) -> list[int]:
