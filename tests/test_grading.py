@@ -3,13 +3,14 @@ scripts driven on our simulator's physics, right, almost right, never stopping, 
 hitting the wall, judged against the task; task files refused by the field that is wrong."""
 
 import math
+import re
 
 import numpy as np
 import pytest
 import yaml
 
 from turtle_traj.core.grading.judge import Record, fit, judge
-from turtle_traj.core.grading.task import TaskError, read_task
+from turtle_traj.core.grading.task import TaskError, read_task, reference
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, STEP_S
 from turtle_traj.sim.physics import World
 
@@ -145,3 +146,45 @@ def test_a_task_file_that_cannot_be_used_is_refused_naming_the_field(change, sai
     with pytest.raises(TaskError) as refused:
         read_task({**SQUARE_TASK, **change})
     assert said in str(refused.value)
+
+
+def test_a_goal_is_judged_from_where_the_turtle_ended():
+    task = read_task({'run': {'script': 'go.py'}, 'expected': {'goal': [7.0, 5.0],
+                                                               'tolerance': 0.05},
+                      'checks': {'goal': 4, 'stops': 1}})
+    assert task.expected.shape == 'none'
+    there = scores(task, open_loop([(1.0, 0.0, 1.0)], start=(6.0, 5.0, 0.0)))
+    assert there['goal'][0] == 4 and there['goal'][1].startswith(
+        'the turtle ended 0.0')
+    short = scores(task, open_loop([(1.0, 0.0, 0.8)], start=(6.0, 5.0, 0.0)))
+    x_end = 6.0 + round(0.8 / STEP_S) * STEP_S  # where 0.8 s at 1 m/s leaves it
+    assert short['goal'] == (0.0, f'the turtle ended {7.0 - x_end:.3f} m from the goal '
+                             '(7.00, 5.00) after 1.3 s (beyond 0.05 m)')
+
+
+def test_a_spiral_reference_winds_out_to_its_size():
+    task = read_task({'run': {'script': 's.py'},
+                      'expected': {'shape': 'spiral', 'size': 2.0, 'turns': 3},
+                      'checks': {'shape': 1}})
+    points = np.array(reference(task.expected))
+    radii = np.hypot(*points.T)
+    angles = np.unwrap(np.arctan2(points[1:, 1], points[1:, 0]))
+    assert radii[0] == 0.0 and math.isclose(radii[-1], 2.0)
+    assert np.all(np.diff(radii) > 0)  # it only winds out
+    assert math.isclose(angles[-1], 6 * math.pi, rel_tol=1e-6)  # three turns
+    # driven as a script would: 1 rad/s, the speed b sqrt(1 + theta^2) step by step
+    pitch, moves = 2.0 / (6 * math.pi), []
+    for step in range(round(6 * math.pi / STEP_S)):
+        theta = (step + 0.5) * STEP_S
+        moves.append((pitch * math.sqrt(1 + theta * theta), 1.0, STEP_S))
+    assert judge(task, open_loop(moves))[0].passed
+
+
+@pytest.mark.parametrize(('expected', 'checks', 'said'), [
+    ({'goal': [1, 1]}, {'shape': 1}, 'checks.shape needs an expected.shape'),
+    ({'shape': 'circle', 'size': 1}, {'goal': 1}, 'checks.goal needs an expected.goal'),
+    ({'goal': [1]}, {'goal': 1}, 'expected.goal must be [x, y], not [1]'),
+])
+def test_goal_and_shape_checks_need_what_they_judge(expected, checks, said):
+    with pytest.raises(TaskError, match=re.escape(said)):
+        read_task({'run': {'script': 'a.py'}, 'expected': expected, 'checks': checks})

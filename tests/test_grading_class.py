@@ -14,6 +14,7 @@ import os
 import shutil
 import socket
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -26,7 +27,9 @@ from turtle_traj.grading.grader import ROOM_GRACE_S, grade_class
 from turtle_traj.grading.reports import exit_status, write_reports
 from turtle_traj.grading.sandbox import RunGroup, RunLimits, student_command
 
-LAB = Path(__file__).resolve().parents[1] / 'src' / 'turtle_traj' / 'labs' / 'square'
+LABS = Path(__file__).resolve().parents[1] / 'src' / 'turtle_traj' / 'labs'
+LAB = LABS / 'square'
+OTHER_LABS = ('circle', 'spiral', 'go_to_goal', 'letter')
 SOCKET_PORT = 47815  # where samples/hostile_socket knocks
 
 
@@ -144,3 +147,67 @@ def test_the_reports_carry_every_student(graded):
         name: result.score for name, result in results.items()}
     summary = json.loads((out / 'summary.json').read_text())
     assert len(summary['students']) == len(results) and summary['max_score'] == 11
+
+
+@pytest.mark.system
+@pytest.mark.timeout(300)
+def test_every_other_lab_gives_its_samples_their_grades(tmp_path):
+    """The circle, spiral, go-to-goal and letter labs, graded at once: each sample gets the
+    grade its lab's expected_grades.yaml gives it."""
+    def graded(lab: str) -> dict:
+        task = load_task(LABS / lab / 'task.yaml')
+        return {result.name: result for result in grade_class(
+            task, LABS / lab / 'samples', tmp_path / lab)}
+
+    with ThreadPoolExecutor(len(OTHER_LABS)) as pool:
+        labs = dict(zip(OTHER_LABS, pool.map(graded, OTHER_LABS), strict=True))
+    for lab, results in labs.items():
+        expected = yaml.safe_load((LABS / lab / 'samples' / 'expected_grades.yaml').read_text())
+        got = {name: result.score for name, result in results.items()}
+        assert got == expected, (lab, {name: [check.message for check in result.checks]
+                                       for name, result in results.items()})
+    goal = {check.name: check for check in labs['go_to_goal']['right'].checks}['goal']
+    assert goal.message.startswith('the turtle ended 0.0') and '(8.00, 3.00)' in goal.message
+    teleported = labs['go_to_goal']['teleports'].checks
+    assert {check.message for check in teleported} == {'the turtle never moved'}
+    mirrored = {check.name: check for check in labs['letter']['mirrored'].checks}['shape']
+    assert 'beyond the tolerance' in mirrored.message
+
+
+@pytest.mark.system
+def test_a_run_replays_in_the_browser_as_the_simulator_saw_it(graded):
+    """The replay page, in headless chromium: at the end the canvas holds the pen's white
+    strokes where the record has them; at the start, none; the checks are listed."""
+    import base64
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    from turtle_traj.core.turtlesim_contract import CANVAS_HEIGHT_M, PIXELS_PER_METER
+    from turtle_traj.testing.browser import chromium
+
+    _task, results, out, page, _seconds, _knocked = graded
+    right = results['right']
+    assert 'runs/right/replay.html' in page.read_text()
+    record = json.loads((right.run_dir / 'record.json').read_text())
+    _time, x0, y0, x1, y1 = record['segments'][len(record['segments']) // 2]
+    middle = (round((x0 + x1) / 2 * PIXELS_PER_METER),
+              round((CANVAS_HEIGHT_M - (y0 + y1) / 2) * PIXELS_PER_METER))
+
+    def canvas(driver) -> np.ndarray:
+        url = driver.execute_script("return document.getElementById('view').toDataURL()")
+        image = Image.open(io.BytesIO(base64.b64decode(url.split(',', 1)[1])))
+        return np.asarray(image.convert('RGB'))
+
+    with chromium() as driver:
+        driver.get((right.run_dir / 'replay.html').as_uri())
+        at_end = canvas(driver)
+        x, y = middle
+        assert (at_end[y - 1:y + 2, x - 1:x + 2] > 240).all(axis=2).any()  # a white stroke
+        driver.execute_script("const s = document.getElementById('time'); s.value = 0;"
+                              "s.dispatchEvent(new Event('input'))")
+        assert not (canvas(driver)[y - 1:y + 2, x - 1:x + 2] > 240).all(axis=2).any()
+        checks = driver.execute_script(
+            "return [...document.querySelectorAll('#checks li')].map(li => li.textContent)")
+    assert len(checks) == 6 and checks[0].startswith('\u2713 shape 4/4: the drawing lies')

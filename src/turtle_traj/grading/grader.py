@@ -9,6 +9,7 @@ from every run.
 
 from __future__ import annotations
 
+import itertools
 import json
 import os
 import re
@@ -23,7 +24,15 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from turtle_traj.core.grading.judge import Check, Fit, Record, drawn_points, fit, judge
+from turtle_traj.core.grading.judge import (
+    NEVER_MOVED,
+    Check,
+    Fit,
+    Record,
+    drawn_points,
+    fit,
+    judge,
+)
 from turtle_traj.core.grading.task import Task
 from turtle_traj.grading.room import Outcome
 from turtle_traj.grading.sandbox import (
@@ -32,6 +41,7 @@ from turtle_traj.grading.sandbox import (
     SandboxUnavailable,
     bubblewrap,
     room_command,
+    simulator_first,
     student_command,
 )
 from turtle_traj.grading.submission import NotReady, copy_submission, prepare
@@ -127,7 +137,9 @@ def grade_one(task: Task, folder: Path, run_dir: Path, hidden: list[Path], *,
 def _run(task: Task, name: str, run_dir: Path, work: Path, hidden: list[Path],
          argv: list[str], environment: dict[str, str], domain_id: int) -> StudentResult:
     limits = RunLimits(wall_s=task.time_limit_s)
-    group = RunGroup(f'{os.getpid()}-{name}', limits) if RunGroup.available() else None
+    # named by this process and a count: two classes graded at once both have their 'right'
+    group = (RunGroup(f'{os.getpid()}-{next(_RUNS)}-{name}', limits) if RunGroup.available()
+             else None)
     try:
         command = student_command(argv, work, hidden, environment, limits,
                                   grouped=group is not None)
@@ -148,15 +160,18 @@ def _run(task: Task, name: str, run_dir: Path, work: Path, hidden: list[Path],
     record = Record.from_simulator(json.loads((run_dir / 'record.json').read_text()))
     ended = outcome.describe() + ('; it was refused more processes (the limit is '
                                   f'{limits.tasks})' if tasks_hit else '')
-    if outcome.lost_steps:
+    checks = judge(task, record)
+    if outcome.lost_steps and any(check.message != NEVER_MOVED for check in checks):
         ended += (f'; the simulator fell {outcome.lost_steps} steps behind (the machine was too '
                   'busy): grade it again')
     drawn = drawn_points(record)
-    placed = fit(task.expected, drawn) if len(drawn) >= 2 else None
-    return StudentResult(name, judge(task, record), ended, run_dir, log, peak, placed,
+    placed = (fit(task.expected, drawn) if len(drawn) >= 2 and task.expected.shape != 'none'
+              else None)
+    return StudentResult(name, checks, ended, run_dir, log, peak, placed,
                          [stroke.tolist() for stroke in record.strokes])
 
 
+_RUNS = itertools.count()
 _STARTING = threading.Lock()  # one room starts at a time (see `_run_room`)
 _START_POLL_S = 0.02
 
@@ -165,8 +180,9 @@ def _run_room(command: list[str], run_dir: Path, timeout_s: float) -> str:
     """Run the room; '' when it saved its outcome, else what went wrong.
 
     Rooms start one at a time: a room's start (Python, rclpy, the simulator: about a second
-    of a core) runs at the simulators' priority, and several at once kept running simulators
-    from their steps (the turtle then moves less than it was told to)."""
+    of a core) runs at nice -10, and several at once kept running simulators from their steps
+    (the turtle then moves less than it was told to). Started, its simulator runs real-time
+    (`simulator_first`)."""
     with (run_dir / 'room.log').open('wb') as log:
         with _STARTING:
             room = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=log,
@@ -175,6 +191,7 @@ def _run_room(command: list[str], run_dir: Path, timeout_s: float) -> str:
             while (not (run_dir / 'started').exists() and room.poll() is None
                    and time.monotonic() < deadline):
                 time.sleep(_START_POLL_S)
+            simulator_first(room.pid)
         try:
             room.wait(timeout=timeout_s)
         except subprocess.TimeoutExpired:

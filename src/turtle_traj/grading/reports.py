@@ -1,7 +1,7 @@
 """What a teacher gets back from grading a class: a picture per student (their drawing over the
-reference placed as the task allows, each check marked), the class page (`index.html`), a
-spreadsheet (`grades.csv`), a summary for scripts (`summary.json`, the exit status) and
-Gradescope's `results.json` per student.
+reference placed as the task allows, each check marked) and a replay of the run, the class
+page (`index.html`), a spreadsheet (`grades.csv`), a summary for scripts (`summary.json`, the
+exit status) and Gradescope's `results.json` per student.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from PIL import Image, ImageDraw
 from turtle_traj.core.grading.task import Task
 from turtle_traj.core.turtlesim_contract import CANVAS_HEIGHT_M, PIXELS_PER_METER
 from turtle_traj.grading.grader import StudentResult
+from turtle_traj.grading.replay import write_replay
 
 REFERENCE_RGBA = (40, 220, 90, 110)
 DRAWN_RGBA = (255, 255, 255, 255)
@@ -24,9 +25,10 @@ PASSED, FAILED = '\u2713', '\u2717'
 _BLANK_RGB = (69, 86, 255)  # turtlesim's background, where the run left no canvas
 
 
-def picture(result: StudentResult, path: Path) -> Path:
-    """The run's canvas with the reference placed over it (a green band), the pen's strokes
-    on top (white), and each check marked at the top."""
+def picture(result: StudentResult, path: Path,
+            goal: tuple[float, float] | None = None) -> Path:
+    """The run's canvas with the reference placed over it (a green band), the goal (a green
+    ring), the pen's strokes on top (white), and each check marked at the top."""
     try:
         with Image.open(result.run_dir / 'canvas.png') as canvas:
             image = canvas.convert('RGBA')
@@ -37,6 +39,9 @@ def picture(result: StudentResult, path: Path) -> Path:
     if result.fit is not None:  # a wide band under the drawing, which is drawn again on it
         draw.line([_pixel(x, y) for x, y in result.fit.points], fill=REFERENCE_RGBA, width=9,
                   joint='curve')
+    if goal is not None:
+        x, y = _pixel(*goal)
+        draw.ellipse((x - 8, y - 8, x + 8, y + 8), outline=REFERENCE_RGBA[:3] + (255,), width=3)
     for stroke in result.drawn:
         draw.line([_pixel(x, y) for x, y in stroke], fill=DRAWN_RGBA, width=2)
     top = 4
@@ -81,7 +86,8 @@ def write_reports(task: Task, results: Sequence[StudentResult], out: Path) -> Pa
     """Write the pictures, Gradescope's results, `grades.csv`, `summary.json` and the class
     page into `out`; returns the class page's path."""
     for result in results:
-        picture(result, result.run_dir / 'picture.png')
+        picture(result, result.run_dir / 'picture.png', task.expected.goal)
+        write_replay(result, result.run_dir / 'replay.html')
         (result.run_dir / 'results.json').write_text(json.dumps(gradescope(result), indent=1))
     with (out / 'grades.csv').open('w', newline='', encoding='utf-8') as file:
         writer = csv.writer(file)
@@ -107,6 +113,10 @@ def class_page(task: Task, results: Sequence[StudentResult], out: Path) -> str:
         image = (result.run_dir / 'picture.png').relative_to(out).as_posix()
         log = (f'<details><summary>output</summary><pre>{html.escape(result.log)}</pre>'
                '</details>' if result.log.strip() else '')
+        replay = result.run_dir / 'replay.html'
+        if replay.exists():
+            link = html.escape(replay.relative_to(out).as_posix())
+            log += f'<p><a href="{link}">replay the run</a></p>'
         cards.append(
             f'<section class="card" id="{html.escape(result.name)}">'
             f'<h2>{html.escape(result.name)} <span>{result.score:g} / {result.max_score:g}'

@@ -23,11 +23,13 @@ import shapely
 from turtle_traj.core.grading.task import Expected, Task, reference
 from turtle_traj.core.turtlesim_contract import WORLD_SIZE_M
 
+NEVER_MOVED = 'the turtle never moved'
 STOPPED = (1e-3, 1e-3)  # m/s, rad/s: slower counts as stopped
 WALL_MARGIN_M = 0.1  # closer to a wall is off the arena's floor
 CHEATS = ('teleport_absolute', 'teleport_relative', 'clear', 'reset', 'kill')
 _JOINED_M = 1e-9  # a segment starting this close to the last one's end continues its stroke
 _SIMPLIFY_SHARE = 0.5  # of the tolerance: a drawn corner's wobble is not a side
+_BAND_M = 0.01  # the half-width of the band whose centroid is a line's centre
 _COARSE = 120  # points of the drawing and the reference in the search over angles
 
 
@@ -87,9 +89,10 @@ def judge(task: Task, record: Record) -> list[Check]:
                 'closure': lambda: _closure(task.expected, drawn),
                 'stops': lambda: _stops(record),
                 'in_bounds': lambda: _in_bounds(record),
-                'no_teleport': lambda: _no_teleport(record)}
+                'no_teleport': lambda: _no_teleport(record),
+                'goal': lambda: _goal(task.expected, record)}
     if not _moved(record):  # standing still earns nothing: not even 'stops' or 'in_bounds'
-        return [Check(name, 0.0, points, 'the turtle never moved')
+        return [Check(name, 0.0, points, NEVER_MOVED)
                 for name, points in task.points.items()]
     checks = []
     for name, points in task.points.items():
@@ -101,40 +104,48 @@ def judge(task: Task, record: Record) -> list[Check]:
 def fit(expected: Expected, drawn: np.ndarray) -> Fit:
     """The reference placed as the task allows so that it lies closest to `drawn`: every
     degree on both at `_COARSE` points, then the best angle refined to a tenth of a degree at
-    full resolution. Without `position` the reference starts where the drawing starts; without
-    `orientation` it leaves along +x (turtlesim's spawn heading)."""
+    full resolution. With `position` the reference's centre goes on the drawing's (each the
+    centroid of the ground its line covers, so a stroke drawn twice weighs once); without, the
+    reference starts where the drawing starts. Without `orientation` it leaves along +x
+    (turtlesim's spawn heading)."""
     base = np.asarray(reference(expected), dtype=float)
     allow = expected.allow
     coarse_drawn = shapely.LineString(_resampled(drawn, _COARSE))
     drawn_line = shapely.LineString(drawn)
+    anchor = _centre(drawn) if 'position' in allow else None
     best = Fit(base, math.inf)
     for mirror in ((False, True) if 'direction' in allow else (False,)):
         shape = base * (1.0, -1.0) if mirror else base
         if 'scale' in allow:
             shape = shape * (_spread(drawn) / max(_spread(shape), 1e-9))
+        centre = _centre(shape)
         if 'orientation' not in allow:
             candidates = [0.0]
         else:
             coarse = _resampled(shape, _COARSE)
             distances = [shapely.hausdorff_distance(coarse_drawn, shapely.LineString(
-                _placed(coarse, angle, drawn, 'position' in allow)))
+                _placed(coarse, centre, angle, anchor, drawn[0])))
                 for angle in np.radians(np.arange(0.0, 360.0, 1.0))]
             top = math.radians(float(np.argmin(distances)))
             candidates = top + np.radians(np.arange(-1.0, 1.05, 0.1))
         for angle in candidates:
-            placed = _placed(shape, float(angle), drawn, 'position' in allow)
+            placed = _placed(shape, centre, float(angle), anchor, drawn[0])
             distance = shapely.hausdorff_distance(drawn_line, shapely.LineString(placed))
             if distance < best.distance:
                 best = Fit(placed, distance, {'mirror': mirror, 'angle': float(angle)})
     return best
 
 
-def _placed(shape: np.ndarray, angle: float, drawn: np.ndarray, move: bool) -> np.ndarray:
+def _placed(shape: np.ndarray, centre: np.ndarray, angle: float, anchor: np.ndarray | None,
+            start: np.ndarray) -> np.ndarray:
+    """`shape` turned by `angle` about the origin, then its `centre` put on `anchor`, or (no
+    anchor) its first point on `start`."""
     cos, sin = math.cos(angle), math.sin(angle)
-    turned = shape @ np.array([[cos, sin], [-sin, cos]])
-    if move:
-        return turned - _centre(turned) + _centre(drawn)
-    return turned - turned[0] + drawn[0]
+    rotation = np.array([[cos, sin], [-sin, cos]])
+    turned = shape @ rotation
+    if anchor is not None:
+        return turned - centre @ rotation + anchor
+    return turned - turned[0] + start
 
 
 def _resampled(points: np.ndarray, count: int) -> np.ndarray:
@@ -145,9 +156,12 @@ def _resampled(points: np.ndarray, count: int) -> np.ndarray:
 
 
 def _centre(points: np.ndarray) -> np.ndarray:
-    """The centroid of a polyline, by length (its vertices' spacing does not weigh)."""
+    """The centroid of the ground a polyline covers (a thin band along it): a stretch drawn
+    twice weighs once, and its vertices' spacing does not weigh."""
     line = shapely.LineString(points)
-    centroid = line.centroid if line.length > 0 else shapely.Point(points[0])
+    if line.length == 0:
+        return np.asarray(points[0], dtype=float)
+    centroid = line.buffer(_BAND_M, cap_style='flat').centroid
     return np.array([centroid.x, centroid.y])
 
 
@@ -231,6 +245,16 @@ def _in_bounds(record: Record) -> tuple[bool, str]:
         return False, (f'the turtle came within {max(clearance[worst], 0.0):.2f} m of the '
                        f'wall at ({x:.2f}, {y:.2f}) after {record.poses[worst, 0]:.1f} s')
     return True, f'the turtle kept {clearance[worst]:.2f} m from the walls at least'
+
+
+def _goal(expected: Expected, record: Record) -> tuple[bool, str]:
+    time, x, y = record.poses[-1, :3]
+    gx, gy = expected.goal
+    distance = math.hypot(x - gx, y - gy)
+    within = distance <= expected.tolerance
+    return within, (f'the turtle ended {distance:.3f} m from the goal ({gx:.2f}, {gy:.2f}) '
+                    f"after {time:.1f} s ({'within' if within else 'beyond'} "
+                    f'{expected.tolerance:g} m)')
 
 
 def _no_teleport(record: Record) -> tuple[bool, str]:

@@ -11,8 +11,9 @@ A task file is YAML::
       time_limit: 40         # s of wall time the run may take
       settle: 5              # s the turtle stands after moving before a run still going ends
     expected:
-      shape: square          # square, polygon, circle or points
-      size: 2.0              # side (square, polygon), radius (circle)
+      shape: square          # square, polygon, circle, spiral, points, or none
+      size: 2.0              # side (square, polygon), radius (circle, a spiral's last)
+      goal: [8.0, 3.0]       # where the turtle must end (the goal check), if anywhere
       tolerance: 0.1         # m: how far the drawing may lie from the reference
       allow: [position, orientation, direction]   # and scale
     checks:                  # points for each
@@ -22,6 +23,7 @@ A task file is YAML::
       stops: 1
       in_bounds: 1
       no_teleport: 1
+      goal: 0
 
 `read_task` checks every field and raises `TaskError` naming the one that is wrong.
 """
@@ -32,9 +34,12 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
-SHAPES = ('square', 'polygon', 'circle', 'points')
+import numpy as np
+
+SHAPES = ('square', 'polygon', 'circle', 'spiral', 'points', 'none')
 TRANSFORMS = ('position', 'orientation', 'direction', 'scale')
-CHECKS = ('shape', 'sides', 'closure', 'stops', 'in_bounds', 'no_teleport')
+CHECKS = ('shape', 'sides', 'closure', 'stops', 'in_bounds', 'no_teleport', 'goal')
+_DRAWING_CHECKS = ('shape', 'sides', 'closure')
 _POLYGONAL = ('square', 'polygon')
 MAX_TIME_LIMIT_S = 600.0
 MAX_POINTS = 1000
@@ -54,10 +59,12 @@ class Expected:
     points: tuple[tuple[float, float], ...] = ()  # a path given as points (x, y)
     tolerance: float = 0.1
     allow: frozenset[str] = frozenset({'position', 'orientation', 'direction'})
+    turns: float = 3.0  # a spiral's
+    goal: tuple[float, float] | None = None  # where the turtle must end (x, y)
 
     @property
     def closed(self) -> bool:
-        return self.shape != 'points'
+        return self.shape not in ('points', 'spiral')
 
     @property
     def polygonal(self) -> bool:
@@ -99,7 +106,14 @@ def read_task(data: object) -> Task:
         raise TaskError('run.args must be a list of words')
     time_limit = _number(run.get('time_limit', 60.0), 'run.time_limit', 1.0, MAX_TIME_LIMIT_S)
     settle = _number(run.get('settle', 5.0), 'run.settle', 0.5, MAX_TIME_LIMIT_S)
-    points = _mapping(top.get('checks', {}), 'checks')
+    expected = _expected(_mapping(top.get('expected'), 'expected'))
+    scores = _scores(_mapping(top.get('checks', {}), 'checks'), expected)
+    return Task(str(top.get('name', 'task')), script, entry_point,
+                tuple(str(arg) for arg in args), time_limit, settle, expected, scores)
+
+
+def _scores(points: Mapping[str, object], expected: Expected) -> dict[str, float]:
+    """Each check's points, every check one the expected drawing can be judged by."""
     unknown = sorted(set(points) - set(CHECKS))
     if unknown:
         raise TaskError(f"checks: {', '.join(unknown)} is not a check: choose from "
@@ -108,15 +122,18 @@ def read_task(data: object) -> Task:
               for name, value in points.items()}
     if not scores:
         raise TaskError('checks: give at least one check its points')
-    expected = _expected(_mapping(top.get('expected'), 'expected'))
     if 'sides' in scores and not expected.polygonal:
         raise TaskError(f"checks.sides needs a square or a polygon, not a {expected.shape}")
-    return Task(str(top.get('name', 'task')), script, entry_point,
-                tuple(str(arg) for arg in args), time_limit, settle, expected, scores)
+    drawing = [check for check in _DRAWING_CHECKS if check in scores]
+    if drawing and expected.shape == 'none':
+        raise TaskError(f"checks.{drawing[0]} needs an expected.shape")
+    if 'goal' in scores and expected.goal is None:
+        raise TaskError('checks.goal needs an expected.goal [x, y]')
+    return scores
 
 
 def _expected(values: Mapping[str, object]) -> Expected:
-    shape = values.get('shape')
+    shape = values.get('shape', 'none')
     if shape not in SHAPES:
         raise TaskError(f"expected.shape {shape!r} is not one of {', '.join(SHAPES)}")
     tolerance = _number(values.get('tolerance', 0.1), 'expected.tolerance', 0.001, 5.0)
@@ -124,25 +141,32 @@ def _expected(values: Mapping[str, object]) -> Expected:
     if not isinstance(allow, list) or not set(allow) <= set(TRANSFORMS):
         raise TaskError(f"expected.allow must list some of {', '.join(TRANSFORMS)}, not "
                         f'{allow!r}')
-    if shape == 'points':
-        return Expected(shape, points=_points(values.get('points')), tolerance=tolerance,
-                        allow=frozenset(allow))
+    goal = None
+    if 'goal' in values:
+        goal = _points([values['goal'], values['goal']], 'expected.goal')[0]
+    common = {'tolerance': tolerance, 'allow': frozenset(allow), 'goal': goal}
+    if shape in ('points', 'none'):
+        points = _points(values.get('points'), 'expected.points') if shape == 'points' else ()
+        return Expected(shape, points=points, **common)
     size = _number(values.get('size'), 'expected.size', 0.01, 11.0)
-    sides = 4
+    sides, turns = 4, 3.0
     if shape == 'polygon':
         sides = int(_number(values.get('sides'), 'expected.sides', 3, 12))
-    return Expected(shape, size, sides, tolerance=tolerance, allow=frozenset(allow))
+    if shape == 'spiral':
+        turns = _number(values.get('turns', 3.0), 'expected.turns', 0.25, 20.0)
+    return Expected(shape, size, sides, turns=turns, **common)
 
 
-def _points(values: object) -> tuple[tuple[float, float], ...]:
+def _points(values: object, name: str) -> tuple[tuple[float, float], ...]:
     if not isinstance(values, list) or len(values) < 2:
-        raise TaskError('expected.points must list at least two points [x, y]')
+        raise TaskError(f'{name} must list at least two points [x, y]')
     points = []
     for index, point in enumerate(values):
+        where = name if name == 'expected.goal' else f'{name}[{index}]'
         if not isinstance(point, list) or len(point) != 2:
-            raise TaskError(f'expected.points[{index}] must be [x, y], not {point!r}')
-        points.append((_number(point[0], f'expected.points[{index}]', -100.0, 100.0),
-                       _number(point[1], f'expected.points[{index}]', -100.0, 100.0)))
+            raise TaskError(f'{where} must be [x, y], not {point!r}')
+        points.append((_number(point[0], where, -100.0, 100.0),
+                       _number(point[1], where, -100.0, 100.0)))
     return tuple(points)
 
 
@@ -162,8 +186,13 @@ def _number(value: object, name: str, low: float, high: float) -> float:
 def reference(expected: Expected, samples: int = 720) -> Sequence[tuple[float, float]]:
     """The reference drawing as points from its start (at the origin, leaving along +x,
     counter-clockwise): a polygon's vertices (closed), a circle's samples, the given points."""
-    if expected.shape == 'points':
+    if expected.shape in ('points', 'none'):
         return list(expected.points)
+    if expected.shape == 'spiral':  # Archimedean, from its centre: r = b theta
+        end = 2.0 * math.pi * expected.turns
+        pitch = expected.size / end
+        return [(pitch * angle * math.cos(angle), pitch * angle * math.sin(angle))
+                for angle in np.linspace(0.0, end, samples + 1)]
     if expected.polygonal:
         sides = 4 if expected.shape == 'square' else expected.sides
         vertices = [(0.0, 0.0)]
