@@ -17,11 +17,13 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
 from turtle_traj.apps.grade import load_task
 from turtle_traj.core.grading.task import read_task
+from turtle_traj.core.turtlesim_contract import PIXELS_PER_METER
 from turtle_traj.grading import sandbox
 from turtle_traj.grading.grader import ROOM_GRACE_S, grade_class
 from turtle_traj.grading.reports import exit_status, write_reports
@@ -181,10 +183,9 @@ def test_a_run_replays_in_the_browser_as_the_simulator_saw_it(graded):
     import base64
     import io
 
-    import numpy as np
     from PIL import Image
 
-    from turtle_traj.core.turtlesim_contract import CANVAS_HEIGHT_M, PIXELS_PER_METER
+    from turtle_traj.core.turtlesim_contract import CANVAS_HEIGHT_M
     from turtle_traj.testing.browser import chromium
 
     _task, results, out, page, _seconds, _knocked = graded
@@ -211,3 +212,42 @@ def test_a_run_replays_in_the_browser_as_the_simulator_saw_it(graded):
         checks = driver.execute_script(
             "return [...document.querySelectorAll('#checks li')].map(li => li.textContent)")
     assert len(checks) == 6 and checks[0].startswith('\u2713 shape 4/4: the drawing lies')
+
+
+@pytest.mark.system
+@pytest.mark.timeout(200)
+def test_one_run_is_watched_live_and_the_view_cannot_drive(tmp_path):
+    """`grade --watch`: while the run goes on, the page on 127.0.0.1 shows the square being
+    drawn; an arrow key pressed there is refused; the grade is the one it gets unwatched."""
+    import threading
+
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.keys import Keys
+
+    from turtle_traj.grading.grader import watch_one
+    from turtle_traj.testing.browser import chromium, free_port, page_canvas, wait_for
+
+    task, urls, graded = load_task(LAB / 'task.yaml'), [], {}
+    runner = threading.Thread(target=lambda: graded.update(result=watch_one(
+        task, LAB / 'samples', tmp_path, 'right', free_port(), urls.append)))
+    runner.start()
+    try:
+        wait_for(lambda: urls, what='the live view address')
+        assert urls[0].startswith('http://127.0.0.1:')
+        with chromium() as driver:
+            driver.get(urls[0])
+
+            def trail() -> int:  # the pen's colour on the canvas, in pixels
+                return int(np.all(page_canvas(driver) == (179, 184, 255), axis=2).sum())
+
+            wait_for(lambda: trail() > 2 * PIXELS_PER_METER, timeout_s=60.0,
+                     what='the first side drawn on the page')
+            driver.execute_script('document.getElementById("view").focus()')
+            ActionChains(driver).send_keys(Keys.ARROW_UP).perform()
+            wait_for(lambda: 'only watches' in driver.find_element('id', 'error').text,
+                     what='the key refused')
+            wait_for(lambda: trail() > 7 * PIXELS_PER_METER, timeout_s=60.0,
+                     what='the square drawn on the page')
+    finally:
+        runner.join(timeout=120)
+    assert graded['result'].score == 11

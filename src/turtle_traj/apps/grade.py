@@ -12,7 +12,7 @@ from pathlib import Path
 import yaml
 
 from turtle_traj.core.grading.task import Task, TaskError, read_task
-from turtle_traj.grading.grader import StudentResult, grade_class
+from turtle_traj.grading.grader import StudentResult, grade_class, watch_one
 from turtle_traj.grading.reports import exit_status, write_reports
 from turtle_traj.grading.sandbox import SandboxUnavailable
 
@@ -32,9 +32,11 @@ def load_task(path: Path) -> Task:
         raise TaskError(f'{path} is not YAML: {error}') from None
 
 
-def run(task_file: Path, submissions: Path, out: Path, jobs: int | None = None) -> int:
-    """Grade and report; the exit status is 0 when every submission got full marks, 1 when one
-    lost points, 2 when the task or the folders cannot be used."""
+def run(task_file: Path, submissions: Path, out: Path, jobs: int | None = None,
+        watch: str | None = None, port: int = 0) -> int:
+    """Grade and report (with `watch`, that submission alone, its live view served on
+    `port`); the exit status is 0 when every submission got full marks, 1 when one lost
+    points, 2 when the task or the folders cannot be used."""
     try:
         task = load_task(task_file)
     except TaskError as error:
@@ -47,10 +49,20 @@ def run(task_file: Path, submissions: Path, out: Path, jobs: int | None = None) 
     def say(result: StudentResult) -> None:
         print(f'graded {result.name} in {result.seconds:.1f} s', flush=True)
 
+    def show(url: str) -> None:
+        print(f'live view of {watch}: {url} (watch only)', flush=True)
+
     try:
-        results = grade_class(task, submissions, out, jobs=jobs, on_result=say)
+        if watch is not None:
+            results = [watch_one(task, submissions, out, watch, port, show)]
+            say(results[0])
+        else:
+            results = grade_class(task, submissions, out, jobs=jobs, on_result=say)
     except SandboxUnavailable as error:
         print(f'grade: cannot isolate the runs: {error}', file=sys.stderr)
+        return USAGE_ERROR
+    except (ValueError, OSError) as error:  # no such submission; the port is taken
+        print(f'grade: {error}', file=sys.stderr)
         return USAGE_ERROR
     page = write_reports(task, results, out)
     width = max((len(result.name) for result in results), default=0)

@@ -221,6 +221,12 @@ def build_parser() -> argparse.ArgumentParser:
                             '(default: %(default)s)')
     grade.add_argument('--jobs', type=_jobs, metavar='N',
                        help='runs at once (default: four a core: an open-loop script sleeps)')
+    grade.add_argument('--watch', metavar='NAME',
+                       help="grade that student's submission alone, and serve its simulator's "
+                            'live view (watch only) while it runs')
+    grade.add_argument('--port', type=int, default=8090,
+                       help='the live view\'s port on 127.0.0.1, with --watch (default: '
+                            '%(default)s)')
     lab = commands.add_parser('lab', help="copy a ready-made lab: its task file and sample "
                               'submissions (right, wrong, hostile) to grade')
     lab.add_argument('name', metavar='NAME', help='the lab: square')

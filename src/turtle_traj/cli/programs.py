@@ -27,7 +27,8 @@ def score(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
 
 def grade(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:
     from turtle_traj.apps.grade import run
-    return run(options.task, options.submissions, options.output, options.jobs)
+    return run(options.task, options.submissions, options.output, options.jobs, options.watch,
+               options.port)
 
 
 def lab(_parser: argparse.ArgumentParser, options: argparse.Namespace) -> int:

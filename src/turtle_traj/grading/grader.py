@@ -17,6 +17,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from collections.abc import Callable
@@ -34,6 +35,7 @@ from turtle_traj.core.grading.judge import (
     judge,
 )
 from turtle_traj.core.grading.task import Task
+from turtle_traj.grading.forward import UnixForwarder
 from turtle_traj.grading.room import Outcome
 from turtle_traj.grading.sandbox import (
     RunGroup,
@@ -112,9 +114,35 @@ def grade_class(task: Task, submissions: Path, out: Path, *, jobs: int | None = 
         return list(pool.map(one, enumerate(folders)))
 
 
+def watch_one(task: Task, submissions: Path, out: Path, name: str, port: int,
+              on_url: Callable[[str], None]) -> StudentResult:
+    """Submission `name` graded while its simulator's live view (watch only) is served on
+    http://127.0.0.1:`port`/ (`on_url` hears the address before the run starts).
+
+    :raises SandboxUnavailable: this machine cannot isolate the run.
+    :raises ValueError: there is no such submission.
+    :raises OSError: the port is taken.
+    """
+    bubblewrap()
+    submissions, out = submissions.resolve(), out.resolve()
+    folder = submissions / name
+    if folder not in submissions_in(submissions):
+        raise ValueError(f'no submission {name!r} in {submissions}')
+    with tempfile.TemporaryDirectory(prefix='turtle_traj_live_') as sockets:
+        socket = Path(sockets) / 'view.sock'  # short: a socket's path has 107 bytes at most
+        forwarder = UnixForwarder(socket, port)
+        on_url(forwarder.start())
+        try:
+            return grade_one(task, folder, out / 'runs' / name, [submissions, out],
+                             domain_id=1, live_view=socket)
+        finally:
+            forwarder.stop()
+
+
 def grade_one(task: Task, folder: Path, run_dir: Path, hidden: list[Path], *,
-              domain_id: int) -> StudentResult:
-    """One submission, run in its room and judged."""
+              domain_id: int, live_view: Path | None = None) -> StudentResult:
+    """One submission, run in its room and judged; with `live_view`, the room serves its
+    simulator's live view (watch only) on that Unix socket."""
     started = time.monotonic()
     if run_dir.exists():
         shutil.rmtree(run_dir)
@@ -124,7 +152,7 @@ def grade_one(task: Task, folder: Path, run_dir: Path, hidden: list[Path], *,
         copy_submission(folder, work)
         ready = prepare(task, work, hidden, domain_id)
         result = _run(task, folder.name, run_dir, work, hidden, ready.argv, ready.environment,
-                      domain_id)
+                      domain_id, live_view)
     except NotReady as reason:
         result = _not_run(task, folder.name, run_dir, str(reason))
     except (OSError, ValueError, KeyError, TypeError) as error:  # never the class's grading
@@ -135,7 +163,8 @@ def grade_one(task: Task, folder: Path, run_dir: Path, hidden: list[Path], *,
 
 
 def _run(task: Task, name: str, run_dir: Path, work: Path, hidden: list[Path],
-         argv: list[str], environment: dict[str, str], domain_id: int) -> StudentResult:
+         argv: list[str], environment: dict[str, str], domain_id: int,
+         live_view: Path | None) -> StudentResult:
     limits = RunLimits(wall_s=task.time_limit_s)
     # named by this process and a count: two classes graded at once both have their 'right'
     group = (RunGroup(f'{os.getpid()}-{next(_RUNS)}-{name}', limits) if RunGroup.available()
@@ -144,10 +173,12 @@ def _run(task: Task, name: str, run_dir: Path, work: Path, hidden: list[Path],
         command = student_command(argv, work, hidden, environment, limits,
                                   grouped=group is not None)
         spec = {'command': command, 'run_dir': str(run_dir), 'wall_s': limits.wall_s,
-                'settle_s': task.settle_s, 'domain_id': domain_id}
+                'settle_s': task.settle_s, 'domain_id': domain_id,
+                'live_view': str(live_view or '')}
         (run_dir / 'spec.json').write_text(json.dumps(spec))
         room_error = _run_room(room_command(sys.executable, run_dir / 'spec.json', run_dir,
-                                            group), run_dir, limits.wall_s + ROOM_GRACE_S)
+                                            group, live_view), run_dir,
+                               limits.wall_s + ROOM_GRACE_S)
         peak = group.peak() if group else {}
         tasks_hit = group is not None and group.hit_tasks_limit()
     finally:
@@ -218,4 +249,5 @@ def _tail(path: Path) -> str:
         return ''
 
 
-__all__ = ['SandboxUnavailable', 'StudentResult', 'grade_class', 'grade_one', 'submissions_in']
+__all__ = ['SandboxUnavailable', 'StudentResult', 'grade_class', 'grade_one', 'submissions_in',
+           'watch_one']

@@ -113,6 +113,9 @@ def class_page(task: Task, results: Sequence[StudentResult], out: Path) -> str:
         image = (result.run_dir / 'picture.png').relative_to(out).as_posix()
         log = (f'<details><summary>output</summary><pre>{html.escape(result.log)}</pre>'
                '</details>' if result.log.strip() else '')
+        if result.peak:  # what the program took of its limits, at most
+            log += (f"<p>at most {result.peak.get('tasks', 0)} tasks and "
+                    f"{result.peak.get('memory_mb', 0):.0f} MB at once</p>")
         replay = result.run_dir / 'replay.html'
         if replay.exists():
             link = html.escape(replay.relative_to(out).as_posix())

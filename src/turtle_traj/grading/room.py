@@ -7,7 +7,8 @@ ended and the turtle stands, when the turtle has stood `settle_s` after moving (
 spins on after its drawing), or at the wall-time limit (the program is killed). Then it saves
 what the simulator saw (`record.json`), the canvas (`canvas.png`) and how the run ended
 (`outcome.json`) into the run's folder, where the student cannot write. The student's output
-goes to `student.log`, of at most the sandbox's file size.
+goes to `student.log`, of at most the sandbox's file size. Asked for, it serves the
+simulator's live view, watch only, on a Unix socket (`grading.forward` reaches it).
 """
 
 from __future__ import annotations
@@ -28,7 +29,9 @@ from rclpy.task import Future
 from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.rosutils.fastdds_profile import keep_to_this_machine
 from turtle_traj.rosutils.runtime import events_executor
+from turtle_traj.sim.live_view import SimLiveView, turtle_icon_png
 from turtle_traj.sim.node import SimNode
+from turtle_traj.web.server import WebServer
 
 WATCH_PERIOD_S = 0.05
 AFTER_EXIT_S = 1.5  # the simulator goes on after the program ends, while the turtle moves
@@ -44,6 +47,7 @@ class RoomSpec:
     wall_s: float
     settle_s: float
     domain_id: int
+    live_view: str = ''  # a Unix socket to serve the simulator's live view on (watch only)
 
 
 @dataclass
@@ -123,6 +127,10 @@ def run(spec: RoomSpec) -> Outcome:
     sim = SimNode(record=True)
     executor = events_executor()
     executor.add_node(sim)
+    if spec.live_view:
+        server = WebServer('127.0.0.1', 0, turtle_icon_png, unix_socket=spec.live_view)
+        executor.add_node(SimLiveView(sim, server, watch_only=True))
+        server.start()
     sim_started = time.monotonic()
     with (run_dir / 'student.log').open('wb') as log:
         try:

@@ -11,17 +11,17 @@ A run is two sandboxes, one inside the other:
   reachable on the loopback), a process namespace of its own (it cannot see nor signal the
   simulator), the system read-only with the submissions, the grader's output and the home
   folders hidden, and its private work folder the only writable place. Its processes join the
-  run's control group (`RunGroup`: tasks and memory) and carry resource limits (CPU seconds,
-  file size, open files, no core dumps).
+  run's control groups (`RunGroup`: tasks, memory, a share of a core) and carry resource
+  limits (CPU seconds, file size, open files, no core dumps).
 
-Nothing here runs a process; it makes the commands and the control groups.
+Once a room has started, its simulator runs on the real-time policy (`simulator_first`).
+Nothing here starts a process: it makes the commands and the control groups.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
-import shlex
 import shutil
 import signal
 import sys
@@ -36,6 +36,7 @@ HIDDEN = ('/root', '/home')  # empty and read-only, besides the grader's own fol
 SCRATCH = ('/tmp', '/var/tmp', '/dev/shm', '/run')  # empty and the run's own
 ROOM_NICE = -10  # the room's simulator steps in real time: it goes first (when root)
 ROOM_REAL_TIME_PRIORITY = 10  # then real-time, below the kernel's interrupt threads (50)
+_STUDENTS_WEIGHT = 65536  # cgroup v1 cpu.shares (1024 is one process at nice 0)
 _CPU_PERIOD_US = 20_000  # short: a throttled run waits at most this long
 _REMOVE_S = 10.0
 ROOM_GROUPS = Path('/tmp/run-groups')  # where the room sees the student's control groups
@@ -61,7 +62,7 @@ class RunLimits:
 def bubblewrap() -> str:
     """bubblewrap's path.
 
-    :raises SandboxUnavailable: it is not installed, or cannot make namespaces here.
+    :raises SandboxUnavailable: it is not installed.
     """
     path = shutil.which('bwrap')
     if path is None:
@@ -70,11 +71,12 @@ def bubblewrap() -> str:
     return path
 
 
-def room_command(python: str, spec: Path, run_dir: Path, groups: RunGroup | None) -> list[str]:
+def room_command(python: str, spec: Path, run_dir: Path, groups: RunGroup | None,
+                 live_view: Path | None = None) -> list[str]:
     """The room's command: `python -m turtle_traj.grading.room spec` in a network and process
     namespace of its own, with none of the grader's environment (its DDS settings are the
-    room's own), the system read-only, `run_dir` writable, the run's control groups at
-    `ROOM_GROUPS/<controller>`."""
+    room's own), the system read-only, `run_dir` (and the folder of the `live_view` socket)
+    writable, the run's control groups at `ROOM_GROUPS/<controller>`."""
     command = [bubblewrap(), '--unshare-net', '--unshare-pid', '--unshare-ipc',
                '--unshare-uts', '--die-with-parent', '--new-session', '--clearenv',
                '--setenv', 'PATH', os.environ.get('PATH', '/usr/bin:/bin'),
@@ -84,6 +86,8 @@ def room_command(python: str, spec: Path, run_dir: Path, groups: RunGroup | None
     for folder in _grader_folders(with_package=True):  # where the room's /tmp hid them
         if folder.is_relative_to('/tmp'):
             command += ['--ro-bind', str(folder), str(folder)]
+    if live_view is not None:  # the folder of the live view's socket
+        command += ['--bind', str(live_view.parent), str(live_view.parent)]
     for controller, path in (groups.paths.items() if groups else ()):
         command += ['--bind', str(path), str(ROOM_GROUPS / controller)]
     command += ['--', python, '-m', 'turtle_traj.grading.room', str(spec)]
@@ -144,6 +148,11 @@ class RunGroup:
         try:
             for path in self.paths.values():
                 path.mkdir(parents=True, exist_ok=True)
+            # the students' programs together weigh as several ordinary processes at nice -10:
+            # an open-loop script wakes on time beside a busy machine (each run is still held
+            # to its quarter of a core). At the default weight, one process's, a square's turn
+            # once lasted 1.76 s instead of 1 s beside two busy loops and the test suite.
+            (self.paths['cpu'].parent / 'cpu.shares').write_text(str(_STUDENTS_WEIGHT))
             (self.paths['pids'] / 'pids.max').write_text(str(limits.tasks))
             (self.paths['memory'] / 'memory.limit_in_bytes').write_text(
                 str(limits.memory_mb << 20))
@@ -249,8 +258,3 @@ def _members(path: Path) -> list[int]:
     with contextlib.suppress(OSError):
         return [int(pid) for pid in (path / 'cgroup.procs').read_text().split()]
     return []
-
-
-def shell_line(argv: Sequence[str]) -> str:
-    """`argv` as one shell line (for a log)."""
-    return shlex.join(argv)

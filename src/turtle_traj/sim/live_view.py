@@ -42,7 +42,8 @@ def turtle_icon_png() -> bytes:
 
 
 class SimLiveView(QueuedPart, Node):
-    """Shows `sim` on `server`'s pages and drives its turtles with the pages' keys.
+    """Shows `sim` on `server`'s pages and drives its turtles with the pages' keys (unless
+    `watch_only`).
 
     `sim` is a SimNode, or anything with its `canvas`, `background`, `world` (its turtles and
     time) and `step_listeners` (the physics base's `apps.base_view.BaseScene`)."""
@@ -50,9 +51,11 @@ class SimLiveView(QueuedPart, Node):
     checkers = live_messages.CHECKERS
     hello_fields = staticmethod(live_messages.hello)
 
-    def __init__(self, sim: SimNode, server: WebServer, **kwargs) -> None:
+    def __init__(self, sim: SimNode, server: WebServer, *, watch_only: bool = False,
+                 **kwargs) -> None:
         super().__init__('turtlesim_web', **kwargs)
         self._sim, self._server = sim, server
+        self._watch_only = watch_only  # the pages' keys are refused (a run being graded)
         self.create_timer(REQUEST_PERIOD_S, self._handle_keys)
         self._seq = 0
         self._shown: tuple | None = None  # background and poses of the last frame sent
@@ -103,6 +106,10 @@ class SimLiveView(QueuedPart, Node):
 
     def _handle_keys(self) -> None:
         for page, request in self.inbox.take():
+            if self._watch_only:
+                self._server.send(page, error_text('this view only watches: the run is being '
+                                                   'graded, and only its program drives'))
+                continue
             turtle = request['turtle']
             if turtle not in self._sim.world.turtles:
                 self._server.send(page, error_text(

@@ -45,10 +45,13 @@ class PagePart(Protocol):
 
 
 class WebServer:
-    """Serves the page on http://host:port/ and streams frames to every page."""
+    """Serves the page on http://host:port/ (or on a Unix socket) and streams frames to every
+    page."""
 
-    def __init__(self, host: str, port: int, icon_png: Callable[[], bytes]) -> None:
+    def __init__(self, host: str, port: int, icon_png: Callable[[], bytes], *,
+                 unix_socket: str | None = None) -> None:
         self.host, self.port = host, port
+        self.unix_socket = unix_socket  # served there instead of host:port (a forwarder's)
         self._icon = icon_png
         self._parts: list[PagePart] = []
         self._handlers: dict[str, PagePart] = {}
@@ -121,8 +124,11 @@ class WebServer:
         app.router.add_static('/static/', STATIC, follow_symlinks=False, show_index=False)
         self._runner = web.AppRunner(app, access_log=None)
         await self._runner.setup()
-        site = web.TCPSite(self._runner, self.host, self.port)
+        site = (web.UnixSite(self._runner, self.unix_socket) if self.unix_socket
+                else web.TCPSite(self._runner, self.host, self.port))
         await site.start()
+        if self.unix_socket:
+            return
         if self.port == 0:  # the port the system chose
             self.port = self._runner.addresses[0][1]
 
