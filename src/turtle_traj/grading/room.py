@@ -57,7 +57,7 @@ class Outcome:
     ended: str  # 'exited', 'settled', 'time limit', 'no start'
     exit_code: int | None
     student_s: float  # from the program's start to the run's end
-    lost_steps: int = 0  # the simulator's steps that came too late to be taken (should be 0)
+    lost_steps: int = 0  # the simulator's steps too late to be taken while the program ran
 
     def describe(self) -> str:
         if self.ended == 'exited':
@@ -77,6 +77,7 @@ class Watch:
         self.sim, self.spec = sim, spec
         self.done = Future()
         self.started = time.monotonic()
+        self.sim_started_s = sim.world.time_s
         self.moved = False
         self.still_since = self.started
         self.exited_at: float | None = None
@@ -101,6 +102,12 @@ class Watch:
             self._end('time limit', None, now)
         elif self.moved and now - self.still_since >= self.spec.settle_s:
             self._end('settled', None, now)
+
+    def lost_steps(self) -> int:
+        """The steps the simulator missed since the program started: the wall's time against
+        the simulator's, in steps (one step of slack for the phase)."""
+        wall_s = time.monotonic() - self.started
+        return max(0, round((wall_s - (self.sim.world.time_s - self.sim_started_s)) / STEP_S) - 1)
 
     def _turtle_moving(self) -> bool:
         turtle = self.sim.world.turtles.get('turtle1')
@@ -131,7 +138,6 @@ def run(spec: RoomSpec) -> Outcome:
         server = WebServer('127.0.0.1', 0, turtle_icon_png, unix_socket=spec.live_view)
         executor.add_node(SimLiveView(sim, server, watch_only=True))
         server.start()
-    sim_started = time.monotonic()
     with (run_dir / 'student.log').open('wb') as log:
         try:
             watch = Watch(sim, spec, log)
@@ -147,8 +153,7 @@ def run(spec: RoomSpec) -> Outcome:
             finally:
                 watch.stop_program()
             outcome = watch.done.result()
-    lost = (time.monotonic() - sim_started - sim.world.time_s) / STEP_S
-    outcome.lost_steps = max(0, round(lost) - 1)
+            outcome.lost_steps = watch.lost_steps()
     sim.record.save(run_dir / 'record.json')
     sim.render().save(run_dir / 'canvas.png')
     (run_dir / 'outcome.json').write_text(json.dumps(asdict(outcome)))
