@@ -1,4 +1,4 @@
-"""A circle of 2 m radius where 1 m was asked for: 2 m/s and 1 rad/s."""
+"""A circle of 2 m radius where 1 m was asked for: 1 m/s and 0.5 rad/s."""
 
 import math
 import time
@@ -6,7 +6,7 @@ import time
 import rclpy
 from geometry_msgs.msg import Twist
 
-RADIUS, SPEED = 2.0, 2.0
+RADIUS, SPEED = 2.0, 1.0
 
 
 def main(turns=1.0):
