@@ -20,6 +20,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections import deque
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -35,6 +36,7 @@ from turtle_traj.sim.node import SimNode
 from turtle_traj.web.server import WebServer
 
 WATCH_PERIOD_S = 0.05
+_RECENT_STEPS = 16  # a step's lateness shows in one; a skipped step in all that follow
 AFTER_EXIT_S = 1.5  # the simulator goes on after the program ends, while the turtle moves
 MOVING = (1e-3, 1e-3)  # m/s, rad/s
 
@@ -78,7 +80,11 @@ class Watch:
         self.sim, self.spec = sim, spec
         self.done = Future()
         self.started = time.monotonic()
-        self.sim_started_s = sim.world.time_s
+        self.first_step: float | None = None
+        self.steps = 0
+        self.lowest_deficit = 0
+        self.recent_deficits: deque[int] = deque(maxlen=_RECENT_STEPS)
+        sim.step_listeners.append(self._stepped)
         self.moved = False
         self.still_since = self.started
         self.exited_at: float | None = None
@@ -104,11 +110,24 @@ class Watch:
         elif self.moved and now - self.still_since >= self.spec.settle_s:
             self._end('settled', None, now)
 
-    def lost_steps(self) -> int:
-        """The steps the simulator missed since the program started: the wall's time against
-        the simulator's, in steps (one step of slack for the phase)."""
-        wall_s = time.monotonic() - self.started
-        return max(0, round((wall_s - (self.sim.world.time_s - self.sim_started_s)) / STEP_S) - 1)
+    def _stepped(self) -> None:
+        """A step: how many steps behind the wall's schedule the simulator is (a late step
+        that is taken is behind only until the next; a skipped one stays behind)."""
+        now = time.monotonic()
+        if self.first_step is None:
+            self.first_step = now
+        else:
+            self.steps += 1
+        deficit = round((now - self.first_step) / STEP_S) - self.steps
+        self.lowest_deficit = min(self.lowest_deficit, deficit)  # the first step's lateness
+        self.recent_deficits.append(deficit)
+
+    @property
+    def missed(self) -> int:
+        """The steps the simulator's timer skipped since the program started."""
+        if not self.recent_deficits:
+            return 0
+        return max(0, min(self.recent_deficits) - self.lowest_deficit)
 
     def _turtle_moving(self) -> bool:
         turtle = self.sim.world.turtles.get('turtle1')
@@ -160,7 +179,7 @@ def run(spec: RoomSpec) -> Outcome:
             finally:
                 watch.stop_program()
             outcome = watch.done.result()
-            outcome.lost_steps = watch.lost_steps()
+            outcome.lost_steps = watch.missed
     sim.record.save(run_dir / 'record.json')
     sim.render().save(run_dir / 'canvas.png')
     (run_dir / 'outcome.json').write_text(json.dumps(asdict(outcome)))
