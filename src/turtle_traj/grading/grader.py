@@ -191,13 +191,13 @@ def _run(task: Task, name: str, run_dir: Path, work: Path, hidden: list[Path],
     record = Record.from_simulator(json.loads((run_dir / 'record.json').read_text()))
     ended = outcome.describe() + ('; it was refused more processes (the limit is '
                                   f'{limits.tasks})' if tasks_hit else '')
-    checks = judge(task, record)
+    drawn = drawn_points(record)
+    placed = (fit(task.expected, drawn) if len(drawn) >= 2 and task.expected.shape != 'none'
+              else None)  # judged once, drawn in the picture and the replay
+    checks = judge(task, record, placed)
     if outcome.lost_steps and any(check.message != NEVER_MOVED for check in checks):
         ended += (f'; the simulator fell {outcome.lost_steps} steps behind (the machine was too '
                   'busy): grade it again')
-    drawn = drawn_points(record)
-    placed = (fit(task.expected, drawn) if len(drawn) >= 2 and task.expected.shape != 'none'
-              else None)
     return StudentResult(name, checks, ended, run_dir, log, peak, placed,
                          [stroke.tolist() for stroke in record.strokes])
 
@@ -211,9 +211,9 @@ def _run_room(command: list[str], run_dir: Path, timeout_s: float) -> str:
     """Run the room; '' when it saved its outcome, else what went wrong.
 
     Rooms start one at a time: a room's start (Python, rclpy, the simulator: about a second
-    of a core) runs at nice -10, and several at once kept running simulators from their steps
-    (the turtle then moves less than it was told to). Started, its simulator runs real-time
-    (`simulator_first`)."""
+    of a core) runs at nice -10, and several starting together keep running simulators from
+    their steps (the turtle then moves less than it was told to). Started, its simulator runs
+    real-time (`simulator_first`)."""
     with (run_dir / 'room.log').open('wb') as log:
         with _STARTING:
             room = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=log,

@@ -46,11 +46,11 @@ def picture(result: StudentResult, path: Path,
         draw.line([_pixel(x, y) for x, y in stroke], fill=DRAWN_RGBA, width=2)
     top = 4
     for check in result.checks:
-        mark = PASSED if check.passed else FAILED
+        mark = '+' if check.passed else 'x'  # Pillow's default font has no check marks
         text = f'{mark} {check.name} {check.score:g}/{check.max_score:g}'
         colour = (220, 255, 220, 255) if check.passed else (255, 200, 200, 255)
         draw.rectangle((4, top, 8 + 7 * len(text), top + 13), fill=(0, 0, 0, 140))
-        draw.text((6, top + 1), text.replace(PASSED, '+').replace(FAILED, 'x'), fill=colour)
+        draw.text((6, top + 1), text, fill=colour)
         top += 15
     Image.alpha_composite(image, layer).convert('RGB').save(path)
     return path

@@ -148,17 +148,17 @@ class RunGroup:
         try:
             for path in self.paths.values():
                 path.mkdir(parents=True, exist_ok=True)
-            # the students' programs together weigh as several ordinary processes at nice -10:
-            # an open-loop script wakes on time beside a busy machine (each run is still held
-            # to its quarter of a core). At the default weight, one process's, a square's turn
-            # once lasted 1.76 s instead of 1 s beside two busy loops and the test suite.
+            # the students' programs together weigh as several ordinary processes at nice -10,
+            # so an open-loop script wakes on time beside a busy machine (each run is still
+            # held to its quarter of a core); at one process's weight, shared by every run, a
+            # square's turn could last 1.76 s instead of 1 s beside a busy test suite
             (self.paths['cpu'].parent / 'cpu.shares').write_text(str(_STUDENTS_WEIGHT))
             (self.paths['pids'] / 'pids.max').write_text(str(limits.tasks))
             (self.paths['memory'] / 'memory.limit_in_bytes').write_text(
                 str(limits.memory_mb << 20))
             # a share of a core, and no more weight than one ordinary process: a fork bomb's
             # hundreds of processes, or a flood, cannot take the CPU that the simulators and
-            # the other runs need (two hogs of a core each left simulators 20 steps behind)
+            # the other runs need (two hogs of a core each cost other simulators 15-21 steps)
             (self.paths['cpu'] / 'cpu.cfs_period_us').write_text(str(_CPU_PERIOD_US))
             (self.paths['cpu'] / 'cpu.cfs_quota_us').write_text(
                 str(round(limits.cpu_share * _CPU_PERIOD_US)))

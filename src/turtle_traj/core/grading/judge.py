@@ -81,10 +81,10 @@ class Fit:
     transform: dict = field(default_factory=dict)
 
 
-def judge(task: Task, record: Record) -> list[Check]:
+def judge(task: Task, record: Record, placed: Fit | None = None) -> list[Check]:
     """Every check `task` scores, judged on `record`, in the task's order."""
     drawn = drawn_points(record)
-    verdicts = {'shape': lambda: _shape(task.expected, drawn),
+    verdicts = {'shape': lambda: _shape(task.expected, drawn, placed),
                 'sides': lambda: _sides(task.expected, drawn),
                 'closure': lambda: _closure(task.expected, drawn),
                 'stops': lambda: _stops(record),
@@ -178,10 +178,10 @@ def drawn_points(record: Record) -> np.ndarray:
     return np.concatenate(strokes) if strokes else np.zeros((0, 2))
 
 
-def _shape(expected: Expected, drawn: np.ndarray) -> tuple[bool, str]:
+def _shape(expected: Expected, drawn: np.ndarray, placed: Fit | None) -> tuple[bool, str]:
     if len(drawn) < 2:
         return False, 'nothing was drawn: the pen left no line'
-    placed = fit(expected, drawn)
+    placed = placed or fit(expected, drawn)
     within = placed.distance <= expected.tolerance
     return within, (f'the drawing lies within {placed.distance:.3f} m of the {expected.shape}'
                     f" ({'within' if within else 'beyond'} the tolerance "
