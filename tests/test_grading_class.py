@@ -122,8 +122,9 @@ def test_hostile_samples_are_contained(graded):
     assert fork.seconds < task.time_limit_s + ROOM_GRACE_S
     kill = {check.name: check for check in results['hostile_kill'].checks}['no_teleport']
     assert kill.score == 0 and 'called kill' in kill.message
-    leftovers = [path for path in (sandbox.CGROUP_ROOT / 'pids' / sandbox.GROUP_PARENT).glob(
-        f'{os.getpid()}-*')] if RunGroup.available() else []
+    leftovers = [path for controller in RunGroup.CONTROLLERS
+                 for path in (sandbox.CGROUP_ROOT / controller).glob(
+                     f'{sandbox.GROUP_PREFIX}{os.getpid()}-*')] if RunGroup.available() else []
     assert leftovers == []
     assert seconds < 4 * task.time_limit_s  # the slowest runs end at the time limit
 

@@ -31,12 +31,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 CGROUP_ROOT = Path('/sys/fs/cgroup')
-GROUP_PARENT = 'turtle_traj_grading'
+GROUP_PREFIX = 'turtle_traj_grading-'  # a run's control groups: this, then its name
 HIDDEN = ('/root', '/home')  # empty and read-only, besides the grader's own folders
 SCRATCH = ('/tmp', '/var/tmp', '/dev/shm', '/run')  # empty and the run's own
 ROOM_NICE = -10  # the room's simulator steps in real time: it goes first (when root)
 ROOM_REAL_TIME_PRIORITY = 10  # then real-time, below the kernel's interrupt threads (50)
-_STUDENTS_WEIGHT = 65536  # cgroup v1 cpu.shares (1024 is one process at nice 0)
 _CPU_PERIOD_US = 20_000  # short: a throttled run waits at most this long
 _REMOVE_S = 10.0
 ROOM_GROUPS = Path('/tmp/run-groups')  # where the room sees the student's control groups
@@ -143,22 +142,22 @@ class RunGroup:
     CONTROLLERS = ('pids', 'memory', 'cpu')
 
     def __init__(self, name: str, limits: RunLimits) -> None:
-        self.paths = {controller: CGROUP_ROOT / controller / GROUP_PARENT / name
+        # At the top of each hierarchy: a run weighs one ordinary process (cpu.shares 1024)
+        # against the machine's other work, as the student's program run by hand would. Under
+        # one parent, every run would share one weight (a square's turn lasted 1.76 s instead
+        # of 1 s beside a busy test suite); a parent weighing 64 processes kept the other
+        # programs of the machine waiting for up to 0.3 s beside two classes graded at once.
+        self.paths = {controller: CGROUP_ROOT / controller / f'{GROUP_PREFIX}{name}'
                       for controller in self.CONTROLLERS}
         try:
             for path in self.paths.values():
-                path.mkdir(parents=True, exist_ok=True)
-            # the students' programs together weigh as several ordinary processes at nice -10,
-            # so an open-loop script wakes on time beside a busy machine (each run is still
-            # held to its quarter of a core); at one process's weight, shared by every run, a
-            # square's turn could last 1.76 s instead of 1 s beside a busy test suite
-            (self.paths['cpu'].parent / 'cpu.shares').write_text(str(_STUDENTS_WEIGHT))
+                path.mkdir(exist_ok=True)
             (self.paths['pids'] / 'pids.max').write_text(str(limits.tasks))
             (self.paths['memory'] / 'memory.limit_in_bytes').write_text(
                 str(limits.memory_mb << 20))
-            # a share of a core, and no more weight than one ordinary process: a fork bomb's
-            # hundreds of processes, or a flood, cannot take the CPU that the simulators and
-            # the other runs need (two hogs of a core each cost other simulators 15-21 steps)
+            # a share of a core: a fork bomb's hundreds of processes, or a flood, cannot take
+            # the CPU that the simulators and the other runs need (two hogs of a core each cost
+            # other simulators 15-21 steps)
             (self.paths['cpu'] / 'cpu.cfs_period_us').write_text(str(_CPU_PERIOD_US))
             (self.paths['cpu'] / 'cpu.cfs_quota_us').write_text(
                 str(round(limits.cpu_share * _CPU_PERIOD_US)))
