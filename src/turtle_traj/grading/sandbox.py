@@ -144,9 +144,9 @@ class RunGroup:
     def __init__(self, name: str, limits: RunLimits) -> None:
         # At the top of each hierarchy: a run weighs one ordinary process (cpu.shares 1024)
         # against the machine's other work, as the student's program run by hand would. Under
-        # one parent, every run would share one weight (a square's turn lasted 1.76 s instead
-        # of 1 s beside a busy test suite); a parent weighing 64 processes kept the other
-        # programs of the machine waiting for up to 0.3 s beside two classes graded at once.
+        # one parent, all runs share one weight (a square's turn can last 1.76 s instead of
+        # 1 s beside a busy test suite); a parent weighing 64 processes makes the machine's
+        # other programs wait up to 0.38 s beside two classes graded at once.
         self.paths = {controller: CGROUP_ROOT / controller / f'{GROUP_PREFIX}{name}'
                       for controller in self.CONTROLLERS}
         try:
