@@ -1,0 +1,69 @@
+"""The minimum-time limit against what physics says of simple paths: a straight line's
+trapezoid, a circle at the turn rate's speed, and a corner between turning in place and driving
+straight through. The distances are measured independently of the solver (shapely)."""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+
+from turtle_traj.core.planning.min_time import EXACT_M, RobotLimits, minimum_time
+
+PAPER = RobotLimits(speed=0.5, turn_rate=1.0, acceleration=0.5, angular_acceleration=1.0)
+TURTLESIM = RobotLimits(speed=2.0, turn_rate=1.0)
+
+
+def _trapezoid_s(distance: float, top: float, accel: float) -> float:
+    if distance * accel < top * top:
+        return 2.0 * math.sqrt(distance / accel)
+    return distance / top + top / accel
+
+
+def _within(limit, points, tolerance_m):
+    path = shapely.LineString(points)
+    nodes = shapely.distance(path, shapely.points(limit.poses[:, :2]))
+    assert nodes.max() <= tolerance_m + 1e-6
+    # between nodes, integrated finely: a chord across the tube's inner corner leaves it a little
+    assert limit.max_error_m <= tolerance_m * 1.1
+
+
+def test_a_straight_line_with_inertia_takes_its_trapezoid():
+    points = np.array([[0.0, 0.0], [3.0, 0.0]])
+    limit = minimum_time(points, 0.01, PAPER, nodes=80)
+    assert limit.solved
+    assert limit.time_s == pytest.approx(_trapezoid_s(3.0, 0.5, 0.5), rel=0.01)
+    assert np.all(limit.velocities[:, 0] <= 0.5 + 1e-6)
+    assert limit.velocities[0] == pytest.approx([0.0, 0.0], abs=1e-6)
+    assert limit.velocities[-1] == pytest.approx([0.0, 0.0], abs=1e-6)
+    _within(limit, points, 0.01)
+
+
+def test_a_circle_on_turtlesim_goes_at_the_speed_its_turn_rate_allows():
+    radius = 0.5  # at 1 rad/s: 0.5 m/s, below the top speed
+    angles = np.linspace(0.0, 2.0 * math.pi, 181)
+    points = np.column_stack([radius * np.sin(angles), radius * (1.0 - np.cos(angles))])
+    limit = minimum_time(points, 0.0, TURTLESIM, nodes=120)
+    assert limit.solved
+    assert limit.time_s == pytest.approx(2.0 * math.pi * radius / (TURTLESIM.turn_rate * radius),
+                                         rel=0.01)
+    _within(limit, points, EXACT_M)
+
+
+@pytest.mark.parametrize('tolerance_m', [0.05, 0.2])
+def test_a_corner_is_faster_than_stopping_and_slower_than_its_shortest_way(tolerance_m):
+    points = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]])
+    limit = minimum_time(points, tolerance_m, PAPER, nodes=120)
+    assert limit.solved
+    stop_and_turn = 2 * _trapezoid_s(2.0, 0.5, 0.5) + _trapezoid_s(math.pi / 2, 1.0, 1.0)
+    # the shortest way through the tube: by its inner corner, at the top speed throughout
+    shortest = 2.0 * math.hypot(2.0 - tolerance_m, tolerance_m)
+    assert _trapezoid_s(shortest, 0.5, 0.5) < limit.time_s < stop_and_turn
+    _within(limit, points, tolerance_m)
+
+
+def test_a_wider_tube_is_never_slower():
+    points = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]])
+    times = [minimum_time(points, tolerance, PAPER, nodes=100).time_s
+             for tolerance in (0.02, 0.1, 0.3)]
+    assert times[0] >= times[1] >= times[2]
