@@ -10,8 +10,9 @@ A direct optimal-control problem by multiple shooting:
   Each interval is integrated by two steps of Runge-Kutta 4.
 * **Limits**: 0 <= v <= top speed, |w| <= top turn rate, and the accelerations' bounds.
 * **The tube**: each node carries its progress `s` along the path (from 0 at the start to the
-  length at the end, never decreasing), and lies within the tolerance of the path's point at
-  `s`. Progress that never goes back keeps a closed or crossing path from being cut short.
+  length at the end), and lies within the tolerance of the path's point at `s`. Progress that
+  never goes back, and advances in an interval no more than the robot can drive, keeps a
+  closed or crossing path from being cut short.
 * **Ends**: at rest, on the path's first point with the given heading, and on its last point.
 
 What it omits: between nodes the motion is only integrated, not held to the tube (the error
@@ -81,7 +82,8 @@ def minimum_time(points: np.ndarray, tolerance_m: float, limits: RobotLimits, *,
     width = max(tolerance_m, EXACT_M)
     # a sampled curve as the smooth curve through its points (a polyline's kinks at every
     # sample stall the solver); corners as they are
-    method = 'bspline' if _largest_turn_deg(points) < SAMPLED_CURVE_DEG else 'linear'
+    method = ('bspline' if len(points) >= 4 and _largest_turn_deg(points) < SAMPLED_CURVE_DEG
+              else 'linear')
     path_x = casadi.interpolant('path_x', method, [along], points[:, 0])
     path_y = casadi.interpolant('path_y', method, [along], points[:, 1])
 
@@ -98,14 +100,17 @@ def minimum_time(points: np.ndarray, tolerance_m: float, limits: RobotLimits, *,
         rates = [speed * casadi.cos(state[2]), speed * casadi.sin(state[2]), turn]
         return casadi.vertcat(*rates, control[0], control[1]) if inertia else casadi.vertcat(*rates)
 
+    midpoints = []  # each interval's middle, held to the tube too
     for k in range(nodes):
         state, h = states[:, k], step / _RK4_STEPS
-        for _ in range(_RK4_STEPS):
+        for substep in range(_RK4_STEPS):
             k1 = derivative(state, controls[:, k])
             k2 = derivative(state + h / 2 * k1, controls[:, k])
             k3 = derivative(state + h / 2 * k2, controls[:, k])
             k4 = derivative(state + h * k3, controls[:, k])
             state = state + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+            if substep == _RK4_STEPS // 2 - 1:
+                midpoints.append(state[:2])
         opti.subject_to(states[:, k + 1] == state)
     speeds, turns = ((states[3, :], states[4, :]) if inertia else (controls[0, :], controls[1, :]))
     opti.subject_to(opti.bounded(0, speeds, limits.speed))
@@ -116,14 +121,20 @@ def minimum_time(points: np.ndarray, tolerance_m: float, limits: RobotLimits, *,
                                      limits.angular_acceleration))
         opti.subject_to(states[3:, 0] == 0)
         opti.subject_to(states[3:, -1] == 0)
-    else:  # turtlesim: at rest before the first command and after the last
-        opti.subject_to(controls[:, -1] == 0)
     opti.subject_to(states[:3, 0] == casadi.vertcat(*points[0], heading0))
     opti.subject_to(states[:2, -1] == casadi.vertcat(*points[-1]))
     opti.subject_to(progress[0] == 0)
     opti.subject_to(progress[-1] == length)
-    opti.subject_to(progress[1:] >= progress[:-1])
+    # never back, and no further in an interval than the robot can go (plus the tube's width:
+    # cutting a corner passes more of the path than it drives), so a closed path's start and
+    # end, a step apart, are not one
+    advance = progress[1:] - progress[:-1]
+    opti.subject_to(opti.bounded(0, advance, limits.speed * step + 2 * width))
     gap = (states[0, :].T - path_x(progress)) ** 2 + (states[1, :].T - path_y(progress)) ** 2
+    opti.subject_to(gap / width ** 2 <= 1.0)
+    middle = casadi.horzcat(*midpoints)
+    halfway = (progress[1:] + progress[:-1]) / 2
+    gap = (middle[0, :].T - path_x(halfway)) ** 2 + (middle[1, :].T - path_y(halfway)) ** 2
     opti.subject_to(gap / width ** 2 <= 1.0)
     opti.subject_to(opti.bounded(1e-3, total, 1e4))
     opti.minimize(total)
