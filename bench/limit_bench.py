@@ -15,7 +15,6 @@ from __future__ import annotations
 import argparse
 
 from base_bench import sine, step_curve
-
 from turtle_traj.core.planning.min_time import RobotLimits, minimum_time
 
 PAPER = RobotLimits(speed=0.5, turn_rate=1.0, acceleration=0.5, angular_acceleration=1.0)

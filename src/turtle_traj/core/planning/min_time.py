@@ -4,20 +4,27 @@ its end while it stays within a tolerance of the path. Plain Python; CasADi with
 A direct optimal-control problem by multiple shooting:
 
 * **States** at `nodes + 1` instants: the pose (x, y, heading) and, for a base with inertia,
-  the speed and turn rate. **Controls**, constant over each of the `nodes` intervals: the
-  accelerations (a base with inertia) or the speed and turn rate themselves (turtlesim, whose
-  velocities take each command at once). The final time is free; the intervals share it equally.
-  Each interval is integrated by two steps of Runge-Kutta 4.
-* **Limits**: 0 <= v <= top speed, |w| <= top turn rate, and the accelerations' bounds.
-* **The tube**: each node carries its progress `s` along the path (from 0 at the start to the
-  length at the end), and lies within the tolerance of the path's point at `s`. Progress that
-  never goes back, and advances in an interval no more than the robot can drive, keeps a
-  closed or crossing path from being cut short.
+  the speed and turn rate. **Controls**, constant over each interval: the accelerations (a base
+  with inertia) or the speed and turn rate themselves (turtlesim, whose velocities take each
+  command at once). Each interval is integrated by four steps of Runge-Kutta 4.
+* **Limits**: 0 <= v <= top speed, |w| <= top turn rate, the accelerations' bounds.
+* **The tube**: each node, and each step within an interval, carries its progress `s` along
+  the path (0 at the start, the length at the end) and lies within the tolerance of the path's
+  point at `s`. Progress that never goes back, and advances in an interval no more than the
+  robot can drive, keeps a closed or crossing path from being cut short.
 * **Ends**: at rest, on the path's first point with the given heading, and on its last point.
+
+Each interval has a duration of its own, so time goes where it is needed. The problem is not
+convex. It is solved twice: first with few long intervals from two starts (`exact_drive`: the
+path with its corners rounded tight, or swinging out across the tube), which finds how to take
+the corners; then with `nodes` shorter intervals from the better of the two, which holds the
+motion to the tube more densely.
 
 What it omits: between nodes the motion is only integrated, not held to the tube (the error
 between nodes is measured afterwards, `max_error_m`); the robot's control period and the
-transport's delay; a tolerance of zero, which at a corner means a stop (`EXACT_M` stands for it).
+transport's delay. Without inertia and at tolerance zero it solves nothing: the limit is the
+path at the speed its curvature allows (`exact_drive`). With inertia, a tolerance of zero is
+`EXACT_M`.
 """
 
 from __future__ import annotations
@@ -29,9 +36,14 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
+from turtle_traj.core.planning.exact_drive import Timeline, exact_drive, rounded_corners
+
 EXACT_M = 0.0005  # the tube's half-width asked for "exact": within the followers' own error
-SAMPLED_CURVE_DEG = 10.0  # a polyline turning less than this at every vertex samples a curve
-_RK4_STEPS = 2  # per interval
+SEEDS = (False, True)  # the first solve's starts: corners rounded tight, or swinging out
+SCOUTING_NODES = 60  # the first solve's intervals
+SCOUTING_STEP_S = 0.5  # the first solve's longest interval; the second's: twice its mean
+_RK4_STEPS = 4  # per interval; the tube is checked at each
+_SHORTEST_STEP_S = 1e-3
 _DENSE = 20  # samples per interval where the error is measured
 
 
@@ -55,10 +67,11 @@ class MinimumTime:
 
     time_s: float
     poses: np.ndarray  # (nodes + 1, 3): x, y, heading at each node
-    velocities: np.ndarray  # (nodes + 1, 2): speed, turn rate (the controls', held, without inertia)
+    velocities: np.ndarray  # (nodes + 1, 2): speed, turn rate (without inertia: as commanded)
     max_error_m: float  # the largest distance to the path, along the integrated motion
-    solve_s: float
+    solve_s: float  # CPU time, both solves
     solved: bool  # IPOPT converged
+    times: np.ndarray | None = None  # (nodes + 1,): each node's instant
 
 
 def path_length(points: np.ndarray) -> np.ndarray:
@@ -70,119 +83,148 @@ def minimum_time(points: np.ndarray, tolerance_m: float, limits: RobotLimits, *,
                  start_heading: float | None = None, nodes: int = 200) -> MinimumTime:
     """The fastest motion along the polyline `points` (m) within `tolerance_m` of it (see the
     module). `start_heading` defaults to the first segment's direction."""
-    import casadi  # noqa: PLC0415 (a bench's and a test's yardstick: loaded when asked for)
-
     points = np.asarray(points, dtype=float)
-    along = path_length(points)
-    keep = np.concatenate(([True], np.diff(along) > 1e-9))
-    points, along = points[keep], along[keep]
-    length = float(along[-1])
+    points = points[np.concatenate(([True], np.diff(path_length(points)) > 1e-9))]
     heading0 = (math.atan2(*(points[1] - points[0])[::-1]) if start_heading is None
                 else start_heading)
+    if tolerance_m <= 0.0 and not limits.has_inertia:
+        return _on_the_path(points, limits, heading0)
     width = max(tolerance_m, EXACT_M)
-    # a sampled curve as the smooth curve through its points (a polyline's kinks at every
-    # sample stall the solver); corners as they are
-    method = ('bspline' if len(points) >= 4 and _largest_turn_deg(points) < SAMPLED_CURVE_DEG
-              else 'linear')
-    path_x = casadi.interpolant('path_x', method, [along], points[:, 0])
-    path_y = casadi.interpolant('path_y', method, [along], points[:, 1])
+    scouting = _Problem(points, width, limits, heading0, min(SCOUTING_NODES, nodes),
+                        SCOUTING_STEP_S)
+    scouts = [scouting.solve(exact_drive(rounded_corners(points, width, swing=swing), heading0,
+                                         limits.speed, limits.turn_rate, limits.acceleration,
+                                         limits.angular_acceleration))
+              for swing in SEEDS]
+    best, spent = min(scouts, key=lambda scout: (not scout[0].solved, scout[0].time_s))
+    final, last = _Problem(points, width, limits, heading0, nodes,
+                           2.0 * best.time_s / nodes).solve(spent)
+    if not final.solved and best.solved:
+        final = best
+    return MinimumTime(final.time_s, final.poses, final.velocities, final.max_error_m,
+                       sum(scout.solve_s for scout, _ in scouts) + final.solve_s, final.solved,
+                       last.time)
 
-    opti = casadi.Opti()
-    inertia = limits.has_inertia
-    states = opti.variable(5 if inertia else 3, nodes + 1)
-    controls = opti.variable(2, nodes)
-    progress = opti.variable(nodes + 1)
-    total = opti.variable()
-    step = total / nodes
 
-    def derivative(state, control):
-        speed, turn = (state[3], state[4]) if inertia else (control[0], control[1])
-        rates = [speed * casadi.cos(state[2]), speed * casadi.sin(state[2]), turn]
-        return casadi.vertcat(*rates, control[0], control[1]) if inertia else casadi.vertcat(*rates)
-
-    midpoints = []  # each interval's middle, held to the tube too
-    for k in range(nodes):
-        state, h = states[:, k], step / _RK4_STEPS
-        for substep in range(_RK4_STEPS):
-            k1 = derivative(state, controls[:, k])
-            k2 = derivative(state + h / 2 * k1, controls[:, k])
-            k3 = derivative(state + h / 2 * k2, controls[:, k])
-            k4 = derivative(state + h * k3, controls[:, k])
-            state = state + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-            if substep == _RK4_STEPS // 2 - 1:
-                midpoints.append(state[:2])
-        opti.subject_to(states[:, k + 1] == state)
-    speeds, turns = ((states[3, :], states[4, :]) if inertia else (controls[0, :], controls[1, :]))
-    opti.subject_to(opti.bounded(0, speeds, limits.speed))
-    opti.subject_to(opti.bounded(-limits.turn_rate, turns, limits.turn_rate))
-    if inertia:
-        opti.subject_to(opti.bounded(-limits.acceleration, controls[0, :], limits.acceleration))
-        opti.subject_to(opti.bounded(-limits.angular_acceleration, controls[1, :],
-                                     limits.angular_acceleration))
-        opti.subject_to(states[3:, 0] == 0)
-        opti.subject_to(states[3:, -1] == 0)
-    opti.subject_to(states[:3, 0] == casadi.vertcat(*points[0], heading0))
-    opti.subject_to(states[:2, -1] == casadi.vertcat(*points[-1]))
-    opti.subject_to(progress[0] == 0)
-    opti.subject_to(progress[-1] == length)
-    # never back, and no further in an interval than the robot can go (plus the tube's width:
-    # cutting a corner passes more of the path than it drives), so a closed path's start and
-    # end, a step apart, are not one
-    advance = progress[1:] - progress[:-1]
-    opti.subject_to(opti.bounded(0, advance, limits.speed * step + 2 * width))
-    gap = (states[0, :].T - path_x(progress)) ** 2 + (states[1, :].T - path_y(progress)) ** 2
-    opti.subject_to(gap / width ** 2 <= 1.0)
-    middle = casadi.horzcat(*midpoints)
-    halfway = (progress[1:] + progress[:-1]) / 2
-    gap = (middle[0, :].T - path_x(halfway)) ** 2 + (middle[1, :].T - path_y(halfway)) ** 2
-    opti.subject_to(gap / width ** 2 <= 1.0)
-    opti.subject_to(opti.bounded(1e-3, total, 1e4))
-    opti.minimize(total)
-    _initial_guess(opti, points, along, limits, states, progress, total, nodes, heading0)
-    opti.solver('ipopt', {'print_time': False},
-                {'print_level': 0, 'max_iter': 3000, 'tol': 1e-8, 'acceptable_tol': 1e-6})
+def _on_the_path(points: np.ndarray, limits: RobotLimits, heading0: float) -> MinimumTime:
+    """Without inertia and tolerance, the limit is the path itself at the speed its curvature
+    allows, turning in place at its corners: `exact_drive`, with nothing to solve."""
     began = time.process_time()
-    try:
-        solution, solved = opti.solve(), True
-    except RuntimeError:  # not converged: the last iterate, said so
-        solution, solved = opti.debug, False
-    solve_s = time.process_time() - began
-    poses = np.asarray(solution.value(states[:3, :])).T
-    taken = np.asarray(solution.value(controls))
-    velocities = (np.asarray(solution.value(states[3:, :])).T if inertia
-                  else np.vstack([taken.T, [0.0, 0.0]]))
-    time_s = float(solution.value(total))
-    return MinimumTime(time_s, poses, velocities,
-                       _max_error(points, poses, velocities, taken, time_s / nodes, inertia),
-                       solve_s, solved)
+    drive = exact_drive(points, heading0, limits.speed, limits.turn_rate, None, None)
+    return MinimumTime(float(drive.time[-1]), drive.poses, drive.velocities, 0.0,
+                       time.process_time() - began, True, drive.time)
 
 
-def _largest_turn_deg(points: np.ndarray) -> float:
-    legs = np.diff(points, axis=0)
-    headings = np.unwrap(np.arctan2(legs[:, 1], legs[:, 0]))
-    return float(np.degrees(np.max(np.abs(np.diff(headings)), initial=0.0)))
+class _Problem:
+    """The optimal-control problem (see the module) over `nodes` intervals, of one common
+    duration or each its own."""
+
+    def __init__(self, points: np.ndarray, width: float, limits: RobotLimits, heading0: float,
+                 nodes: int, longest_step_s: float) -> None:
+        import casadi  # noqa: PLC0415 (a bench's and a test's yardstick: loaded when asked for)
+
+        self.points, self.limits, self.nodes = points, limits, nodes
+        along = path_length(points)
+        # the path between its points as drawn: straight (a B-spline's smooth curve through a
+        # sampled sine left the solver wandering metres off)
+        path_x = casadi.interpolant('path_x', 'linear', [along], points[:, 0])
+        path_y = casadi.interpolant('path_y', 'linear', [along], points[:, 1])
+        self.opti = opti = casadi.Opti()
+        inertia = limits.has_inertia
+        self.states = states = opti.variable(5 if inertia else 3, nodes + 1)
+        self.controls = controls = opti.variable(2, nodes)
+        self.progress = progress = opti.variable(nodes + 1)
+        # each interval its own duration: the time goes where it is needed
+        self.steps = steps = opti.variable(1, nodes)
+        opti.subject_to(opti.bounded(_SHORTEST_STEP_S, steps, longest_step_s))
+
+        def derivative(state, control):
+            speed, turn = (state[3], state[4]) if inertia else (control[0], control[1])
+            rates = [speed * casadi.cos(state[2]), speed * casadi.sin(state[2]), turn]
+            return casadi.vertcat(*rates, *(control[0], control[1]) if inertia else ())
+
+        inside = [[] for _ in range(_RK4_STEPS - 1)]  # each interval's inner instants
+        for k in range(nodes):
+            state, h = states[:, k], steps[k] / _RK4_STEPS
+            for substep in range(_RK4_STEPS):
+                k1 = derivative(state, controls[:, k])
+                k2 = derivative(state + h / 2 * k1, controls[:, k])
+                k3 = derivative(state + h / 2 * k2, controls[:, k])
+                k4 = derivative(state + h * k3, controls[:, k])
+                state = state + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+                if substep < _RK4_STEPS - 1:
+                    inside[substep].append(state[:2])
+            opti.subject_to(states[:, k + 1] == state)
+        speeds, turns = ((states[3, :], states[4, :]) if inertia
+                         else (controls[0, :], controls[1, :]))
+        opti.subject_to(opti.bounded(0, speeds, limits.speed))
+        opti.subject_to(opti.bounded(-limits.turn_rate, turns, limits.turn_rate))
+        if inertia:
+            opti.subject_to(opti.bounded(-limits.acceleration, controls[0, :],
+                                         limits.acceleration))
+            opti.subject_to(opti.bounded(-limits.angular_acceleration, controls[1, :],
+                                         limits.angular_acceleration))
+            opti.subject_to(states[3:, 0] == 0)
+            opti.subject_to(states[3:, -1] == 0)
+        opti.subject_to(states[:3, 0] == casadi.vertcat(*points[0], heading0))
+        opti.subject_to(states[:2, -1] == casadi.vertcat(*points[-1]))
+        opti.subject_to(progress[0] == 0)
+        opti.subject_to(progress[-1] == float(along[-1]))
+        # never back, and no further in an interval than the robot can go (plus the tube's
+        # width: cutting a corner passes more of the path than it drives), so a closed path's
+        # start and end, a step apart, are not one
+        advance = progress[1:] - progress[:-1]
+        opti.subject_to(opti.bounded(0, advance, limits.speed * steps.T + 2 * width))
+        checks = [(states[:2, :], progress)] + [
+            (casadi.horzcat(*inner), progress[:-1] + (index + 1) / _RK4_STEPS * advance)
+            for index, inner in enumerate(inside)]
+        for where, at in checks:
+            gap = (where[0, :].T - path_x(at)) ** 2 + (where[1, :].T - path_y(at)) ** 2
+            opti.subject_to(gap / width ** 2 <= 1.0)
+        opti.minimize(casadi.sum2(steps))
+        opti.solver('ipopt', {'print_time': False},
+                    {'print_level': 0, 'max_iter': 3000, 'tol': 1e-8, 'acceptable_tol': 1e-6})
+
+    def solve(self, start: Timeline) -> tuple[MinimumTime, Timeline]:
+        """The solver's answer from the motion `start`, and that answer as a timeline."""
+        opti, nodes, inertia = self.opti, self.nodes, self.limits.has_inertia
+        duration = float(start.time[-1])
+        at = start.at(np.linspace(0.0, duration, nodes + 1))
+        opti.set_initial(self.states[:3, :], at.poses.T)
+        if inertia:
+            opti.set_initial(self.states[3:, :], at.velocities.T)
+            opti.set_initial(self.controls,
+                             (np.diff(at.velocities, axis=0) / (duration / nodes)).T)
+        else:
+            opti.set_initial(self.controls, (0.5 * (at.velocities[:-1] + at.velocities[1:])).T)
+        opti.set_initial(self.progress, at.progress)
+        opti.set_initial(self.steps, np.full(nodes, duration / nodes))
+        began = time.process_time()
+        try:
+            solution, solved = opti.solve(), True
+        except RuntimeError:  # not converged: the last iterate, said so
+            solution, solved = opti.debug, False
+        solve_s = time.process_time() - began
+        poses = np.asarray(solution.value(self.states[:3, :])).T
+        taken = np.atleast_2d(np.asarray(solution.value(self.controls)))
+        velocities = (np.asarray(solution.value(self.states[3:, :])).T if inertia
+                      else np.vstack([taken.T, [0.0, 0.0]]))
+        durations = np.atleast_1d(np.asarray(solution.value(self.steps), dtype=float)).ravel()
+        times = np.concatenate(([0.0], np.cumsum(durations)))
+        error = _max_error(self.points, poses, velocities, taken, durations, inertia)
+        return (MinimumTime(float(times[-1]), poses, velocities, error, solve_s, solved, times),
+                Timeline(times, poses, velocities,
+                         np.asarray(solution.value(self.progress), dtype=float).ravel()))
 
 
-def _initial_guess(opti, points, along, limits, states, progress, total, nodes, heading0):
-    """A start the solver can improve: the path at an even pace, at half the top speed."""
-    guess_s = np.linspace(0.0, along[-1], nodes + 1)
-    xy = np.column_stack([np.interp(guess_s, along, points[:, i]) for i in (0, 1)])
-    heading = np.unwrap(np.concatenate(([heading0], np.arctan2(*np.diff(xy, axis=0).T[::-1]))))
-    opti.set_initial(states[0, :], xy[:, 0])
-    opti.set_initial(states[1, :], xy[:, 1])
-    opti.set_initial(states[2, :], heading)
-    opti.set_initial(progress, guess_s)
-    opti.set_initial(total, 2.0 * along[-1] / limits.speed + 1.0)
-
-
-def _max_error(points, poses, velocities, controls, step_s, inertia) -> float:
+def _max_error(points, poses, velocities, controls, durations, inertia) -> float:
     """The largest distance from the path along the motion, integrated finely between nodes."""
     path = shapely.LineString(points)
     samples = []
     for k in range(len(poses) - 1):
         x, y, heading = poses[k]
         speed, turn = velocities[k]
-        dt = step_s / _DENSE
+        dt = durations[k] / _DENSE
         for _ in range(_DENSE):
             if inertia:
                 speed, turn = (speed + controls[0, k] * dt / 2, turn + controls[1, k] * dt / 2)
