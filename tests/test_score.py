@@ -68,11 +68,31 @@ def test_the_exact_follower_is_matched_at_a_rival_s_error_measured_on_the_drawn_
         1e3 * distance_to_polyline(matched.exact.path, drawn).max(), abs=1e-6)
     assert 0.0 < matched.exact.max_mm <= 1e3 * matched.tolerance_m
     assert matched.ahead == (matched.exact.time_s <= rival.time_s)
+    assert matched.limit_s is None  # a polygon gives no points: no limit computed
     # a request that takes no tolerance is not matched
     go_to = courses['go_to']
     assert not hasattr(go_to.request, 'corner_tolerance')
     assert matched_runs(go_to, [run_course(go_to, name, work_dir=tmp_path)
                                 for name in ('exact', 'dwpp')], tmp_path) == []
+
+
+def test_the_limit_beside_a_matched_run_is_no_slower_than_the_run(tmp_path):
+    """The minimum-time limit of a path given as points bounds the exact follower's time at
+    the same tolerance from below, and the shortest way through the tube bounds it."""
+    from turtle_traj.apps.score.courses import Course, follow_request
+    from turtle_traj.apps.score.matched import limit_s
+    from turtle_traj.core.geometry.path import Pose2D
+
+    tolerance = 0.05
+    points = np.array([[2.0, 2.0], [4.0, 2.0], [4.0, 4.0]])
+    request = follow_request(points, corner_tolerance=tolerance)
+    course = Course('corner', 'turtlesim', 'follow_path', request, Pose2D(2.0, 2.0, 0.0))
+    limit = limit_s(course, tolerance)
+    ours = run_course(course, 'exact', work_dir=tmp_path)
+    assert ours.success
+    control = course.settings.control
+    shortest = 2.0 * math.hypot(2.0 - tolerance, tolerance) / control.linear_speed
+    assert shortest < limit <= ours.time_s
 
 
 def test_a_staircase_given_with_a_corner_tolerance_is_driven_along_its_diagonals():

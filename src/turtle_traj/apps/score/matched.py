@@ -1,7 +1,9 @@
 """The exact follower given another controller's error: on each course, for each other
 controller that finishes it off the path, the exact follower runs again with that controller's
 maximum error as its `corner_tolerance`. Is it then no slower, and within that error? That is
-the trade a user makes, measured: who is ahead at equal error.
+the trade a user makes, measured: who is ahead at equal error. Beside each, on the courses that
+give their path as points (`follow_path`), the minimum-time limit at that tolerance
+(`core.planning.min_time`): how far the exact follower is from the fastest the robot can go.
 """
 
 from __future__ import annotations
@@ -11,12 +13,16 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+import numpy as np
+
 from turtle_traj.apps.score.courses import Course
 from turtle_traj.apps.score.runner import Result, run_course
 from turtle_traj.core.control.controllers.catalogue import EXACT
 from turtle_traj.core.parameters.table import PARAMETER
+from turtle_traj.core.planning.min_time import RobotLimits, minimum_time
 
 LARGEST_TOLERANCE_M = PARAMETER['corner_tolerance'].high
+LIMIT_NODES = 60  # the limit's intervals here (bench/limit_bench.py solves with more)
 
 
 @dataclass(frozen=True)
@@ -26,6 +32,7 @@ class Matched:
     rival: Result
     exact: Result
     tolerance_m: float
+    limit_s: float | None = None  # the minimum-time limit at `tolerance_m`, where computed
 
     @property
     def ahead(self) -> bool:
@@ -49,20 +56,38 @@ def matched_runs(course: Course, results: Sequence[Result], work_dir: Path) -> l
         request.corner_tolerance = tolerance
         result = run_course(replace(course, request=request), EXACT, work_dir=work_dir)
         matched.append(Matched(rival, replace(result, controller=f'{EXACT} @ {rival.controller}'),
-                               tolerance))
+                               tolerance, limit_s(course, tolerance)))
     return matched
+
+
+def limit_s(course: Course, tolerance_m: float) -> float | None:
+    """The minimum-time limit of a course whose request gives its path as points, from its
+    start pose at rest, within `tolerance_m`, at the course's speeds and accelerations; None
+    for other courses, or where the solver did not converge."""
+    points = getattr(course.request, 'points', None)
+    if not points:
+        return None
+    control = course.settings.control
+    limits = RobotLimits(control.linear_speed, control.angular_speed,
+                         control.max_linear_accel or None, control.max_angular_accel or None)
+    xy = np.array([(point.x, point.y) for point in points])
+    limit = minimum_time(xy, tolerance_m, limits, start_heading=course.start.theta,
+                         nodes=LIMIT_NODES)
+    return limit.time_s if limit.solved else None
 
 
 def format_matched(matched: Sequence[Matched]) -> str:
     """A row per rival and course: its time and error, then the exact follower's at it."""
     lines = [f"{'course':18} {'rival':14} {'time s':>7} {'max mm':>8}   {'exact at it':>11} "
-             f"{'max mm':>8} {'ahead':>5}"]
+             f"{'max mm':>8} {'ahead':>5}   {'limit s':>7} {'x limit':>7}"]
     for m in matched:
         exact = m.exact
         time = f'{exact.time_s:11.2f}' if exact.success else f"{'NO':>11}"
+        limit = (f'{m.limit_s:7.2f} {exact.time_s / m.limit_s:7.3f}'
+                 if m.limit_s and exact.success else f"{'-':>7} {'-':>7}")
         lines.append(f'{m.rival.course:18} {m.rival.controller:14} {m.rival.time_s:7.2f} '
                      f"{m.rival.max_mm:8.2f}   {time} {exact.max_mm:8.2f} "
-                     f"{'yes' if m.ahead else 'no':>5}")
+                     f"{'yes' if m.ahead else 'no':>5}   {limit}")
     ahead = sum(m.ahead for m in matched)
     lines.append(f'the exact follower is ahead at equal error in {ahead} of {len(matched)}')
     return '\n'.join(lines)

@@ -145,8 +145,11 @@ def _stretch(points: np.ndarray, heading0: float, top: float, turn_rate: float,
                            math.sqrt(speed[index - 1] ** 2 + 2 * rate * gaps[index - 1]))
     for index in range(len(speed) - 2, -1, -1):  # braking
         speed[index] = min(speed[index], math.sqrt(speed[index + 1] ** 2 + 2 * rate * gaps[index]))
-    mean = np.maximum(0.5 * (speed[:-1] + speed[1:]), 1e-9)
-    time = np.concatenate(([0.0], np.cumsum(gaps / mean)))
+    # each gap: from the lower speed to the higher at `rate`, then on at the higher
+    low, high = np.minimum(speed[:-1], speed[1:]), np.maximum(np.maximum(speed[:-1], speed[1:]),
+                                                               1e-9)
+    ramp_m = (high ** 2 - low ** 2) / (2.0 * rate)
+    time = np.concatenate(([0.0], np.cumsum((high - low) / rate + (gaps - ramp_m) / high)))
     turn = speed * curvature
     return Timeline(time, np.column_stack([xy, heading]), np.column_stack([speed, turn]),
                     samples)

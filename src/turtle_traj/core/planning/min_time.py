@@ -44,6 +44,7 @@ SCOUTING_NODES = 60  # the first solve's intervals
 SCOUTING_STEP_S = 0.5  # the first solve's longest interval; the second's: twice its mean
 _RK4_STEPS = 4  # per interval; the tube is checked at each
 _SHORTEST_STEP_S = 1e-3
+_UNBOUNDED = 1e3  # an angular acceleration not given, finite for the solver
 _DENSE = 20  # samples per interval where the error is measured
 
 
@@ -160,10 +161,9 @@ class _Problem:
         opti.subject_to(opti.bounded(0, speeds, limits.speed))
         opti.subject_to(opti.bounded(-limits.turn_rate, turns, limits.turn_rate))
         if inertia:
-            opti.subject_to(opti.bounded(-limits.acceleration, controls[0, :],
-                                         limits.acceleration))
-            opti.subject_to(opti.bounded(-limits.angular_acceleration, controls[1, :],
-                                         limits.angular_acceleration))
+            linear, angular = limits.acceleration, limits.angular_acceleration or _UNBOUNDED
+            opti.subject_to(opti.bounded(-linear, controls[0, :], linear))
+            opti.subject_to(opti.bounded(-angular, controls[1, :], angular))
             opti.subject_to(states[3:, 0] == 0)
             opti.subject_to(states[3:, -1] == 0)
         opti.subject_to(states[:3, 0] == casadi.vertcat(*points[0], heading0))
@@ -182,7 +182,7 @@ class _Problem:
             gap = (where[0, :].T - path_x(at)) ** 2 + (where[1, :].T - path_y(at)) ** 2
             opti.subject_to(gap / width ** 2 <= 1.0)
         opti.minimize(casadi.sum2(steps))
-        opti.solver('ipopt', {'print_time': False},
+        opti.solver('ipopt', {'print_time': False, 'expand': True},
                     {'print_level': 0, 'max_iter': 3000, 'tol': 1e-8, 'acceptable_tol': 1e-6})
 
     def solve(self, start: Timeline) -> tuple[MinimumTime, Timeline]:
