@@ -12,8 +12,9 @@ leg and from facing along x. For each:
 - the reference DWPP's time at its maximum error (written from the paper; issue 76's figures,
   measured in a plain simulation of the same model);
 - ours: `follow_path` with `corner_tolerance` set to that error, on the pure loop the node
-  runs (`base_loop.drive_turtle_traj`, the simulator's physics, 16 ms steps), its time, its
-  largest distance from the path measured here from the poses, and its time over the limit's.
+  runs (`base_loop.drive_turtle_traj`, the simulator's physics, 16 ms steps), with
+  `corner_planning` 'tube' (the default) and 'minimum_time': its time, its largest distance
+  from the path measured here from the poses, and its time over the limit's.
 """
 
 from __future__ import annotations
@@ -36,12 +37,15 @@ CASES = [('step 45', step_curve(45), None, 0.062, 18.7),
          ('sine, facing x', sine(), 0.0, 0.104, 16.3)]
 
 
-def ours(points, heading: float | None, tolerance: float) -> tuple[float, float]:
-    """Our time and largest distance from the path, rounded within `tolerance`."""
+def ours(points, heading: float | None, tolerance: float,
+         corner_planning: str) -> tuple[float, float]:
+    """Our time and largest distance from the path, rounded within `tolerance` by
+    `corner_planning` ('tube' or 'minimum_time')."""
     first = points[1] - points[0]
     start = Pose2D(float(points[0, 0]), float(points[0, 1]),
                    math.atan2(first[1], first[0]) if heading is None else heading)
-    run = drive_turtle_traj(points, start, DWPP_LIMITS, corner_tolerance=tolerance)
+    run = drive_turtle_traj(points, start, DWPP_LIMITS, corner_tolerance=tolerance,
+                            corner_planning=corner_planning)
     figures = run.figures(points, DWPP_LIMITS, tuple(points[-1]))
     return figures['time_s'], figures['max_mm']
 
@@ -52,8 +56,9 @@ def main() -> None:
     parser.add_argument('--twice', action='store_true',
                         help='also solve with twice the nodes')
     options = parser.parse_args()
+    print(f'{"":56} {"ours, tube":^23}  {"ours, minimum_time":^23}')
     print(f'{"path":22} {"tol mm":>6} {"limit s":>8} {"err mm":>7} {"solve s":>8} '
-          f'{"2x nodes":>9} {"ref s":>6} {"ours s":>7} {"err mm":>7} {"/limit":>7}')
+          f'{"2x nodes":>9} {"ref s":>6}' + f' {"time s":>7} {"err mm":>7} {"/limit":>7}' * 2)
     for name, points, heading, tolerance, reference in CASES:
         limit = minimum_time(points, tolerance, PAPER, start_heading=heading,
                              nodes=options.nodes)
@@ -62,11 +67,14 @@ def main() -> None:
             finer_s = minimum_time(points, tolerance, PAPER, start_heading=heading,
                                    nodes=2 * options.nodes).time_s
             finer = f'{finer_s:9.2f}'
-        our_s, our_mm = ours(points, heading, tolerance)
+        columns = ''
+        for way in ('tube', 'minimum_time'):
+            our_s, our_mm = ours(points, heading, tolerance, way)
+            columns += f' {our_s:7.2f} {our_mm:7.1f} {our_s / limit.time_s:7.3f}'
         flag = '' if limit.solved else '  (not converged)'
         print(f'{name:22} {tolerance * 1e3:6.0f} {limit.time_s:8.2f} '
-              f'{limit.max_error_m * 1e3:7.1f} {limit.solve_s:8.1f} {finer} {reference:6.1f} '
-              f'{our_s:7.2f} {our_mm:7.1f} {our_s / limit.time_s:7.3f}{flag}')
+              f'{limit.max_error_m * 1e3:7.1f} {limit.solve_s:8.1f} {finer} {reference:6.1f}'
+              f'{columns}{flag}')
     straight = 9.0 / PAPER.speed + PAPER.speed / PAPER.acceleration
     print(f'a straight 9 m from rest to rest at these limits: {straight:.2f} s')
 

@@ -86,3 +86,29 @@ def test_a_corner_is_faster_than_stopping_and_slower_than_its_shortest_way(corne
 def test_a_wider_tube_is_never_slower(corner_limits):
     narrow, wide = (corner_limits[tolerance].time_s for tolerance in CORNER_TOLERANCES_M)
     assert wide < narrow
+
+
+def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube():
+    """With `corner_planning` 'minimum_time', a right-angled corner's plan on the DWPP paper's
+    base keeps within the tolerance of the points given (shapely), takes no longer by the
+    controller's least time than the tube's plan, and no less than the limit itself."""
+    from turtle_traj.apps.score.courses import PAPER_LIMITS, follow_request
+    from turtle_traj.core.geometry.path import Pose2D
+    from turtle_traj.core.parameters.settings import settings_from_values
+    from turtle_traj.core.parameters.table import DEFAULTS
+    from turtle_traj.core.planning import planner
+
+    tolerance = 0.1
+    points = np.array([[0.0, 0.0], [1.5, 0.0], [1.5, 1.5]])
+    start = Pose2D(0.0, 0.0, 0.0)
+    plans = {}
+    for way in ('tube', 'minimum_time'):
+        settings = settings_from_values({**DEFAULTS, **PAPER_LIMITS, 'arena': 'none',
+                                         'corner_planning': way})
+        request = follow_request(points, corner_tolerance=tolerance)
+        plan = planner.plan('follow_path', request, start, settings)
+        plans[way] = plan.least_time_s(settings.control)
+        drawn = shapely.LineString(points)
+        assert shapely.distance(drawn, shapely.points(plan.path.points())).max() <= tolerance
+    limit = minimum_time(points, tolerance, PAPER, nodes=30)
+    assert limit.time_s <= plans['minimum_time'] <= plans['tube']

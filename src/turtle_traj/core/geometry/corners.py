@@ -130,7 +130,8 @@ def smoothed_curve(points: np.ndarray, tolerance: float) -> np.ndarray:
 
 def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHOID_PAIR,),
                  cost: CornerCost | None = None,
-                 duration: Callable[[Polyline], float] | None = None) -> Path:
+                 duration: Callable[[Polyline], float] | None = None,
+                 more: Callable[[np.ndarray, float], np.ndarray | None] | None = None) -> Path:
     """`path` with its turns in place between two polylines replaced by rounded corners.
 
     A turn is rounded when both polylines are driven the same way with the pen in the same
@@ -140,8 +141,9 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
     of `shapes` its `cost` (the time it takes a base) finds least; a curve (a polyline of more
     than one segment) is smoothed within the tolerance first. Given the `duration` a base
     takes along a polyline, the stretch becomes the fastest of that, the stretch smoothed
-    within the tolerance's tube by each of `tube.WINDOWS_M` and, for a single curve, the
-    curve as it is.
+    within the tolerance's tube by each of `tube.WINDOWS_M`, for a single curve the curve as
+    it is, and `more(points, width)`: another curve of the caller's through the stretch's
+    points within `width` of them (None: none).
     """
     if tolerance <= 0.0:
         return path
@@ -154,7 +156,7 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
             continue
         candidates = [_corners_rounded(stretch, tolerance, shapes, cost)]
         if duration is not None:
-            candidates += _smoothed_in_tube(stretch, tolerance)
+            candidates += _smoothed_in_tube(stretch, tolerance, more)
             legs.append(min(candidates, key=duration))
         else:
             legs.append(candidates[0])
@@ -188,14 +190,18 @@ def _turns_aimed(legs: list[Leg]) -> tuple[Leg, ...]:
     return tuple(aimed)
 
 
-def _smoothed_in_tube(stretch: Sequence[Leg], tolerance: float) -> list[Polyline]:
+def _smoothed_in_tube(stretch: Sequence[Leg], tolerance: float,
+                      more: Callable[[np.ndarray, float], np.ndarray | None] | None = None,
+                      ) -> list[Polyline]:
     """A stretch (see `_stretches`) smoothed within the tolerance's tube by each of
-    `tube.WINDOWS_M` where that keeps to it, and a single curve as it is."""
+    `tube.WINDOWS_M` where that keeps to it, `more`'s curve, and a single curve as it is."""
     first = stretch[0]
     assert isinstance(first, Polyline)
     joined = np.concatenate([first.points[:1]] + [leg.points[1:] for leg in stretch[::2]])
     width = _shape_width(tolerance, _SHAPE_SHARE)
-    smoothed = (tube_smoothed(joined, width, window) for window in WINDOWS_M)
+    smoothed = [tube_smoothed(joined, width, window) for window in WINDOWS_M]
+    if more is not None:
+        smoothed.append(more(joined, width))
     candidates = [replace(first, points=points) for points in smoothed if points is not None]
     return candidates + [first] if len(stretch) == 1 else candidates
 

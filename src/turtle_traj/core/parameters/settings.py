@@ -32,6 +32,7 @@ class ShapeDefaults:
     corner_angle: float
     corner_tolerance: float = 0.0
     path_tolerance: float = 0.0  # a Nav2 goal's path may be smoothed within this
+    minimum_time_corners: bool = False  # corner_planning: 'minimum_time'
 
 
 def pen_color_problem(text: str) -> str | None:
@@ -84,7 +85,8 @@ def settings_from_values(value: dict[str, object]) -> Settings:
         sine_length=value['default_sine_length'], curve_width=value['default_curve_width'],
         text_height=value['default_text_height'], svg_size=value['default_svg_size'],
         goal_tolerance=value['goal_tolerance'], corner_angle=value['corner_angle'],
-        corner_tolerance=value['corner_tolerance'], path_tolerance=value['path_tolerance'])
+        corner_tolerance=value['corner_tolerance'], path_tolerance=value['path_tolerance'],
+        minimum_time_corners=value['corner_planning'] == 'minimum_time')
     arena = (Arena(-NO_WALLS_M, -NO_WALLS_M, NO_WALLS_M, NO_WALLS_M, 0.0)
              if value['arena'] == 'none' else
              Arena(value['arena_min_x'], value['arena_min_y'], value['arena_max_x'],

@@ -55,6 +55,11 @@ PARAMETERS = (
          "smoothed within this of the planner's, its corners rounded, so a grid planner's "
          'staircase is driven as the way it sketches (a corner_tolerance for its goals; '
          '0.05 suits 5 cm cells); 0 = exact', 'm', 0.0, 1.0),
+    Spec('corner_planning', 'tube', "How corners within a tolerance are planned on a base "
+         "with acceleration limits: 'tube' (the fastest of clothoid corners and smoothings in "
+         "the tube: milliseconds) or 'minimum_time' (also the minimum-time trajectory in the "
+         'tube, by CasADi and IPOPT: seconds for a few metres, beside the executor)',
+         choices=('tube', 'minimum_time')),
     Spec('progress_timeout', 3.0, 'A run that makes no progress along its path for this long '
          'ends with a message (a base slower than its limits, a blocked robot)', 's',
          0.5, 60.0),

@@ -73,6 +73,7 @@ class MinimumTime:
     solve_s: float  # CPU time, both solves
     solved: bool  # IPOPT converged
     times: np.ndarray | None = None  # (nodes + 1,): each node's instant
+    motion: np.ndarray | None = None  # (n, 2): the positions, integrated finely between nodes
 
 
 def path_length(points: np.ndarray) -> np.ndarray:
@@ -98,13 +99,13 @@ def minimum_time(points: np.ndarray, tolerance_m: float, limits: RobotLimits, *,
                                          limits.angular_acceleration))
               for swing in SEEDS]
     best, spent = min(scouts, key=lambda scout: (not scout[0].solved, scout[0].time_s))
-    final, last = _Problem(points, width, limits, heading0, nodes,
+    final, _ = _Problem(points, width, limits, heading0, nodes,
                            2.0 * best.time_s / nodes).solve(spent)
     if not final.solved and best.solved:
         final = best
     return MinimumTime(final.time_s, final.poses, final.velocities, final.max_error_m,
                        sum(scout.solve_s for scout, _ in scouts) + final.solve_s, final.solved,
-                       last.time)
+                       final.times, final.motion)
 
 
 def _on_the_path(points: np.ndarray, limits: RobotLimits, heading0: float) -> MinimumTime:
@@ -113,7 +114,7 @@ def _on_the_path(points: np.ndarray, limits: RobotLimits, heading0: float) -> Mi
     began = time.process_time()
     drive = exact_drive(points, heading0, limits.speed, limits.turn_rate, None, None)
     return MinimumTime(float(drive.time[-1]), drive.poses, drive.velocities, 0.0,
-                       time.process_time() - began, True, drive.time)
+                       time.process_time() - began, True, drive.time, drive.poses[:, :2])
 
 
 class _Problem:
@@ -211,16 +212,18 @@ class _Problem:
                       else np.vstack([taken.T, [0.0, 0.0]]))
         durations = np.atleast_1d(np.asarray(solution.value(self.steps), dtype=float)).ravel()
         times = np.concatenate(([0.0], np.cumsum(durations)))
-        error = _max_error(self.points, poses, velocities, taken, durations, inertia)
-        return (MinimumTime(float(times[-1]), poses, velocities, error, solve_s, solved, times),
+        motion = _dense_motion(poses, velocities, taken, durations, inertia)
+        error = float(np.max(shapely.distance(shapely.LineString(self.points),
+                                              shapely.points(motion))))
+        return (MinimumTime(float(times[-1]), poses, velocities, error, solve_s, solved, times,
+                            motion),
                 Timeline(times, poses, velocities,
                          np.asarray(solution.value(self.progress), dtype=float).ravel()))
 
 
-def _max_error(points, poses, velocities, controls, durations, inertia) -> float:
-    """The largest distance from the path along the motion, integrated finely between nodes."""
-    path = shapely.LineString(points)
-    samples = []
+def _dense_motion(poses, velocities, controls, durations, inertia) -> np.ndarray:
+    """The motion's positions, integrated finely (_DENSE samples an interval) from each node."""
+    samples = [poses[0, :2]]
     for k in range(len(poses) - 1):
         x, y, heading = poses[k]
         speed, turn = velocities[k]
@@ -234,5 +237,4 @@ def _max_error(points, poses, velocities, controls, durations, inertia) -> float
             if inertia:
                 speed, turn = (speed + controls[0, k] * dt / 2, turn + controls[1, k] * dt / 2)
             samples.append((x, y))
-    distances = shapely.distance(path, shapely.points(np.asarray(samples)))
-    return float(np.max(distances)) if len(distances) else 0.0
+    return np.asarray(samples)

@@ -30,8 +30,10 @@ from turtle_traj.core.geometry import shapes
 from turtle_traj.core.geometry.corners import CLOTHOID_PAIR, arc_shape, rounded_path
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
 from turtle_traj.core.geometry.shapes import Arena, ShapeError
+from turtle_traj.core.geometry.tube import SPACING_M, resampled
 from turtle_traj.core.parameters.settings import Settings
 from turtle_traj.core.planning.limits import POLYGON_SIDES
+from turtle_traj.core.planning.min_time import RobotLimits, minimum_time
 from turtle_traj.core.planning.sketches import curves, drawings, motions
 from turtle_traj.core.planning.sketches.base import (
     PlanError,
@@ -43,6 +45,10 @@ from turtle_traj.core.planning.sketches.base import (
 )
 
 __all__ = ['SKETCHES', 'PlanError', 'largest_size', 'plan']
+
+LIMIT_NODES_PER_M = 13  # the minimum-time trajectory's intervals, for a candidate of a plan
+LIMIT_NODES = (30, 240)  # at the least and the most
+LIMIT_WIDTH_SHARE = 0.92  # of the tube's width: its motion between nodes strays a little
 
 
 def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
@@ -64,7 +70,8 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
                    drawn.pen_up_unordered)
     run = planned.control(settings.control)
     if tolerance > 0.0:  # measured against the path as checked (one lap of a circle)
-        planned = replace(planned, path=_rounded(path, tolerance, run),
+        planned = replace(planned, path=_rounded(path, tolerance, run,
+                                                 settings.defaults.minimum_time_corners),
                           drawn=checked.points())
     if run.limited:  # planned here, not in the control loop (a curve's takes milliseconds)
         planned = replace(planned, profiles=tuple(
@@ -74,17 +81,35 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
     return planned
 
 
-def _rounded(path: Path, tolerance: float, run: ControlConfig) -> Path:
+def _rounded(path: Path, tolerance: float, run: ControlConfig, minimum_time: bool) -> Path:
     """`path` with its corners rounded within `tolerance`, each stretch of it as fast as
     `corners.rounded_path` finds (by its least time); on a base with angular limits, each
     corner is the faster (by its speed profile) of a clothoid pair and a
-    clothoid-arc-clothoid."""
+    clothoid-arc-clothoid, and with `minimum_time` each stretch may be the minimum-time
+    trajectory's path (`limit_path`)."""
     duration = partial(_stretch_duration, config=run)
     if not run.max_angular_accel:
         return rounded_path(path, tolerance, duration=duration)
     shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed * ANGULAR_SHARE,
                                        run.max_angular_accel * ANGULAR_ACCEL_SHARE))
-    return rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run), duration)
+    more = partial(limit_path, config=run) if minimum_time and run.max_linear_accel else None
+    return rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run), duration,
+                        more)
+
+
+def limit_path(points: np.ndarray, width: float, *, config: ControlConfig) -> np.ndarray | None:
+    """The path of the minimum-time trajectory within `width` of `points` on a base with
+    `config`'s limits (`min_time`), sampled every `tube.SPACING_M`; None unless the solver
+    converged and its motion keeps within the width between its nodes too (it is solved in a
+    tube LIMIT_WIDTH_SHARE as wide)."""
+    limits = RobotLimits(config.linear_speed, config.angular_speed, config.max_linear_accel,
+                         config.max_angular_accel)
+    length = float(np.sum(np.hypot(*np.diff(points, axis=0).T)))
+    nodes = int(np.clip(LIMIT_NODES_PER_M * length, *LIMIT_NODES))
+    limit = minimum_time(points, LIMIT_WIDTH_SHARE * width, limits, nodes=nodes)
+    if not limit.solved or limit.max_error_m > width:
+        return None
+    return resampled(limit.motion, SPACING_M)
 
 
 def _stretch_duration(polyline: Polyline, *, config: ControlConfig) -> float:
