@@ -106,7 +106,11 @@ def limit_path(points: np.ndarray, width: float, *, config: ControlConfig) -> np
                          config.max_angular_accel)
     length = float(np.sum(np.hypot(*np.diff(points, axis=0).T)))
     nodes = int(np.clip(LIMIT_NODES_PER_M * length, *LIMIT_NODES))
-    limit = minimum_time(points, LIMIT_WIDTH_SHARE * width, limits, nodes=nodes)
+    try:
+        limit = minimum_time(points, LIMIT_WIDTH_SHARE * width, limits, nodes=nodes)
+    except ImportError:
+        raise PlanError("corner_planning 'minimum_time' needs CasADi (pip install casadi), "
+                        "or set corner_planning to 'tube'") from None
     if not limit.solved or limit.max_error_m > width:
         return None
     return resampled(limit.motion, SPACING_M)
