@@ -127,8 +127,8 @@ class _Problem:
 
         self.points, self.limits, self.nodes = points, limits, nodes
         along = path_length(points)
-        # the path between its points as drawn: straight (a B-spline's smooth curve through a
-        # sampled sine left the solver wandering metres off)
+        # the path between its points as drawn: straight (IPOPT wanders metres off a
+        # B-spline's smooth curve through a sampled sine)
         path_x = casadi.interpolant('path_x', 'linear', [along], points[:, 0])
         path_y = casadi.interpolant('path_y', 'linear', [along], points[:, 1])
         self.opti = opti = casadi.Opti()
