@@ -22,6 +22,8 @@ from __future__ import annotations
 import argparse
 import math
 
+import numpy as np
+
 from base_bench import sine, step_curve
 from base_loop import DWPP_LIMITS, drive_turtle_traj
 from turtle_traj.core.geometry.path import Pose2D
@@ -35,11 +37,12 @@ CASES = [('step 45', step_curve(45), None, 0.062, 18.7),
          ('step 135', step_curve(135), None, 0.165, 21.4),
          ('sine, facing its leg', sine(), None, 0.104, 16.3),
          ('sine, facing x', sine(), 0.0, 0.104, 16.3)]
+PLOTTED = ('step 90', 'sine, facing x')
 
 
 def ours(points, heading: float | None, tolerance: float,
-         corner_planning: str) -> tuple[float, float]:
-    """Our time and largest distance from the path, rounded within `tolerance` by
+         corner_planning: str) -> tuple[float, float, np.ndarray]:
+    """Our time, largest distance from the path and positions, rounded within `tolerance` by
     `corner_planning` ('tube' or 'minimum_time')."""
     first = points[1] - points[0]
     start = Pose2D(float(points[0, 0]), float(points[0, 1]),
@@ -47,7 +50,37 @@ def ours(points, heading: float | None, tolerance: float,
     run = drive_turtle_traj(points, start, DWPP_LIMITS, corner_tolerance=tolerance,
                             corner_planning=corner_planning)
     figures = run.figures(points, DWPP_LIMITS, tuple(points[-1]))
-    return figures['time_s'], figures['max_mm']
+    return figures['time_s'], figures['max_mm'], np.array([(p.x, p.y) for p in run.poses])
+
+
+def plot(drawn: list[tuple], where: str) -> None:
+    """The tube, the limit's path and ours (tube planning) at the 90 degree step's first corner
+    and on the sine facing x."""
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    import shapely
+
+    figure, axes = plt.subplots(1, len(drawn), figsize=(6 * len(drawn), 5))
+    for axis, (name, points, tolerance, limit, our) in zip(axes, drawn, strict=True):
+        tube = shapely.LineString(points).buffer(tolerance)
+        axis.fill(*tube.exterior.xy, color='0.9', label=f'tube, {tolerance * 1e3:.0f} mm')
+        for hole in tube.interiors:
+            axis.fill(*hole.xy, color='white')
+        axis.plot(points[:, 0], points[:, 1], 'k--', lw=0.8, label='path')
+        axis.plot(limit.motion[:, 0], limit.motion[:, 1], 'C0', lw=1.5,
+                  label=f'limit {limit.time_s:.2f} s')
+        axis.plot(our[1][:, 0], our[1][:, 1], 'C3', lw=1.0, label=f'ours {our[0]:.2f} s')
+        if name.startswith('step'):
+            corner = points[1]
+            axis.set_xlim(corner[0] - 1.0, corner[0] + 0.6)
+            axis.set_ylim(corner[1] - 0.4, corner[1] + 1.2)
+        axis.set_title(f'{name}, within {tolerance * 1e3:.0f} mm')
+        axis.set_aspect('equal')
+        axis.legend(loc='best', fontsize=8)
+    figure.tight_layout()
+    figure.savefig(where, dpi=90)
+    print(f'plotted: {where}')
 
 
 def main() -> None:
@@ -55,10 +88,13 @@ def main() -> None:
     parser.add_argument('--nodes', type=int, default=120)
     parser.add_argument('--twice', action='store_true',
                         help='also solve with twice the nodes')
+    parser.add_argument('--plot', metavar='PNG',
+                        help="draw the limit's path and ours at a corner and on the sine")
     options = parser.parse_args()
     print(f'{"":56} {"ours, tube":^23}  {"ours, minimum_time":^23}')
     print(f'{"path":22} {"tol mm":>6} {"limit s":>8} {"err mm":>7} {"solve s":>8} '
           f'{"2x nodes":>9} {"ref s":>6}' + f' {"time s":>7} {"err mm":>7} {"/limit":>7}' * 2)
+    drawn = []
     for name, points, heading, tolerance, reference in CASES:
         limit = minimum_time(points, tolerance, PAPER, start_heading=heading,
                              nodes=options.nodes)
@@ -69,14 +105,18 @@ def main() -> None:
             finer = f'{finer_s:9.2f}'
         columns = ''
         for way in ('tube', 'minimum_time'):
-            our_s, our_mm = ours(points, heading, tolerance, way)
+            our_s, our_mm, our_xy = ours(points, heading, tolerance, way)
             columns += f' {our_s:7.2f} {our_mm:7.1f} {our_s / limit.time_s:7.3f}'
+            if way == 'tube' and name in PLOTTED:
+                drawn.append((name, points, tolerance, limit, (our_s, our_xy)))
         flag = '' if limit.solved else '  (not converged)'
         print(f'{name:22} {tolerance * 1e3:6.0f} {limit.time_s:8.2f} '
               f'{limit.max_error_m * 1e3:7.1f} {limit.solve_s:8.1f} {finer} {reference:6.1f}'
               f'{columns}{flag}')
     straight = 9.0 / PAPER.speed + PAPER.speed / PAPER.acceleration
     print(f'a straight 9 m from rest to rest at these limits: {straight:.2f} s')
+    if options.plot:
+        plot(drawn, options.plot)
 
 
 if __name__ == '__main__':
