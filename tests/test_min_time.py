@@ -88,7 +88,7 @@ def test_a_wider_tube_is_never_slower(corner_limits):
     assert wide < narrow
 
 
-def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube():
+def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube(corner_limits):
     """With `corner_planning` 'minimum_time', a right-angled corner's plan on the DWPP paper's
     base keeps within the tolerance of the points given (shapely), takes no longer by the
     controller's least time than the tube's plan, and no less than the limit itself."""
@@ -98,8 +98,7 @@ def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube()
     from turtle_traj.core.parameters.table import DEFAULTS
     from turtle_traj.core.planning import planner
 
-    tolerance = 0.1
-    points = np.array([[0.0, 0.0], [1.5, 0.0], [1.5, 1.5]])
+    tolerance, points = CORNER_TOLERANCES_M[0], CORNER
     start = Pose2D(0.0, 0.0, 0.0)
     plans = {}
     for way in ('tube', 'minimum_time'):
@@ -110,5 +109,4 @@ def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube()
         plans[way] = plan.least_time_s(settings.control)
         drawn = shapely.LineString(points)
         assert shapely.distance(drawn, shapely.points(plan.path.points())).max() <= tolerance
-    limit = minimum_time(points, tolerance, PAPER, nodes=30)
-    assert limit.time_s <= plans['minimum_time'] <= plans['tube']
+    assert corner_limits[tolerance].time_s <= plans['minimum_time'] <= plans['tube']
