@@ -25,12 +25,11 @@ import math
 import numpy as np
 
 from base_bench import sine, step_curve
-from base_loop import DWPP_LIMITS, drive_turtle_traj
+from base_loop import DWPP_LIMITS, base_settings, drive_turtle_traj
 from turtle_traj.core.geometry.path import Pose2D
-from turtle_traj.core.planning.min_time import RobotLimits, minimum_time
+from turtle_traj.core.planning.min_time import minimum_time
 
-PAPER = RobotLimits(speed=DWPP_LIMITS.v, turn_rate=DWPP_LIMITS.omega,
-                    acceleration=DWPP_LIMITS.a, angular_acceleration=DWPP_LIMITS.alpha)
+PAPER = base_settings(DWPP_LIMITS).control.limits
 # issue 76: the reference DWPP's maximum error and its time
 CASES = [('step 45', step_curve(45), None, 0.062, 18.7),
          ('step 90', step_curve(90), None, 0.086, 19.5),
@@ -113,7 +112,7 @@ def main() -> None:
         print(f'{name:22} {tolerance * 1e3:6.0f} {limit.time_s:8.2f} '
               f'{limit.max_error_m * 1e3:7.1f} {limit.solve_s:8.1f} {finer} {reference:6.1f}'
               f'{columns}{flag}')
-    straight = 9.0 / PAPER.speed + PAPER.speed / PAPER.acceleration
+    straight = 9.0 / PAPER.linear_speed + PAPER.linear_speed / PAPER.linear_accel
     print(f'a straight 9 m from rest to rest at these limits: {straight:.2f} s')
     if options.plot:
         plot(drawn, options.plot)

@@ -8,10 +8,14 @@ import numpy as np
 import pytest
 import shapely
 
-from turtle_traj.core.planning.min_time import EXACT_M, RobotLimits, minimum_time
+from turtle_traj.core.control.config import Limits
+from turtle_traj.core.planning.min_time import EXACT_M, minimum_time
+from turtle_traj.core.turtlesim_contract import STEP_S
 
-PAPER = RobotLimits(speed=0.5, turn_rate=1.0, acceleration=0.5, angular_acceleration=1.0)
-TURTLESIM = RobotLimits(speed=2.0, turn_rate=1.0)
+PAPER = Limits(linear_speed=0.5, angular_speed=1.0, linear_accel=0.5, angular_accel=1.0,
+               period_s=STEP_S)
+TURTLESIM = Limits(linear_speed=2.0, angular_speed=1.0, linear_accel=0.0, angular_accel=0.0,
+                   period_s=STEP_S)
 
 
 def _trapezoid_s(distance: float, top: float, accel: float) -> float:
@@ -46,8 +50,8 @@ def test_a_circle_on_turtlesim_goes_at_the_speed_its_turn_rate_allows():
     limit = minimum_time(points, 0.0, TURTLESIM)
     assert limit.solved
     # one lap at v = omega * r, of 2 pi r: 2 pi / omega
-    assert limit.time_s == pytest.approx(2.0 * math.pi / TURTLESIM.turn_rate, rel=0.005)
-    assert np.all(np.abs(limit.velocities[:, 1]) <= TURTLESIM.turn_rate + 1e-9)
+    assert limit.time_s == pytest.approx(2.0 * math.pi / TURTLESIM.angular_speed, rel=0.005)
+    assert np.all(np.abs(limit.velocities[:, 1]) <= TURTLESIM.angular_speed + 1e-9)
     _within(limit, points, EXACT_M)
 
 
@@ -55,7 +59,7 @@ def test_a_square_on_turtlesim_at_tolerance_zero_stops_and_turns_at_each_corner(
     points = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]])
     limit = minimum_time(points, 0.0, TURTLESIM, start_heading=math.pi / 2)
     # a quarter turn to face the first side, then four sides and three quarter turns
-    expected = 4.0 / TURTLESIM.speed + 4 * (math.pi / 2) / TURTLESIM.turn_rate
+    expected = 4.0 / TURTLESIM.linear_speed + 4 * (math.pi / 2) / TURTLESIM.angular_speed
     assert limit.time_s == pytest.approx(expected, rel=1e-3)
     _within(limit, points, EXACT_M)
 

@@ -19,7 +19,7 @@ from turtle_traj.apps.score.courses import Course
 from turtle_traj.apps.score.runner import Result, run_course
 from turtle_traj.core.control.controllers.catalogue import EXACT
 from turtle_traj.core.parameters.table import PARAMETER
-from turtle_traj.core.planning.min_time import RobotLimits, minimum_time
+from turtle_traj.core.planning.min_time import minimum_time
 
 LARGEST_TOLERANCE_M = PARAMETER['corner_tolerance'].high
 LIMIT_NODES = 60  # the limit's intervals here (bench/limit_bench.py solves with more)
@@ -67,11 +67,9 @@ def limit_s(course: Course, tolerance_m: float) -> float | None:
     points = getattr(course.request, 'points', None)
     if not points:
         return None
-    control = course.settings.control
-    limits = RobotLimits(control.linear_speed, control.angular_speed,
-                         control.max_linear_accel or None, control.max_angular_accel or None)
     xy = np.array([(point.x, point.y) for point in points])
-    limit = minimum_time(xy, tolerance_m, limits, start_heading=course.start.theta,
+    limit = minimum_time(xy, tolerance_m, course.settings.control.limits,
+                         start_heading=course.start.theta,
                          nodes=LIMIT_NODES)
     return limit.time_s if limit.solved else None
 

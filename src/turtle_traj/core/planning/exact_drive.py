@@ -13,6 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from turtle_traj.core.control.config import Limits
+from turtle_traj.core.geometry.path import Polyline
+from turtle_traj.core.geometry.tube import resampled
+
 CORNER_DEG = 10.0  # a vertex turning more than this ends a stretch: the robot stops and turns
 _SPACING_M = 0.01  # between the samples of a stretch's speed profile
 _UNLIMITED = 1e9  # an acceleration "at once", finite for the arithmetic
@@ -37,10 +41,10 @@ class Timeline:
                         np.interp(instants, self.time, self.progress))
 
 
-def exact_drive(points: np.ndarray, start_heading: float, speed: float, turn_rate: float,
-                acceleration: float | None, angular_acceleration: float | None) -> Timeline:
+def exact_drive(points: np.ndarray, start_heading: float, limits: Limits) -> Timeline:
     """The motion along the polyline `points` that turns in place at its corners (see the
-    module), from rest facing `start_heading` to rest at its last point."""
+    module), from rest facing `start_heading` to rest at its last point, under `limits` (an
+    acceleration of 0: at once)."""
     legs = np.diff(points, axis=0)
     headings = np.unwrap(np.arctan2(legs[:, 1], legs[:, 0]))
     turns = np.abs(np.diff(headings))
@@ -49,9 +53,10 @@ def exact_drive(points: np.ndarray, start_heading: float, speed: float, turn_rat
     heading, clock, along = start_heading, 0.0, 0.0
     for first, last in zip(cuts[:-1], cuts[1:], strict=True):
         goal = heading + _wrapped(headings[first] - heading)
-        turn = _turn(points[first], heading, goal, turn_rate, angular_acceleration or _UNLIMITED)
-        stretch = _stretch(points[first:last + 1], goal, speed, turn_rate,
-                           acceleration or _UNLIMITED)
+        turn = _turn(points[first], heading, goal, limits.angular_speed,
+                     limits.angular_accel or _UNLIMITED)
+        stretch = _stretch(points[first:last + 1], goal, limits.linear_speed,
+                           limits.angular_speed, limits.linear_accel or _UNLIMITED)
         for part in (turn, stretch):
             parts.append(Timeline(part.time + clock, part.poses, part.velocities,
                                   part.progress + along))
@@ -131,9 +136,9 @@ def _stretch(points: np.ndarray, heading0: float, top: float, turn_rate: float,
              rate: float) -> Timeline:
     """One stretch from rest to rest, starting at `heading0` (unwrapped), each sample at the
     speed its curvature allows, speeding up and braking at `rate`."""
-    arc = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))))
-    samples = np.linspace(0.0, arc[-1], max(int(arc[-1] / _SPACING_M), 2) + 1)
-    xy = np.column_stack([np.interp(samples, arc, points[:, axis]) for axis in (0, 1)])
+    arc = Polyline(points).cumulative_length
+    xy = resampled(points, _SPACING_M)
+    samples = np.linspace(0.0, arc[-1], len(xy))
     heading = np.unwrap(np.arctan2(*np.gradient(xy, axis=0).T[::-1]))
     heading += 2.0 * math.pi * round((heading0 - heading[0]) / (2.0 * math.pi))
     curvature = np.interp(samples, arc, vertex_curvatures(points))

@@ -31,11 +31,13 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import shapely
 
+from turtle_traj.core.control.config import Limits
+from turtle_traj.core.geometry.path import Polyline
 from turtle_traj.core.planning.exact_drive import Timeline, exact_drive, rounded_corners
 
 EXACT_M = 0.0005  # the tube's half-width asked for "exact": within the followers' own error
@@ -44,95 +46,77 @@ SCOUTING_NODES = 60  # the first solve's intervals
 SCOUTING_STEP_S = 0.5  # the first solve's longest interval; the second's: twice its mean
 _RK4_STEPS = 4  # per interval; the tube is checked at each
 _SHORTEST_STEP_S = 1e-3
-_UNBOUNDED = 1e3  # an angular acceleration not given, finite for the solver
+_UNBOUNDED = 1e3  # an acceleration not limited (0), finite for the solver
 _DENSE = 20  # samples per interval where the error is measured
-
-
-@dataclass(frozen=True)
-class RobotLimits:
-    """A unicycle's bounds; no acceleration bounds: velocities take each command at once."""
-
-    speed: float  # m/s
-    turn_rate: float  # rad/s
-    acceleration: float | None = None  # m/s^2
-    angular_acceleration: float | None = None  # rad/s^2
-
-    @property
-    def has_inertia(self) -> bool:
-        return self.acceleration is not None
 
 
 @dataclass(frozen=True)
 class MinimumTime:
     """The solved limit."""
 
-    time_s: float
+    times: np.ndarray  # (nodes + 1,): each node's instant, s
     poses: np.ndarray  # (nodes + 1, 3): x, y, heading at each node
     velocities: np.ndarray  # (nodes + 1, 2): speed, turn rate (without inertia: as commanded)
-    max_error_m: float  # the largest distance to the path, along the integrated motion
-    solve_s: float  # CPU time, both solves
+    motion: np.ndarray  # (n, 2): the positions, integrated finely between nodes
+    max_error_m: float  # the largest distance of `motion` from the path
+    solve_s: float  # CPU time of the solves
     solved: bool  # IPOPT converged
-    times: np.ndarray | None = None  # (nodes + 1,): each node's instant
-    motion: np.ndarray | None = None  # (n, 2): the positions, integrated finely between nodes
+
+    @property
+    def time_s(self) -> float:
+        return float(self.times[-1])
 
 
-def path_length(points: np.ndarray) -> np.ndarray:
-    """The arc length at each point of a polyline."""
-    return np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))))
-
-
-def minimum_time(points: np.ndarray, tolerance_m: float, limits: RobotLimits, *,
+def minimum_time(points: np.ndarray, tolerance_m: float, limits: Limits, *,
                  start_heading: float | None = None, nodes: int = 200) -> MinimumTime:
     """The fastest motion along the polyline `points` (m) within `tolerance_m` of it (see the
-    module). `start_heading` defaults to the first segment's direction."""
+    module) under `limits` (an acceleration of 0: none; the control period is not used).
+    `start_heading` defaults to the first segment's direction."""
     points = np.asarray(points, dtype=float)
-    points = points[np.concatenate(([True], np.diff(path_length(points)) > 1e-9))]
+    points = points[np.concatenate(([True], np.diff(Polyline(points).cumulative_length) > 1e-9))]
     heading0 = (math.atan2(*(points[1] - points[0])[::-1]) if start_heading is None
                 else start_heading)
-    if tolerance_m <= 0.0 and not limits.has_inertia:
+    if tolerance_m <= 0.0 and not limits.limited:
         return _on_the_path(points, limits, heading0)
     width = max(tolerance_m, EXACT_M)
     scouting = _Problem(points, width, limits, heading0, min(SCOUTING_NODES, nodes),
                         SCOUTING_STEP_S)
     scouts = [scouting.solve(exact_drive(rounded_corners(points, width, swing=swing), heading0,
-                                         limits.speed, limits.turn_rate, limits.acceleration,
-                                         limits.angular_acceleration))
+                                         limits))
               for swing in SEEDS]
     best, spent = min(scouts, key=lambda scout: (not scout[0].solved, scout[0].time_s))
     final, _ = _Problem(points, width, limits, heading0, nodes,
                            2.0 * best.time_s / nodes).solve(spent)
     if not final.solved and best.solved:
         final = best
-    return MinimumTime(final.time_s, final.poses, final.velocities, final.max_error_m,
-                       sum(scout.solve_s for scout, _ in scouts) + final.solve_s, final.solved,
-                       final.times, final.motion)
+    return replace(final, solve_s=sum(scout.solve_s for scout, _ in scouts) + final.solve_s)
 
 
-def _on_the_path(points: np.ndarray, limits: RobotLimits, heading0: float) -> MinimumTime:
+def _on_the_path(points: np.ndarray, limits: Limits, heading0: float) -> MinimumTime:
     """Without inertia and tolerance, the limit is the path itself at the speed its curvature
     allows, turning in place at its corners: `exact_drive`, with nothing to solve."""
     began = time.process_time()
-    drive = exact_drive(points, heading0, limits.speed, limits.turn_rate, None, None)
-    return MinimumTime(float(drive.time[-1]), drive.poses, drive.velocities, 0.0,
-                       time.process_time() - began, True, drive.time, drive.poses[:, :2])
+    drive = exact_drive(points, heading0, limits)
+    return MinimumTime(drive.time, drive.poses, drive.velocities, drive.poses[:, :2], 0.0,
+                       time.process_time() - began, True)
 
 
 class _Problem:
-    """The optimal-control problem (see the module) over `nodes` intervals, of one common
-    duration or each its own."""
+    """The optimal-control problem (see the module) over `nodes` intervals, each at most
+    `longest_step_s` long."""
 
-    def __init__(self, points: np.ndarray, width: float, limits: RobotLimits, heading0: float,
+    def __init__(self, points: np.ndarray, width: float, limits: Limits, heading0: float,
                  nodes: int, longest_step_s: float) -> None:
         import casadi  # noqa: PLC0415 (a bench's and a test's yardstick: loaded when asked for)
 
         self.points, self.limits, self.nodes = points, limits, nodes
-        along = path_length(points)
+        along = Polyline(points).cumulative_length
         # the path between its points as drawn: straight (IPOPT wanders metres off a
         # B-spline's smooth curve through a sampled sine)
         path_x = casadi.interpolant('path_x', 'linear', [along], points[:, 0])
         path_y = casadi.interpolant('path_y', 'linear', [along], points[:, 1])
         self.opti = opti = casadi.Opti()
-        inertia = limits.has_inertia
+        inertia = limits.limited
         self.states = states = opti.variable(5 if inertia else 3, nodes + 1)
         self.controls = controls = opti.variable(2, nodes)
         self.progress = progress = opti.variable(nodes + 1)
@@ -159,11 +143,12 @@ class _Problem:
             opti.subject_to(states[:, k + 1] == state)
         speeds, turns = ((states[3, :], states[4, :]) if inertia
                          else (controls[0, :], controls[1, :]))
-        opti.subject_to(opti.bounded(0, speeds, limits.speed))
-        opti.subject_to(opti.bounded(-limits.turn_rate, turns, limits.turn_rate))
+        opti.subject_to(opti.bounded(0, speeds, limits.linear_speed))
+        opti.subject_to(opti.bounded(-limits.angular_speed, turns, limits.angular_speed))
         if inertia:
-            linear, angular = limits.acceleration, limits.angular_acceleration or _UNBOUNDED
-            opti.subject_to(opti.bounded(-linear, controls[0, :], linear))
+            angular = limits.angular_accel or _UNBOUNDED
+            opti.subject_to(opti.bounded(-(limits.linear_braking or _UNBOUNDED), controls[0, :],
+                                         limits.linear_accel or _UNBOUNDED))
             opti.subject_to(opti.bounded(-angular, controls[1, :], angular))
             opti.subject_to(states[3:, 0] == 0)
             opti.subject_to(states[3:, -1] == 0)
@@ -175,7 +160,7 @@ class _Problem:
         # width: cutting a corner passes more of the path than it drives), so a closed path's
         # start and end, a step apart, are not one
         advance = progress[1:] - progress[:-1]
-        opti.subject_to(opti.bounded(0, advance, limits.speed * steps.T + 2 * width))
+        opti.subject_to(opti.bounded(0, advance, limits.linear_speed * steps.T + 2 * width))
         checks = [(states[:2, :], progress)] + [
             (casadi.horzcat(*inner), progress[:-1] + (index + 1) / _RK4_STEPS * advance)
             for index, inner in enumerate(inside)]
@@ -188,7 +173,7 @@ class _Problem:
 
     def solve(self, start: Timeline) -> tuple[MinimumTime, Timeline]:
         """The solver's answer from the motion `start`, and that answer as a timeline."""
-        opti, nodes, inertia = self.opti, self.nodes, self.limits.has_inertia
+        opti, nodes, inertia = self.opti, self.nodes, self.limits.limited
         duration = float(start.time[-1])
         at = start.at(np.linspace(0.0, duration, nodes + 1))
         opti.set_initial(self.states[:3, :], at.poses.T)
@@ -215,8 +200,7 @@ class _Problem:
         motion = _dense_motion(poses, velocities, taken, durations, inertia)
         error = float(np.max(shapely.distance(shapely.LineString(self.points),
                                               shapely.points(motion))))
-        return (MinimumTime(float(times[-1]), poses, velocities, error, solve_s, solved, times,
-                            motion),
+        return (MinimumTime(times, poses, velocities, motion, error, solve_s, solved),
                 Timeline(times, poses, velocities,
                          np.asarray(solution.value(self.progress), dtype=float).ravel()))
 

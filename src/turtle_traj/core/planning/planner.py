@@ -33,7 +33,7 @@ from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.geometry.tube import SPACING_M, resampled
 from turtle_traj.core.parameters.settings import Settings
 from turtle_traj.core.planning.limits import POLYGON_SIDES
-from turtle_traj.core.planning.min_time import RobotLimits, minimum_time
+from turtle_traj.core.planning.min_time import minimum_time
 from turtle_traj.core.planning.sketches import curves, drawings, motions
 from turtle_traj.core.planning.sketches.base import (
     PlanError,
@@ -102,12 +102,9 @@ def limit_path(points: np.ndarray, width: float, *, config: ControlConfig) -> np
     `config`'s limits (`min_time`), sampled every `tube.SPACING_M`; None unless the solver
     converged and its motion keeps within the width between its nodes too (it is solved in a
     tube LIMIT_WIDTH_SHARE as wide)."""
-    limits = RobotLimits(config.linear_speed, config.angular_speed, config.max_linear_accel,
-                         config.max_angular_accel)
-    length = float(np.sum(np.hypot(*np.diff(points, axis=0).T)))
-    nodes = int(np.clip(LIMIT_NODES_PER_M * length, *LIMIT_NODES))
+    nodes = int(np.clip(LIMIT_NODES_PER_M * Polyline(points).length, *LIMIT_NODES))
     try:
-        limit = minimum_time(points, LIMIT_WIDTH_SHARE * width, limits, nodes=nodes)
+        limit = minimum_time(points, LIMIT_WIDTH_SHARE * width, config.limits, nodes=nodes)
     except ImportError:
         raise PlanError("corner_planning 'minimum_time' needs CasADi (pip install casadi), "
                         "or set corner_planning to 'tube'") from None
