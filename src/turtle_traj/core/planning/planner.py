@@ -28,6 +28,7 @@ from turtle_traj.core.control.profile import (
 )
 from turtle_traj.core.geometry import shapes
 from turtle_traj.core.geometry.corners import CLOTHOID_PAIR, arc_shape, rounded_path
+from turtle_traj.core.geometry.join import joined_start
 from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
 from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.geometry.tube import SPACING_M, resampled
@@ -86,15 +87,20 @@ def _rounded(path: Path, tolerance: float, run: ControlConfig, minimum_time: boo
     `corners.rounded_path` finds (by its least time); on a base with angular limits, each
     corner is the faster (by its speed profile) of a clothoid pair and a
     clothoid-arc-clothoid, and with `minimum_time` each stretch may be the minimum-time
-    trajectory's path (`limit_path`)."""
+    trajectory's path (`limit_path`); where the tolerance lets the robot curve onto the path
+    from its heading faster than it turns in place first, it does (`join.joined_start`)."""
     duration = partial(_stretch_duration, config=run)
     if not run.max_angular_accel:
-        return rounded_path(path, tolerance, duration=duration)
-    shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed * ANGULAR_SHARE,
-                                       run.max_angular_accel * ANGULAR_ACCEL_SHARE))
-    more = partial(limit_path, config=run) if minimum_time and run.max_linear_accel else None
-    return rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run), duration,
-                        more)
+        rounded = rounded_path(path, tolerance, duration=duration)
+    else:
+        shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed * ANGULAR_SHARE,
+                                           run.max_angular_accel * ANGULAR_ACCEL_SHARE))
+        more = partial(limit_path, config=run) if minimum_time and run.max_linear_accel else None
+        rounded = rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run),
+                               duration, more)
+    drawn = Polyline(path.points())
+    return joined_start(rounded, drawn, tolerance, duration,
+                        lambda turn: least_time_s(Path(legs=(turn,)), run))
 
 
 def limit_path(points: np.ndarray, width: float, *, config: ControlConfig) -> np.ndarray | None:
