@@ -100,7 +100,21 @@ def through_ros_in_real_time(courses: Courses, limits: Limits, time_scale: float
 def _drive(courses: Courses, limits: Limits, time_scale: float, separate: bool,
            controller: str, modes: list[tuple[str, bool]]) -> dict:
     """Each course in each mode (named, and whether its corners are rounded at DWPP's maximum
-    error) through a node of `controller`: {(course, mode): Run}."""
+    error) through a node of `controller`, from facing its first leg: {(course, mode): Run}."""
+    wanted = [((name, mode), points, None, dwpp_max_m if rounded else 0.0)
+              for name, (points, dwpp_max_m, _) in courses.items() for mode, rounded in modes]
+    return drive_through_ros(wanted, limits, time_scale, separate, controller)
+
+
+# a run asked for: (its key, the points, the heading it starts facing (None: along the first
+# leg), the corner tolerance in m)
+Wanted = tuple[object, np.ndarray, float | None, float]
+
+
+def drive_through_ros(wanted: list[Wanted], limits: Limits, time_scale: float,
+                      separate: bool, controller: str = 'exact') -> dict:
+    """Each run `wanted`, follow_path from the turtle teleported to its first point, through
+    a node of `controller` and our simulator with inertia: {key: Run}, the node's figures."""
     from geometry_msgs.msg import Point
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
@@ -113,7 +127,7 @@ def _drive(courses: Courses, limits: Limits, time_scale: float, separate: bool,
     client = Node('base_bench_client')
     executor = SingleThreadedExecutor()
     executor.add_node(client)
-    runs: dict[tuple[str, str], Run] = {}
+    runs: dict = {}
     try:
         teleport = client.create_client(TeleportAbsolute, '/turtle1/teleport_absolute')
         follow = client.create_client(FollowPath, '/turtle_traj/follow_path')
@@ -121,20 +135,20 @@ def _drive(courses: Courses, limits: Limits, time_scale: float, separate: bool,
                 and teleport.wait_for_service(timeout_sec=60.0)):
             raise SystemExit('the node or the simulator did not come up within 60 s')
         call = _caller(executor)
-        for name, (points, dwpp_max_m, _) in courses.items():
-            heading = math.atan2(points[1, 1] - points[0, 1], points[1, 0] - points[0, 0])
+        for key, points, heading, tolerance in wanted:
+            if heading is None:
+                heading = math.atan2(points[1, 1] - points[0, 1], points[1, 0] - points[0, 0])
             place = TeleportAbsolute.Request(x=float(points[0, 0]), y=float(points[0, 1]),
-                                             theta=heading)
-            for mode, rounded in modes:
-                # sent again while unanswered: a first request can race the service's discovery
-                first_answer(executor, partial(teleport.call_async, place), 'teleport')
-                time.sleep(0.1 + 0.5 / time_scale)  # a pose from where it now stands
-                request = FollowPath.Request(
-                    points=[Point(x=float(x), y=float(y)) for x, y in points],
-                    corner_tolerance=dwpp_max_m if rounded else 0.0)
-                response = call(follow, request)
-                runs[name, mode] = (response.success, response.max_deviation, response.elapsed,
-                                    response.final_error, response.message)
+                                             theta=float(heading))
+            # sent again while unanswered: a first request can race the service's discovery
+            first_answer(executor, partial(teleport.call_async, place), 'teleport')
+            time.sleep(0.1 + 0.5 / time_scale)  # a pose from where it now stands
+            request = FollowPath.Request(
+                points=[Point(x=float(x), y=float(y)) for x, y in points],
+                corner_tolerance=float(tolerance))
+            response = call(follow, request)
+            runs[key] = (response.success, response.max_deviation, response.elapsed,
+                         response.final_error, response.message)
     finally:
         executor.shutdown()
         client.destroy_node()

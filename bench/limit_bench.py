@@ -1,7 +1,8 @@
 """The minimum-time limit (`core.planning.min_time`) on the DWPP paper's paths, at the
 tolerances of issue 76's table, beside the reference's times there and ours.
 
-    .venv/bin/python bench/limit_bench.py [--nodes 120] [--twice]
+    .venv/bin/python bench/limit_bench.py [--nodes 120] [--twice] [--plot PNG]
+                                          [--through-ros SCALE]
 
 The base with inertia of the paper (0.5 m/s, 1 rad/s, 0.5 m/s^2, 1 rad/s^2): three 3 m legs
 turning 45, 90 and 135 degrees, and one period of a sine (1 m over 6 m), from facing its first
@@ -14,7 +15,10 @@ leg and from facing along x. For each:
 - ours: `follow_path` with `corner_tolerance` set to that error, on the pure loop the node
   runs (`base_loop.drive_turtle_traj`, the simulator's physics, 16 ms steps), with
   `corner_planning` 'tube' (the default) and 'minimum_time': its time, its largest distance
-  from the path measured here from the poses, and its time over the limit's.
+  from the path measured here from the poses, and its time over the limit's;
+- with `--through-ros SCALE`, ours again through ROS as issue 76 measured it: the simulator
+  with inertia and the node as two programs, at SCALE times real time (`base_realtime`), the
+  node's own figures from its response.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ import numpy as np
 
 from base_bench import sine, step_curve
 from base_loop import DWPP_LIMITS, base_settings, drive_turtle_traj
+from base_realtime import drive_through_ros
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.planning.min_time import minimum_time
 
@@ -89,11 +94,13 @@ def main() -> None:
                         help='also solve with twice the nodes')
     parser.add_argument('--plot', metavar='PNG',
                         help="draw the limit's path and ours at a corner and on the sine")
+    parser.add_argument('--through-ros', metavar='SCALE', type=float,
+                        help='also drive ours through ROS, two programs, at SCALE x real time')
     options = parser.parse_args()
     print(f'{"":56} {"ours, tube":^23}  {"ours, minimum_time":^23}')
     print(f'{"path":22} {"tol mm":>6} {"limit s":>8} {"err mm":>7} {"solve s":>8} '
           f'{"2x nodes":>9} {"ref s":>6}' + f' {"time s":>7} {"err mm":>7} {"/limit":>7}' * 2)
-    drawn = []
+    drawn, limits = [], {}
     for name, points, heading, tolerance, reference in CASES:
         limit = minimum_time(points, tolerance, PAPER, start_heading=heading,
                              nodes=options.nodes)
@@ -108,6 +115,7 @@ def main() -> None:
             columns += f' {our_s:7.2f} {our_mm:7.1f} {our_s / limit.time_s:7.3f}'
             if way == 'tube' and name in PLOTTED:
                 drawn.append((name, points, tolerance, limit, (our_s, our_xy)))
+        limits[name] = limit.time_s
         flag = '' if limit.solved else '  (not converged)'
         print(f'{name:22} {tolerance * 1e3:6.0f} {limit.time_s:8.2f} '
               f'{limit.max_error_m * 1e3:7.1f} {limit.solve_s:8.1f} {finer} {reference:6.1f}'
@@ -116,6 +124,29 @@ def main() -> None:
     print(f'a straight 9 m from rest to rest at these limits: {straight:.2f} s')
     if options.plot:
         plot(drawn, options.plot)
+    if options.through_ros:
+        through_ros(limits, options.through_ros)
+
+
+def through_ros(limits: dict[str, float], time_scale: float) -> None:
+    """Ours (tube planning) on every case through ROS, the simulator with inertia and the node
+    as two programs at `time_scale`, beside the limit and the reference."""
+    print(f'\nThrough ROS, two programs at x{time_scale:g} (the node\'s figures):')
+    print(f'{"path":22} {"tol mm":>6} {"time s":>7} {"err mm":>7} {"/limit":>7} {"ref s":>6}')
+    import rclpy
+
+    rclpy.init()
+    try:
+        runs = drive_through_ros([(name, points, heading, tolerance)
+                                  for name, points, heading, tolerance, _ in CASES],
+                                 DWPP_LIMITS, time_scale, separate=True)
+    finally:
+        rclpy.shutdown()
+    for name, _, _, tolerance, reference in CASES:
+        ended, max_m, elapsed, _, message = runs[name]
+        shown = '' if ended else f'  (did not end: {message})'
+        print(f'{name:22} {tolerance * 1e3:6.0f} {elapsed:7.2f} {max_m * 1e3:7.1f} '
+              f'{elapsed / limits[name]:7.3f} {reference:6.1f}{shown}')
 
 
 if __name__ == '__main__':

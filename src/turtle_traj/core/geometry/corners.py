@@ -2,8 +2,9 @@
 
 A corner (a turn in place between two polylines) becomes a symmetric pair of clothoids, or a
 clothoid, an arc and a clothoid; a curve is smoothed (`smoothed_curve`); given how long a base
-takes along a polyline, a stretch of polylines and corners becomes the fastest of that and its
-smoothings within the tolerance's tube (`tube`: a grid planner's staircase becomes a curve).
+takes along a polyline, a stretch of polylines and corners becomes the fastest of that, its
+corners swung out (`swing`: racing lines) and its smoothings within the tolerance's tube
+(`tube`: a grid planner's staircase becomes a curve).
 
 A clothoid's curvature grows linearly with arc length, so a base driving it at a steady speed
 changes its turn rate steadily: it keeps moving through the corner, within its angular
@@ -23,7 +24,8 @@ import numpy as np
 
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Leg, Path, Polyline, Turn
-from turtle_traj.core.geometry.projection import WithinDistance
+from turtle_traj.core.geometry.projection import WithinDistance, excess_distance
+from turtle_traj.core.geometry.swing import swung_out
 from turtle_traj.core.geometry.tube import (
     WINDOWS_M,
     gaussian_smoothed,
@@ -42,6 +44,10 @@ _SHAPE_SHARE = 0.97
 _SMOOTHING_SHARE = 0.95
 _TRACKING_M = 0.0005
 _AIM_RAD = 1e-9  # a turn in place off the heading of a stroke beside it by more is re-aimed
+SWING_SHARES = (0.5, 0.75, 1.0)  # of the tolerance, how far a racing line swings out
+_SWING_TRIES = 3
+_SWING_NARROWING = 1.2  # the rounding narrows by this much more than its apex's excess
+_ROUNDING_M = 1e-9  # a moved vertex is as far outside as the shape may go, but for rounding
 
 
 def _shape_width(tolerance: float, share: float) -> float:
@@ -140,10 +146,11 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
     one by one, each reaching at most half along either adjoining segment and taking the one
     of `shapes` its `cost` (the time it takes a base) finds least; a curve (a polyline of more
     than one segment) is smoothed within the tolerance first. Given the `duration` a base
-    takes along a polyline, the stretch becomes the fastest of that, the stretch smoothed
-    within the tolerance's tube by each of `tube.WINDOWS_M`, for a single curve the curve as
-    it is, and `more(points, width)`: another curve of the caller's through the stretch's
-    points within `width` of them (None: none).
+    takes along a polyline, the stretch becomes the fastest of that, its corners swung out
+    (`_swung_corners`), the stretch smoothed within the tolerance's tube by each of
+    `tube.WINDOWS_M`, for a single curve the curve as it is, and `more(points, width)`:
+    another curve of the caller's through the stretch's points within `width` of them
+    (None: none).
     """
     if tolerance <= 0.0:
         return path
@@ -154,8 +161,10 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
                                                               or first.repeat)):
             legs.append(first)
             continue
-        candidates = [_corners_rounded(stretch, tolerance, shapes, cost)]
+        rounded, taken = _corners_rounded(stretch, tolerance, shapes, cost)
+        candidates = [rounded]
         if duration is not None:
+            candidates += _swung_corners(stretch, tolerance, taken)
             candidates += _smoothed_in_tube(stretch, tolerance, more)
             legs.append(min(candidates, key=duration))
         else:
@@ -197,13 +206,45 @@ def _smoothed_in_tube(stretch: Sequence[Leg], tolerance: float,
     `tube.WINDOWS_M` where that keeps to it, `more`'s curve, and a single curve as it is."""
     first = stretch[0]
     assert isinstance(first, Polyline)
-    joined = np.concatenate([first.points[:1]] + [leg.points[1:] for leg in stretch[::2]])
+    joined = _joined_points(stretch)
     width = _shape_width(tolerance, _SHAPE_SHARE)
     smoothed = [tube_smoothed(joined, width, window) for window in WINDOWS_M]
     if more is not None:
         smoothed.append(more(joined, width))
     candidates = [replace(first, points=points) for points in smoothed if points is not None]
     return candidates + [first] if len(stretch) == 1 else candidates
+
+
+def _swung_corners(stretch: Sequence[Leg], tolerance: float,
+                   shapes: Sequence[float]) -> list[Polyline]:
+    """A stretch with corners (see `_stretches`) as racing lines: its corners swung out
+    (`swing.swung_out`) by each of SWING_SHARES of the width the shape may use, and rounded
+    by these `shapes` (one for each corner) within the tolerance plus that, less what takes
+    its apex beyond that width (its legs are tilted, so the apex's offset is measured, and
+    the rounding narrowed by up to _SWING_TRIES measurements)."""
+    if len(stretch) < 3:
+        return []
+    drawn = _joined_points(stretch)
+    width = _shape_width(tolerance, _SHAPE_SHARE)  # the rest is for tracking
+    found = []
+    for share in SWING_SHARES:
+        moved = swung_out(stretch, share * width)
+        rounding = (1.0 + share) * tolerance
+        for _ in range(_SWING_TRIES):
+            candidate, _ = _corners_rounded(moved, rounding, (), None, shapes)
+            excess = excess_distance(candidate.points, drawn, width + _ROUNDING_M)
+            if not excess:
+                found.append(candidate)
+                break
+            rounding -= _SWING_NARROWING * excess / _SHAPE_SHARE
+    return found
+
+
+def _joined_points(stretch: Sequence[Leg]) -> np.ndarray:
+    """The points of a stretch's polylines, one after the other."""
+    first = stretch[0]
+    assert isinstance(first, Polyline)
+    return np.concatenate([first.points[:1]] + [leg.points[1:] for leg in stretch[::2]])
 
 
 def _stretches(legs: Sequence[Leg]) -> list[list[Leg]]:
@@ -222,10 +263,13 @@ def _stretches(legs: Sequence[Leg]) -> list[list[Leg]]:
 
 
 def _corners_rounded(stretch: Sequence[Leg], tolerance: float, shapes: Sequence[float],
-                     cost: CornerCost | None) -> Polyline:
+                     cost: CornerCost | None,
+                     each: Sequence[float] = ()) -> tuple[Polyline, list[float]]:
     """A stretch (see `_stretches`) as one polyline: its curves smoothed, then each corner
-    rounded by the one of `shapes` its `cost` finds least."""
+    rounded by the one of `shapes` its `cost` finds least, or by its own of `each` (a shape
+    for each corner); and the shape each corner took."""
     joined: Polyline | None = None
+    taken: list[float] = []
     for leg in stretch[::2]:
         assert isinstance(leg, Polyline)
         if len(leg.points) > 2:
@@ -236,14 +280,16 @@ def _corners_rounded(stretch: Sequence[Leg], tolerance: float, shapes: Sequence[
         room = 0.499 * min(float(joined.segment_lengths[-1]), float(leg.segment_lengths[0]))
         heading_in = float(joined.headings[-1])
         heading_out = float(leg.headings[0])
-        candidates = [rounded_corner(joined.points[-1], heading_in, heading_out, tolerance,
-                                     room, shape) for shape in shapes]
-        corner = candidates[0] if cost is None or len(candidates) == 1 else min(
-            candidates, key=lambda points: cost(points, heading_in, heading_out))
+        ours = each[len(taken):][:1] or shapes
+        candidates = [(rounded_corner(joined.points[-1], heading_in, heading_out, tolerance,
+                                      room, shape), shape) for shape in ours]
+        corner, shape = candidates[0] if cost is None or len(candidates) == 1 else min(
+            candidates, key=lambda pair: cost(pair[0], heading_in, heading_out))
+        taken.append(shape)
         joined = replace(leg, points=np.concatenate((joined.points[:-1], corner,
                                                      leg.points[1:])))
     assert joined is not None
-    return joined
+    return joined, taken
 
 
 def _joinable(before: Polyline, turn: Turn, after: Polyline) -> bool:

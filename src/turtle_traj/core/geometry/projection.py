@@ -12,7 +12,8 @@ stays exact wherever the path crosses itself. `LengthLeft` measures what is left
 `WithinDistance` checks a smoothed curve against the one it was smoothed from,
 `nearest_point` searches a window of points (pure pursuit's), and `nearest_samples` a window
 of samples for every point of a curve at once (a smoothing's, `tube`); `all_near` says
-whether points all keep within a distance of a polyline.
+whether points all keep within a distance of a polyline, and `excess_distance` how far
+the farthest of them strays beyond it.
 """
 
 from __future__ import annotations
@@ -268,3 +269,15 @@ def all_near(points: np.ndarray, vertices: np.ndarray, distance: float) -> bool:
     line = shapely.LineString(vertices)
     shapely.prepare(line)
     return bool(np.all(shapely.dwithin(line, shapely.points(points), distance)))
+
+
+def excess_distance(points: np.ndarray, vertices: np.ndarray, distance: float) -> float:
+    """How much farther than `distance` the farthest of `points` (N, 2) is from the polyline
+    through `vertices`; 0 when they all keep within it."""
+    import shapely  # only when asked: the command line starts without it
+
+    line = shapely.LineString(vertices)
+    shapely.prepare(line)
+    located = shapely.points(points)
+    beyond = located[~shapely.dwithin(line, located, distance)]
+    return float(shapely.distance(line, beyond).max()) - distance if len(beyond) else 0.0
