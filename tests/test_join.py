@@ -42,31 +42,43 @@ def test_a_join_leaves_along_the_heading_and_meets_the_path_as_it_runs(
     assert -_end_curvature(join[::-1]) == pytest.approx(end_curvature, abs=0.02)
 
 
-def _sine_path(heading: float) -> tuple[Path, np.ndarray]:
+def _sine(heading: float) -> tuple[Path, np.ndarray]:
+    """A sine leaving the origin at 26.6 degrees, from facing `heading`: a turn in place onto
+    it, and the sine."""
     x = np.linspace(0.0, 4.0, 201)
     points = np.column_stack([x, 0.5 * np.sin(x)])
-    return Path(legs=(Turn(0.0, 0.0, heading, math.pi / 4 - heading),
-                      Polyline(points))), points
+    along = math.atan(0.5)
+    return Path(legs=(Turn(0.0, 0.0, heading, along - heading), Polyline(points))), points
+
+
+def _by_length(polyline: Polyline) -> float:
+    return polyline.length
 
 
 def test_the_join_is_taken_only_where_it_beats_the_turn_and_keeps_within_the_tolerance():
-    path, points = _sine_path(0.0)
+    path, points = _sine(-0.5)
     drawn = Polyline(points)
-    by_length = joined_start(path, drawn, 0.05, lambda polyline: polyline.length,
-                             lambda turn: 10.0)
-    assert len(by_length.legs) == 1  # no turn in place
-    joined = by_length.legs[0].points
-    assert np.allclose(joined[0], points[0]) and np.allclose(joined[-1], points[-1])
-    first = joined[1] - joined[0]
-    assert abs(math.atan2(first[1], first[0])) < 0.05  # off along the heading
-    assert shapely.distance(shapely.LineString(points), shapely.points(joined)).max() <= 0.05
+    joined = joined_start(path, drawn, 0.2, _by_length, lambda turn: 10.0)
+    assert len(joined.legs) == 1  # no turn in place
+    curve = joined.legs[0].points
+    assert np.allclose(curve[0], points[0]) and np.allclose(curve[-1], points[-1])
+    first = curve[1] - curve[0]
+    assert math.atan2(first[1], first[0]) == pytest.approx(-0.5, abs=0.05)  # off as it faced
+    assert shapely.distance(shapely.LineString(points), shapely.points(curve)).max() <= 0.2
+
     def bending(polyline: Polyline) -> float:  # joins bend sharply at their start
         return polyline.length + float(np.abs(polyline.curvatures).max())
 
-    assert joined_start(path, drawn, 0.05, bending, lambda turn: 0.0) is path
-    facing = Path(legs=(Turn(0.0, 0.0, math.pi / 4, 0.0), path.legs[1]))
-    assert joined_start(facing, drawn, 0.05, lambda polyline: polyline.length,
-                        lambda turn: 10.0) is facing
+    assert joined_start(path, drawn, 0.2, bending, lambda turn: 0.0) is path
+
+
+def test_a_path_that_begins_facing_the_robots_way_is_kept():
+    turned, points = _sine(math.atan(0.5))
+    assert joined_start(turned, Polyline(points), 0.05, _by_length,
+                        lambda turn: 10.0) is turned
+    steered = Path(legs=turned.legs[1:])  # no turn planned
+    assert joined_start(steered, Polyline(points), 0.05, _by_length,
+                        lambda turn: 10.0) is steered
 
 
 def _driven(points: np.ndarray, heading: float, tolerance: float):
@@ -109,11 +121,16 @@ def test_a_base_curves_onto_a_sine_it_does_not_face_within_the_tolerance_and_soo
     assert across_s < facing_s + turn_s - 1.0
 
 
-def test_a_base_turns_in_place_first_where_curving_would_leave_the_tolerance():
+def test_a_base_turns_part_of_the_way_first_where_curving_all_of_it_would_leave_the_tube():
     """A line at 45 degrees to the robot's heading within 5 cm: at the curvature the speed
-    profile can time (join.MAX_CURVATURE), any curve onto it leaves the tube, so the robot
-    turns in place first, and keeps within the tolerance."""
+    profile can time (join.MAX_CURVATURE), a curve through the whole turn leaves the tube, so
+    the robot turns half of it in place and curves through the rest, within the tolerance,
+    sooner than turning all of it first (the line driven from facing it, plus that turn from
+    rest to rest at 1 rad/s²)."""
     points = np.array([[2.0, 5.0], [5.0, 8.0]])
-    plan, _, deviation = _driven(points, 0.0, 0.05)
-    assert isinstance(plan.path.legs[0], Turn)
+    plan, across_s, deviation = _driven(points, 0.0, 0.05)
+    first = plan.path.legs[0]
+    assert isinstance(first, Turn) and first.sweep_rad == pytest.approx(math.pi / 8)
     assert deviation <= 0.05
+    _, facing_s, _ = _driven(points, math.pi / 4, 0.05)
+    assert across_s < facing_s + 2.0 * math.sqrt(math.pi / 4)

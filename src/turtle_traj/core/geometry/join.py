@@ -6,7 +6,8 @@ sharply as the turn ahead asks (a base turns cheaply while it is still slow), an
 of the path's first stretch along its tangent and at its curvature, so the turn rate changes
 smoothly where it meets the path. `joined_start` tries meeting points from one tolerance to 32
 along the stretch, with a few shapes each, keeps the joins within the tolerance of the path as
-drawn, and takes the fastest by the caller's measure of time where it beats turning in place.
+drawn, and takes the fastest by the caller's measure of time where it beats turning in place;
+where the tube is too tight to curve through the whole turn, half of it may be turned first.
 Pure Python.
 """
 
@@ -31,9 +32,11 @@ SHAPES: tuple[Shape, ...] = tuple(itertools.product((0.7, 1.0), (0.7, 1.0, 1.4),
                                                     (4.0, 8.0, 16.0, 32.0, 64.0)))
 SCOUTING_SHAPES: tuple[Shape, ...] = ((0.7, 1.0, 8.0), (0.7, 1.4, 64.0))
 SCOUTED = 3  # meeting points tried with every shape
+TURNED_FIRST = (0.0, 0.5)  # shares of the turn made in place before a join
 # Sharpest curvature of a join, 1/m: 0.1 rad per 2 cm step of the speed profile's grid, where
 # alone TOPP-RA checks the limits (a sharper hook between two steps would be timed as free)
 MAX_CURVATURE = 5.0
+_FACING_RAD = 1e-3  # a smaller turn in place at the start is left as it is
 _FINE = 400  # samples of a join, before the joined stretch is resampled every SPACING_M
 _RUN_ON_M = 1.0  # past the farthest meeting point, where the candidates' times are compared
 
@@ -108,9 +111,12 @@ def joined_start(path: Path, drawn: Polyline, tolerance: float,
     """`path` with its first turn in place and the stretch after it replaced by the fastest
     join from the turn's start heading, where that takes less time than the turn and the
     stretch; `path` unchanged when it does not begin with a turn before a stretch driven
-    forwards. Every meeting point is scouted with SCOUTING_SHAPES, and the SCOUTED fastest
-    with every one of SHAPES. Candidates are timed as far as _RUN_ON_M past the farthest
-    meeting point, where they all drive the stretch again."""
+    forwards (where the follower steers onto a path that leaves off its heading, no time of
+    its steering is known to compare a join with). A join may follow a share of the turn
+    made in place (TURNED_FIRST: a tight tube leaves no room to curve through the whole
+    turn). Every meeting point is scouted with SCOUTING_SHAPES, and the SCOUTED fastest with
+    every one of SHAPES. Candidates are timed as far as _RUN_ON_M past the farthest meeting
+    point, where they all drive the stretch again."""
     start = _turn_before_stretch(path)
     if start is None or tolerance <= 0.0:
         return path
@@ -128,24 +134,29 @@ def joined_start(path: Path, drawn: Polyline, tolerance: float,
         return sorted(((window_s(joined.stretch), joined) for joined in joins),
                       key=lambda pair: pair[0])
 
-    heading = turn.start_heading
-    scouts = timed(join_candidates(stretch, heading, drawn, tolerance, meetings,
-                                   SCOUTING_SHAPES))
-    best = list(dict.fromkeys(joined.meeting for _, joined in scouts))[:SCOUTED]
-    candidates = scouts[:1] + timed(join_candidates(stretch, heading, drawn, tolerance, best,
-                                                    SHAPES))
-    turning = timed([Joined(0.0, stretch)])[0][0] + turn_duration(turn)
-    fastest_s, fastest = min(candidates, key=lambda pair: pair[0], default=(math.inf, None))
-    if fastest is None or fastest_s >= turning:
-        return path
-    return replace(path, legs=(fastest.stretch, *path.legs[2:]))
+    best_s = timed([Joined(0.0, stretch)])[0][0] + turn_duration(turn)
+    best = path
+    for share in TURNED_FIRST:
+        first = replace(turn, sweep_rad=share * turn.sweep_rad)
+        heading = first.start_heading + first.sweep_rad
+        scouts = timed(join_candidates(stretch, heading, drawn, tolerance, meetings,
+                                       SCOUTING_SHAPES))
+        meeting = list(dict.fromkeys(joined.meeting for _, joined in scouts))[:SCOUTED]
+        for took, joined in scouts[:1] + timed(join_candidates(
+                stretch, heading, drawn, tolerance, meeting, SHAPES))[:1]:
+            took += turn_duration(first) if share else 0.0
+            if took < best_s:
+                best_s = took
+                best = replace(path, legs=((first,) if share else ()) + (joined.stretch,)
+                               + path.legs[2:])
+    return best
 
 
 def _turn_before_stretch(path: Path) -> tuple[Turn, Polyline] | None:
     """The turn in place `path` begins with and the stretch after it, driven forwards; None
     when it does not begin so."""
     turn, stretch = path.legs[0], path.legs[1] if len(path.legs) > 1 else None
-    if (isinstance(turn, Turn) and turn.sweep_rad != 0.0 and isinstance(stretch, Polyline)
-            and not stretch.reverse and not stretch.repeat):
+    if (isinstance(turn, Turn) and abs(turn.sweep_rad) > _FACING_RAD
+            and isinstance(stretch, Polyline) and not stretch.reverse and not stretch.repeat):
         return turn, stretch
     return None
