@@ -12,6 +12,7 @@ leg and from facing along x. For each:
   the discretisation still moves it);
 - the reference DWPP's time at its maximum error (written from the paper; issue 76's figures,
   measured in a plain simulation of the same model);
+- the CPU time of our plan (`plan s`, tube planning, as the node plans the request);
 - ours: `follow_path` with `corner_tolerance` set to that error, on the pure loop the node
   runs (`base_loop.drive_turtle_traj`, the simulator's physics, 16 ms steps), with
   `corner_planning` 'tube' (the default) and 'minimum_time': its time, its largest distance
@@ -25,13 +26,16 @@ from __future__ import annotations
 
 import argparse
 import math
+import time
 
 import numpy as np
 
 from base_bench import sine, step_curve
 from base_loop import DWPP_LIMITS, base_settings, drive_turtle_traj
 from base_realtime import drive_through_ros
+from turtle_traj.apps.score.courses import follow_request
 from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.planning import planner
 from turtle_traj.core.planning.min_time import minimum_time
 
 PAPER = base_settings(DWPP_LIMITS).control.limits
@@ -44,13 +48,26 @@ CASES = [('step 45', step_curve(45), None, 0.062, 18.7),
 PLOTTED = ('step 90', 'sine, facing x')
 
 
+def _start(points, heading: float | None) -> Pose2D:
+    first = points[1] - points[0]
+    return Pose2D(float(points[0, 0]), float(points[0, 1]),
+                  math.atan2(first[1], first[0]) if heading is None else heading)
+
+
+def planning_s(points, heading: float | None, tolerance: float) -> float:
+    """The CPU time of our plan (tube planning), as the node plans a request."""
+    settings = base_settings(DWPP_LIMITS)
+    request = follow_request(points, corner_tolerance=tolerance)
+    began = time.process_time()
+    planner.plan('follow_path', request, _start(points, heading), settings)
+    return time.process_time() - began
+
+
 def ours(points, heading: float | None, tolerance: float,
          corner_planning: str) -> tuple[float, float, np.ndarray]:
     """Our time, largest distance from the path and positions, rounded within `tolerance` by
     `corner_planning` ('tube' or 'minimum_time')."""
-    first = points[1] - points[0]
-    start = Pose2D(float(points[0, 0]), float(points[0, 1]),
-                   math.atan2(first[1], first[0]) if heading is None else heading)
+    start = _start(points, heading)
     run = drive_turtle_traj(points, start, DWPP_LIMITS, corner_tolerance=tolerance,
                             corner_planning=corner_planning)
     figures = run.figures(points, DWPP_LIMITS, tuple(points[-1]))
@@ -97,9 +114,10 @@ def main() -> None:
     parser.add_argument('--through-ros', metavar='SCALE', type=float,
                         help='also drive ours through ROS, two programs, at SCALE x real time')
     options = parser.parse_args()
-    print(f'{"":56} {"ours, tube":^23}  {"ours, minimum_time":^23}')
+    print(f'{"":56} {"ours, tube":^31}  {"ours, minimum_time":^23}')
     print(f'{"path":22} {"tol mm":>6} {"limit s":>8} {"err mm":>7} {"solve s":>8} '
-          f'{"2x nodes":>9} {"ref s":>6}' + f' {"time s":>7} {"err mm":>7} {"/limit":>7}' * 2)
+          f'{"2x nodes":>9} {"ref s":>6} {"plan s":>7}'
+          + f' {"time s":>7} {"err mm":>7} {"/limit":>7}' * 2)
     drawn, limits = [], {}
     for name, points, heading, tolerance, reference in CASES:
         limit = minimum_time(points, tolerance, PAPER, start_heading=heading,
@@ -109,7 +127,8 @@ def main() -> None:
             finer_s = minimum_time(points, tolerance, PAPER, start_heading=heading,
                                    nodes=2 * options.nodes).time_s
             finer = f'{finer_s:9.2f}'
-        columns = ''
+        planning_s(points, heading, tolerance)  # TOPP-RA and SciPy loaded
+        columns = f' {planning_s(points, heading, tolerance):7.2f}'
         for way in ('tube', 'minimum_time'):
             our_s, our_mm, our_xy = ours(points, heading, tolerance, way)
             columns += f' {our_s:7.2f} {our_mm:7.1f} {our_s / limit.time_s:7.3f}'
