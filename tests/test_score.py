@@ -95,6 +95,28 @@ def test_the_limit_beside_a_matched_run_is_no_slower_than_the_run(tmp_path):
     assert shortest < limit <= ours.time_s
 
 
+def test_the_limit_of_a_closed_path_drives_it_from_the_start_round_the_loop():
+    """The score's follow_path course starts away from its first point and is closed (back to
+    that point): its limit at tolerance zero on turtlesim is the whole of that, each leg at
+    the top speed (lengths by shapely) and each corner turned in place at the top turn rate,
+    not the points given alone."""
+    import shapely
+
+    from turtle_traj.apps.score.matched import limit_s
+
+    course = next(c for c in standard_courses(('turtlesim',)) if c.name == 'follow_path')
+    given = [(point.x, point.y) for point in course.request.points]
+    loop = np.array([(course.start.x, course.start.y), *given, given[0]])
+    legs = np.diff(loop, axis=0)
+    headings = np.arctan2(legs[:, 1], legs[:, 0])
+    turns = np.abs(np.remainder(np.diff(np.concatenate(([course.start.theta], headings)))
+                                + math.pi, 2.0 * math.pi) - math.pi)
+    control = course.settings.control
+    expected = (shapely.LineString(loop).length / control.linear_speed
+                + turns.sum() / control.angular_speed)
+    assert limit_s(course, 0.0) == pytest.approx(expected, rel=0.005)
+
+
 def test_a_staircase_given_with_a_corner_tolerance_is_driven_along_its_diagonals():
     """A path given as points is simplified within a share of its corner tolerance before its
     corners are rounded: the grid planner's staircase loses its steps, the plan keeps within the

@@ -19,6 +19,7 @@ from turtle_traj.apps.score.courses import Course
 from turtle_traj.apps.score.runner import Result, run_course
 from turtle_traj.core.control.controllers.catalogue import EXACT
 from turtle_traj.core.parameters.table import PARAMETER
+from turtle_traj.core.planning import planner
 from turtle_traj.core.planning.min_time import minimum_time
 
 LARGEST_TOLERANCE_M = PARAMETER['corner_tolerance'].high
@@ -62,15 +63,16 @@ def matched_runs(course: Course, results: Sequence[Result], work_dir: Path) -> l
 
 def limit_s(course: Course, tolerance_m: float) -> float | None:
     """The minimum-time limit of a course whose request gives its path as points, from its
-    start pose at rest, within `tolerance_m`, at the course's speeds and accelerations; None
-    for other courses, or where the solver did not converge."""
-    points = getattr(course.request, 'points', None)
-    if not points:
+    start pose at rest, within `tolerance_m` of the path as the planner draws it (from the
+    start, closed where asked), at the run's speeds and accelerations; None for other
+    courses, or where the solver did not converge."""
+    if not getattr(course.request, 'points', None):
         return None
-    xy = np.array([(point.x, point.y) for point in points])
-    limit = minimum_time(xy, tolerance_m, course.settings.control.limits,
-                         start_heading=course.start.theta,
-                         nodes=LIMIT_NODES)
+    plan = planner.plan(course.trajectory, course.request, course.start, course.settings)
+    drawn = plan.drawn_points()
+    kept = np.concatenate(([True], np.hypot(*np.diff(drawn, axis=0).T) > 1e-9))
+    limit = minimum_time(drawn[kept], tolerance_m, plan.control(course.settings.control).limits,
+                         start_heading=course.start.theta, nodes=LIMIT_NODES)
     return limit.time_s if limit.solved else None
 
 
