@@ -44,10 +44,16 @@ _SHAPE_SHARE = 0.97
 _SMOOTHING_SHARE = 0.95
 _TRACKING_M = 0.0005
 _AIM_RAD = 1e-9  # a turn in place off the heading of a stroke beside it by more is re-aimed
-SWING_SHARES = (0.5, 0.75, 1.0)  # of the tolerance, how far a racing line swings out
-_SWING_TRIES = 3
+SWING_SHARES = (0.5, 0.75, 1.0)  # of the shape's width, how far a racing line swings out
+_SWING_TRIES = 3  # roundings of a racing line, each narrowed by the last one's excess
 _SWING_NARROWING = 1.2  # the rounding narrows by this much more than its apex's excess
 _ROUNDING_M = 1e-9  # a moved vertex is as far outside as the shape may go, but for rounding
+
+
+def shape_width(tolerance: float) -> float:
+    """How far from the path as drawn a shape (a rounded corner, a smoothing, a join) may go
+    within `tolerance`: the rest is for tracking it."""
+    return _shape_width(tolerance, _SHAPE_SHARE)
 
 
 def _shape_width(tolerance: float, share: float) -> float:
@@ -225,7 +231,7 @@ def _swung_corners(stretch: Sequence[Leg], tolerance: float,
     if len(stretch) < 3:
         return []
     drawn = _joined_points(stretch)
-    width = _shape_width(tolerance, _SHAPE_SHARE)  # the rest is for tracking
+    width = shape_width(tolerance)
     found = []
     for share in SWING_SHARES:
         moved = swung_out(stretch, share * width)
@@ -237,6 +243,8 @@ def _swung_corners(stretch: Sequence[Leg], tolerance: float,
                 found.append(candidate)
                 break
             rounding -= _SWING_NARROWING * excess / _SHAPE_SHARE
+            if rounding <= 0.0:
+                break
     return found
 
 

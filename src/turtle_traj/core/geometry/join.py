@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from turtle_traj.core.geometry.corners import shape_width
 from turtle_traj.core.geometry.path import Path, Polyline, Turn
 from turtle_traj.core.geometry.projection import all_near
 from turtle_traj.core.geometry.tube import SPACING_M, resampled
@@ -62,7 +63,7 @@ def hermite_join(start: np.ndarray, heading: float, start_curvature: float, end:
     def direction(angle: float) -> np.ndarray:
         return np.array([math.cos(angle), math.sin(angle)])
 
-    fine = ((1 - 10 * t3 + 15 * t4 - 6 * t5) * start
+    return ((1 - 10 * t3 + 15 * t4 - 6 * t5) * start
             + (t - 6 * t3 + 8 * t4 - 3 * t5) * leaving * direction(heading)
             + (0.5 * t2 - 1.5 * t3 + 1.5 * t4 - 0.5 * t5)
             * leaving ** 2 * start_curvature * direction(heading + 0.5 * math.pi)
@@ -70,17 +71,18 @@ def hermite_join(start: np.ndarray, heading: float, start_curvature: float, end:
             * arriving ** 2 * end_curvature * direction(end_heading + 0.5 * math.pi)
             + (-4 * t3 + 7 * t4 - 3 * t5) * arriving * direction(end_heading)
             + (10 * t3 - 15 * t4 + 6 * t5) * end)
-    return fine
 
 
 def join_candidates(stretch: Polyline, heading: float, drawn: Polyline, tolerance: float,
                     meetings: Sequence[float], shapes: Sequence[Shape]) -> list[Joined]:
     """`stretch` joined from its start along `heading` (see the module) at each of these
-    `meetings` (metres along it) by each of these `shapes`, where the join keeps within
-    `tolerance` of `drawn` (the path as drawn, as far as the join can reach)."""
+    `meetings` (metres along it) by each of these `shapes`, where the join keeps within the
+    width a shape may use of `tolerance` (`corners.shape_width`) of `drawn` (the path as
+    drawn, as far as the join can reach)."""
     points, arc = stretch.points, stretch.cumulative_length
     curvatures = stretch.tangent_curvatures
     slack = max(drawn.length - stretch.length, 0.0) + 2.0 * tolerance
+    width = shape_width(tolerance)
     candidates = []
     for meeting in meetings:
         if meeting + 0.5 * SPACING_M >= arc[-1]:
@@ -98,7 +100,7 @@ def join_candidates(stretch: Polyline, heading: float, drawn: Polyline, toleranc
             join = hermite_join(points[0], heading, bend * turn / chord, end, end_heading,
                                 float(curvatures[index]), (leaving * chord, arriving * chord))
             if (np.max(np.abs(Polyline(join).curvatures)) <= MAX_CURVATURE
-                    and all_near(join, nearby, tolerance)):
+                    and all_near(join, nearby, width)):
                 # evenly spaced throughout: uneven chords bend the heading's spline (`profile`)
                 candidates.append(Joined(meeting, replace(stretch, points=resampled(
                     np.concatenate((join, rest)), SPACING_M))))
