@@ -114,11 +114,12 @@ def joined_start(path: Path, drawn: Polyline, tolerance: float,
     join from the turn's start heading, where that takes less time than the turn and the
     stretch; `path` unchanged when it does not begin with a turn before a stretch driven
     forwards (where the follower steers onto a path that leaves off its heading, no time of
-    its steering is known to compare a join with). A join may follow a share of the turn
-    made in place (TURNED_FIRST: a tight tube leaves no room to curve through the whole
-    turn). Every meeting point is scouted with SCOUTING_SHAPES, and the SCOUTED fastest with
-    every one of SHAPES. Candidates are timed as far as _RUN_ON_M past the farthest meeting
-    point, where they all drive the stretch again."""
+    its steering is known to compare a join with). Where no join through the whole turn
+    beats it, a join may follow a share of the turn made in place (TURNED_FIRST: a tight
+    tube leaves no room to curve through the whole turn). Every meeting point is scouted
+    with SCOUTING_SHAPES, and the SCOUTED fastest with every one of SHAPES. Candidates are
+    timed as far as _RUN_ON_M past the farthest meeting point, where they all drive the
+    stretch again."""
     start = _turn_before_stretch(path)
     if start is None or tolerance <= 0.0:
         return path
@@ -136,22 +137,25 @@ def joined_start(path: Path, drawn: Polyline, tolerance: float,
         return sorted(((window_s(joined.stretch), joined) for joined in joins),
                       key=lambda pair: pair[0])
 
-    best_s = timed([Joined(0.0, stretch)])[0][0] + turn_duration(turn)
-    best = path
-    for share in TURNED_FIRST:
-        first = replace(turn, sweep_rad=share * turn.sweep_rad)
-        heading = first.start_heading + first.sweep_rad
+    def fastest(heading: float) -> tuple[float, Joined | None]:
+        """The fastest join from `heading` and its time: every meeting point scouted, the
+        best few tried with every shape."""
         scouts = timed(join_candidates(stretch, heading, drawn, tolerance, meetings,
                                        SCOUTING_SHAPES))
         meeting = list(dict.fromkeys(joined.meeting for _, joined in scouts))[:SCOUTED]
-        for took, joined in scouts[:1] + timed(join_candidates(
-                stretch, heading, drawn, tolerance, meeting, SHAPES))[:1]:
-            took += turn_duration(first) if share else 0.0
-            if took < best_s:
-                best_s = took
-                best = replace(path, legs=((first,) if share else ()) + (joined.stretch,)
-                               + path.legs[2:])
-    return best
+        tried = scouts[:1] + timed(join_candidates(stretch, heading, drawn, tolerance, meeting,
+                                                   SHAPES))[:1]
+        return min(tried, key=lambda pair: pair[0], default=(math.inf, None))
+
+    best_s = timed([Joined(0.0, stretch)])[0][0] + turn_duration(turn)
+    for share in TURNED_FIRST:
+        first = replace(turn, sweep_rad=share * turn.sweep_rad)
+        took, joined = fastest(first.start_heading + first.sweep_rad)
+        took += turn_duration(first) if share else 0.0
+        if joined is not None and took < best_s:  # no turning first beats a whole join
+            return replace(path, legs=((first,) if share else ()) + (joined.stretch,)
+                           + path.legs[2:])
+    return path
 
 
 def _turn_before_stretch(path: Path) -> tuple[Turn, Polyline] | None:
