@@ -70,3 +70,11 @@ def test_the_command_line_parses_without_loading_ros_numpy_or_the_planner():
                       'm.split(".")[0] in {"rclpy", "numpy", "PIL", "svgelements", '
                       '"HersheyFonts"} or m.startswith(("turtle_traj.core.planning.sketches", '
                       '"turtle_traj.core.planning.planner", "turtle_traj.client"))') == ''
+
+
+def test_the_planner_loads_neither_shapely_nor_casadi_until_a_plan_asks():
+    # a node, a client estimating a call and the command line import the planner; shapely
+    # (some 80 ms here) loads with the first plan that checks a distance, CasADi with the first
+    # minimum-time corner
+    assert _loaded_by('import turtle_traj.core.planning.planner',
+                      'm.split(".")[0] in {"shapely", "casadi"}') == ''

@@ -114,7 +114,7 @@ def test_the_limit_of_a_closed_path_drives_it_from_the_start_round_the_loop():
     control = course.settings.control
     expected = (shapely.LineString(loop).length / control.linear_speed
                 + turns.sum() / control.angular_speed)
-    assert limit_s(course, 0.0) == pytest.approx(expected, rel=0.005)
+    assert limit_s(course, 0.0) == pytest.approx(expected, rel=1e-6)
 
 
 def test_a_staircase_given_with_a_corner_tolerance_is_driven_along_its_diagonals():

@@ -13,8 +13,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-import numpy as np
-
 from turtle_traj.apps.score.courses import Course
 from turtle_traj.apps.score.runner import Result, run_course
 from turtle_traj.core.control.controllers.catalogue import EXACT
@@ -69,9 +67,8 @@ def limit_s(course: Course, tolerance_m: float) -> float | None:
     if not getattr(course.request, 'points', None):
         return None
     plan = planner.plan(course.trajectory, course.request, course.start, course.settings)
-    drawn = plan.drawn_points()
-    kept = np.concatenate(([True], np.hypot(*np.diff(drawn, axis=0).T) > 1e-9))
-    limit = minimum_time(drawn[kept], tolerance_m, plan.control(course.settings.control).limits,
+    limits = plan.control(course.settings.control).limits
+    limit = minimum_time(plan.drawn_points(), tolerance_m, limits,
                          start_heading=course.start.theta, nodes=LIMIT_NODES)
     return limit.time_s if limit.solved else None
 

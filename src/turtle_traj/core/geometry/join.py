@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.corners import shape_width
 from turtle_traj.core.geometry.path import Path, Polyline, Turn
 from turtle_traj.core.geometry.projection import all_near
@@ -95,7 +96,7 @@ def join_candidates(stretch: Polyline, heading: float, drawn: Polyline, toleranc
         rest = points[int(np.searchsorted(arc, meeting + 0.5 * SPACING_M)):]
         chord = float(np.hypot(*(end - points[0])))
         end_heading = float(stretch.headings[index])
-        turn = math.remainder(end_heading - heading, math.tau)
+        turn = wrap_angle(end_heading - heading)
         for leaving, arriving, bend in shapes:
             join = hermite_join(points[0], heading, bend * turn / chord, end, end_heading,
                                 float(curvatures[index]), (leaving * chord, arriving * chord))

@@ -56,9 +56,10 @@ PARAMETERS = (
          'staircase is driven as the way it sketches (a corner_tolerance for its goals; '
          '0.05 suits 5 cm cells); 0 = exact', 'm', 0.0, 1.0),
     Spec('corner_planning', 'tube', "How corners within a tolerance are planned on a base "
-         "with acceleration limits: 'tube' (the fastest of clothoid corners and smoothings in "
-         "the tube: milliseconds) or 'minimum_time' (also the minimum-time trajectory in the "
-         'tube, by CasADi and IPOPT: seconds for a few metres, beside the executor)',
+         "with acceleration limits: 'tube' (the fastest of clothoid corners, racing lines and "
+         "smoothings in the tube: tenths of a second for a few metres) or 'minimum_time' (also "
+         'the minimum-time trajectory in the tube, by CasADi and IPOPT: seconds for a few '
+         'metres, beside the executor)',
          choices=('tube', 'minimum_time')),
     Spec('progress_timeout', 3.0, 'A run that makes no progress along its path for this long '
          'ends with a message (a base slower than its limits, a blocked robot)', 's',

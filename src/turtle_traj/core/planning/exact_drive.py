@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from turtle_traj.core.control.config import Limits
+from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Polyline
 from turtle_traj.core.geometry.tube import resampled
 
@@ -52,7 +53,7 @@ def exact_drive(points: np.ndarray, start_heading: float, limits: Limits) -> Tim
     parts: list[Timeline] = []
     heading, clock, along = start_heading, 0.0, 0.0
     for first, last in zip(cuts[:-1], cuts[1:], strict=True):
-        goal = heading + _wrapped(headings[first] - heading)
+        goal = heading + wrap_angle(headings[first] - heading)
         turn = _turn(points[first], heading, goal, limits.angular_speed,
                      limits.angular_accel or _UNLIMITED)
         stretch = _stretch(points[first:last + 1], goal, limits.linear_speed,
@@ -108,10 +109,6 @@ def vertex_curvatures(points: np.ndarray) -> np.ndarray:
     if not len(inner):
         return np.zeros(len(points))
     return np.concatenate(([inner[0]], inner, [inner[-1]]))
-
-
-def _wrapped(angle: float) -> float:
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
 def _turn(where: np.ndarray, heading: float, goal: float, top: float, rate: float) -> Timeline:

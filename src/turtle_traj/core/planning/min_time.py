@@ -86,7 +86,7 @@ def minimum_time(points: np.ndarray, tolerance_m: float, limits: Limits, *,
               for swing in SEEDS]
     best, spent = min(scouts, key=lambda scout: (not scout[0].solved, scout[0].time_s))
     final, _ = _Problem(points, width, limits, heading0, nodes,
-                           2.0 * best.time_s / nodes).solve(spent)
+                        2.0 * best.time_s / nodes).solve(spent)
     if not final.solved and best.solved:
         final = best
     return replace(final, solve_s=sum(scout.solve_s for scout, _ in scouts) + final.solve_s)

@@ -34,7 +34,6 @@ from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.geometry.tube import SPACING_M, resampled
 from turtle_traj.core.parameters.settings import Settings
 from turtle_traj.core.planning.limits import POLYGON_SIDES
-from turtle_traj.core.planning.min_time import minimum_time
 from turtle_traj.core.planning.sketches import curves, drawings, motions
 from turtle_traj.core.planning.sketches.base import (
     PlanError,
@@ -108,6 +107,9 @@ def limit_path(points: np.ndarray, width: float, *, config: ControlConfig) -> np
     `config`'s limits (`min_time`), sampled every `tube.SPACING_M`; None unless the solver
     converged and its motion keeps within the width between its nodes too (it is solved in a
     tube LIMIT_WIDTH_SHARE as wide)."""
+    # only when asked: the command line starts without shapely and CasADi
+    from turtle_traj.core.planning.min_time import minimum_time
+
     nodes = int(np.clip(LIMIT_NODES_PER_M * Polyline(points).length, *LIMIT_NODES))
     try:
         limit = minimum_time(points, LIMIT_WIDTH_SHARE * width, config.limits, nodes=nodes)
