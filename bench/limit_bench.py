@@ -39,13 +39,27 @@ from turtle_traj.core.planning import planner
 from turtle_traj.core.planning.min_time import minimum_time
 
 PAPER = base_settings(DWPP_LIMITS).control.limits
-# issue 76: the reference DWPP's maximum error and its time
+
+
+def staircase(steps: int = 24, cell: float = 0.05) -> np.ndarray:
+    """A grid planner's diagonal: `steps` times one cell along x, then one along y."""
+    moves = np.tile([[cell, 0.0], [0.0, cell]], (steps, 1))
+    return np.array([1.0, 1.0]) + np.concatenate(([[0.0, 0.0]], np.cumsum(moves, axis=0)))
+
+
+# issue 76: the reference DWPP's maximum error and its time (none for the staircase)
 CASES = [('step 45', step_curve(45), None, 0.062, 18.7),
          ('step 90', step_curve(90), None, 0.086, 19.5),
          ('step 135', step_curve(135), None, 0.165, 21.4),
          ('sine, facing its leg', sine(), None, 0.104, 16.3),
-         ('sine, facing x', sine(), 0.0, 0.104, 16.3)]
+         ('sine, facing x', sine(), 0.0, 0.104, 16.3),
+         ('staircase, facing diagonal', staircase(), math.pi / 4, 0.05, None),
+         ('staircase, facing x', staircase(), 0.0, 0.05, None)]
 PLOTTED = ('step 90', 'sine, facing x')
+
+
+def _shown(reference: float | None) -> str:
+    return f'{reference:6.1f}' if reference is not None else f'{"-":>6}'
 
 
 def _start(points, heading: float | None) -> Pose2D:
@@ -114,8 +128,8 @@ def main() -> None:
     parser.add_argument('--through-ros', metavar='SCALE', type=float,
                         help='also drive ours through ROS, two programs, at SCALE x real time')
     options = parser.parse_args()
-    print(f'{"":56} {"ours, tube":^31}  {"ours, minimum_time":^23}')
-    print(f'{"path":22} {"tol mm":>6} {"limit s":>8} {"err mm":>7} {"solve s":>8} '
+    print(f'{"":60} {"ours, tube":^31}  {"ours, minimum_time":^23}')
+    print(f'{"path":26} {"tol mm":>6} {"limit s":>8} {"err mm":>7} {"solve s":>8} '
           f'{"2x nodes":>9} {"ref s":>6} {"plan s":>7}'
           + f' {"time s":>7} {"err mm":>7} {"/limit":>7}' * 2)
     drawn, limits = [], {}
@@ -136,8 +150,8 @@ def main() -> None:
                 drawn.append((name, points, tolerance, limit, (our_s, our_xy)))
         limits[name] = limit.time_s
         flag = '' if limit.solved else '  (not converged)'
-        print(f'{name:22} {tolerance * 1e3:6.0f} {limit.time_s:8.2f} '
-              f'{limit.max_error_m * 1e3:7.1f} {limit.solve_s:8.1f} {finer} {reference:6.1f}'
+        print(f'{name:26} {tolerance * 1e3:6.0f} {limit.time_s:8.2f} '
+              f'{limit.max_error_m * 1e3:7.1f} {limit.solve_s:8.1f} {finer} {_shown(reference)}'
               f'{columns}{flag}')
     straight = 9.0 / PAPER.linear_speed + PAPER.linear_speed / PAPER.linear_accel
     print(f'a straight 9 m from rest to rest at these limits: {straight:.2f} s')
@@ -151,7 +165,7 @@ def through_ros(limits: dict[str, float], time_scale: float) -> None:
     """Ours (tube planning) on every case through ROS, the simulator with inertia and the node
     as two programs at `time_scale`, beside the limit and the reference."""
     print(f'\nThrough ROS, two programs at x{time_scale:g} (the node\'s figures):')
-    print(f'{"path":22} {"tol mm":>6} {"time s":>7} {"err mm":>7} {"/limit":>7} {"ref s":>6}')
+    print(f'{"path":26} {"tol mm":>6} {"time s":>7} {"err mm":>7} {"/limit":>7} {"ref s":>6}')
     import rclpy
 
     rclpy.init()
@@ -164,8 +178,8 @@ def through_ros(limits: dict[str, float], time_scale: float) -> None:
     for name, _, _, tolerance, reference in CASES:
         ended, max_m, elapsed, _, message = runs[name]
         shown = '' if ended else f'  (did not end: {message})'
-        print(f'{name:22} {tolerance * 1e3:6.0f} {elapsed:7.2f} {max_m * 1e3:7.1f} '
-              f'{elapsed / limits[name]:7.3f} {reference:6.1f}{shown}')
+        print(f'{name:26} {tolerance * 1e3:6.0f} {elapsed:7.2f} {max_m * 1e3:7.1f} '
+              f'{elapsed / limits[name]:7.3f} {_shown(reference)}{shown}')
 
 
 if __name__ == '__main__':

@@ -443,7 +443,7 @@ class _NoCommand:
     ('math:pi', 'is not a class'),
 ])
 def test_a_name_that_is_not_a_controller_is_refused_with_the_reason(name, said):
-    with pytest.raises(UnknownController, match='') as refused:
+    with pytest.raises(UnknownController) as refused:
         resolve(name)
     assert said in str(refused.value)
 

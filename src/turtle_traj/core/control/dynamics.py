@@ -31,14 +31,17 @@ def _linear_step(previous: float, wanted: float, limits: Limits) -> float:
     return limits.linear_accel if speeding_up else limits.linear_braking
 
 
-def within_reach(command: Command, previous: Command, limits: Limits) -> Command:
-    """`command`, limited to what the base can reach from `previous` in one period, keeping
-    its curvature where slowing down allows."""
+def within_reach(command: Command, previous: Command, limits: Limits,
+                 keep_curvature: bool = True) -> Command:
+    """`command`, limited to what the base can reach from `previous` in one period; with
+    `keep_curvature`, slowed down where its turn rate is out of reach so that its curvature
+    holds (a follower whose speed profile already keeps the path's own turn within reach
+    leaves it off: only its steering is then clamped, and slowing for it costs time)."""
     if not limits.limited:
         return command
     angular = _reach(command.angular, previous.angular, limits.angular_accel, limits.period_s)
     linear = command.linear
-    if angular != command.angular and command.angular:
+    if keep_curvature and angular != command.angular and command.angular:
         # the turn rate cannot follow: slow down so that the curvature asked for holds
         # (on the line omega = k v, as Dynamic Window Pure Pursuit chooses)
         share = angular / command.angular

@@ -18,8 +18,10 @@ import numpy as np
 from turtle_traj.core.control.config import Limits
 from turtle_traj.core.geometry.path import Polyline
 
-# Shares of the limits the profile plans with: the rest is the steering's, to pull the base
-# back onto the path. Speed itself is planned at its full limit.
+# Shares of the limits an exact path's profile plans with: the rest is the steering's, to pull
+# the base back onto the path. Speed itself is planned at its full limit. A path rounded within
+# a tolerance plans with FULL_LIMITS: the tolerance's reserve (`corners.shape_width`) covers the
+# steering's error there.
 ANGULAR_SHARE = 0.95
 ACCEL_SHARE = 1.0
 ANGULAR_ACCEL_SHARE = 0.9
@@ -134,13 +136,14 @@ def load_solver() -> None:
     import toppra.constraint  # noqa: F401
 
 
-def profile_for(polyline: Polyline, limits: Limits,
-                start_speed: float = 0.0) -> SpeedProfile | None:
-    """The profile a base with acceleration limits follows on `polyline` (from `start_speed`):
-    the curvature's bound on an endless loop, the time-optimal profile on a curve, and None on
-    a straight line (the window and braking alone bound it there)."""
+def profile_for(polyline: Polyline, limits: Limits, start_speed: float = 0.0,
+                shares: tuple[float, float, float] = PLANNING_SHARES) -> SpeedProfile | None:
+    """The profile a base with acceleration limits follows on `polyline` (from `start_speed`,
+    under these `shares` of its limits): the curvature's bound on an endless loop, the
+    time-optimal profile on a curve, and None on a straight line (the window and braking alone
+    bound it there)."""
     if polyline.repeat:
         return SpeedProfile.curvature_bound(polyline, limits)
     if not np.any(np.abs(polyline.curvatures) > 1e-9):
         return None
-    return SpeedProfile.plan(polyline, limits, start_speed=start_speed)
+    return SpeedProfile.plan(polyline, limits, shares, start_speed)

@@ -21,8 +21,8 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.duration import least_time_s
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.profile import (
-    ANGULAR_ACCEL_SHARE,
-    ANGULAR_SHARE,
+    FULL_LIMITS,
+    PLANNING_SHARES,
     SpeedProfile,
     profile_for,
 )
@@ -69,13 +69,15 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
                    drawn.end_tolerance, drawn.pen if settings.lifts_pen else None,
                    drawn.pen_up_unordered)
     run = planned.control(settings.control)
+    shares = PLANNING_SHARES
     if tolerance > 0.0:  # measured against the path as checked (one lap of a circle)
+        shares = FULL_LIMITS  # the tolerance's reserve is the steering's (profile.py)
         planned = replace(planned, path=_rounded(path, tolerance, run,
                                                  settings.defaults.minimum_time_corners),
                           drawn=checked.points())
     if run.limited:  # planned here, not in the control loop (a curve's takes milliseconds)
         planned = replace(planned, profiles=tuple(
-            profile_for(leg, run.limits, start_speed if index == 0 else 0.0)
+            profile_for(leg, run.limits, start_speed if index == 0 else 0.0, shares)
             if isinstance(leg, Polyline) else None
             for index, leg in enumerate(planned.path.legs)))
     return planned
@@ -87,13 +89,13 @@ def _rounded(path: Path, tolerance: float, run: ControlConfig, minimum_time: boo
     corner is the faster (by its speed profile) of a clothoid pair and a
     clothoid-arc-clothoid, and with `minimum_time` each stretch may be the minimum-time
     trajectory's path (`limit_path`); where the tolerance lets the robot curve onto the path
-    from its heading faster than it turns in place first, it does (`join.joined_start`)."""
+    from its heading faster than it turns in place first, it does (`join.joined_start`).
+    Every stretch is timed, as it is driven, at the full limits."""
     duration = partial(_stretch_duration, config=run)
     if not run.max_angular_accel:
         rounded = rounded_path(path, tolerance, duration=duration)
     else:
-        shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed * ANGULAR_SHARE,
-                                           run.max_angular_accel * ANGULAR_ACCEL_SHARE))
+        shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed, run.max_angular_accel))
         more = partial(limit_path, config=run) if minimum_time and run.max_linear_accel else None
         rounded = rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run),
                                duration, more)
@@ -122,8 +124,9 @@ def limit_path(points: np.ndarray, width: float, *, config: ControlConfig) -> np
 
 
 def _stretch_duration(polyline: Polyline, *, config: ControlConfig) -> float:
-    """The least time the controller drives `polyline` in, from rest to rest."""
-    profiles = (profile_for(polyline, config.limits),) if config.limited else ()
+    """The least time the controller drives rounded `polyline` in, from rest to rest."""
+    profiles = ((profile_for(polyline, config.limits, shares=FULL_LIMITS),) if config.limited
+                else ())
     return least_time_s(Path(legs=(polyline,)), config, profiles)
 
 
@@ -136,7 +139,8 @@ def _corner_cost(points: np.ndarray, heading_in: float, heading_out: float, *,
     before = points[0] - run_up * np.array([math.cos(heading_in), math.sin(heading_in)])
     after = points[-1] + run_up * np.array([math.cos(heading_out), math.sin(heading_out)])
     window = Polyline(np.concatenate(([before], points, [after])))
-    return SpeedProfile.plan(window, config.limits).duration_s - window.length / speed
+    return (SpeedProfile.plan(window, config.limits, FULL_LIMITS).duration_s
+            - window.length / speed)
 
 
 def largest_size(trajectory: str, request: Any, start: Pose2D,

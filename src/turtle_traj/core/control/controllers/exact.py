@@ -49,4 +49,6 @@ class ExactFollower:
             state.measured)
         command = self._tracker.update(state.measured, state.robot, state.limits, self,
                                        nearest)
-        return None if command is None else within_reach(command, state.velocity, state.limits)
+        # the profile keeps the path's turn within reach: only the steering is clamped
+        return None if command is None else within_reach(command, state.velocity, state.limits,
+                                                         keep_curvature=False)
