@@ -53,8 +53,10 @@ class Stroke:
     # request's on the plan's last stroke
     tolerance: float = 0.0
     # on a base with acceleration limits, the time-optimal speed along the stroke as the node
-    # planned it with the request (`profile.SpeedProfile.speed_at(arc length)`); None: none
-    # planned (no limits, a straight line, a stroke of several legs)
+    # planned it with the request (`profile.SpeedProfile.speed_at(arc length)`); without them,
+    # on a path rounded within a tolerance, the speed its curvature allows at the whole turn
+    # rate; None: none planned (an exact path without limits, a straight line on a base with
+    # them, a stroke of several legs)
     profile: SpeedProfile | None = None
     # the same stroke as the node planned it, its headings, curvatures and segments computed
     # once for the node and the controller (its `reverse` is the node's: the pose is turned

@@ -4,9 +4,11 @@ Each leg at its own limits: a turn in place speeds up and brakes at the angular 
 limit (a trapezoid, or a triangle when short); a curve on a base with acceleration limits takes
 its time-optimal profile's time (`SpeedProfile.duration_s`, planned with the request); a straight
 line there speeds up at `max_linear_accel` and brakes at the braking limit; without limits a
-curve goes at most as fast as its curvature lets the controller (`0.8 * angular_speed / k`, the
-follower's own cap). The kinematic bound (`Path.lower_bound_s`: length over top speed, turns
-over top turn rate) ignores all of these: on a base it said 26.4 s for a text that took 77 s.
+rounded curve takes its profile's time (each segment at the speed its curvature allows at the
+whole turn rate), and an exact one goes at most as fast as the follower's own cap
+(`CURVATURE_SHARE * angular_speed / k`). The kinematic bound (`Path.lower_bound_s`: length
+over top speed, turns over top turn rate) ignores all of these: on a base it said 26.4 s for a
+text that took 77 s.
 """
 
 from __future__ import annotations
@@ -16,10 +18,8 @@ import math
 import numpy as np
 
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.profile import SpeedProfile
+from turtle_traj.core.control.profile import CURVATURE_SHARE, SpeedProfile
 from turtle_traj.core.geometry.path import Path, Polyline, Turn
-
-CURVATURE_SHARE = 0.8  # of the top turn rate, on a curve without limits (the exact follower's)
 
 
 def ramp_s(distance: float, top: float, speeding_up: float, braking: float) -> float:

@@ -27,6 +27,10 @@ ACCEL_SHARE = 1.0
 ANGULAR_ACCEL_SHARE = 0.9
 PLANNING_SHARES = (ANGULAR_SHARE, ACCEL_SHARE, ANGULAR_ACCEL_SHARE)
 FULL_LIMITS = (1.0, 1.0, 1.0)  # the time-optimal bound itself
+# Without acceleration limits (turtlesim), the share of the top turn rate an exact path's curve
+# is driven at (the follower's cap v <= share * omega / |k|); a rounded path's profile takes it
+# all (`curvature_bound`)
+CURVATURE_SHARE = 0.8
 _GRID_STEP_M = 0.02  # profile resolution along the path
 _STRAIGHT_M = 0.2  # a segment this long is a straight stretch, not a chord of a curve
 _GRID_POINTS = (50, 2000)
@@ -113,14 +117,19 @@ class SpeedProfile:
         return cls(grid, speed, float(np.sum(gaps / mean)))
 
     @classmethod
-    def curvature_bound(cls, polyline: Polyline, limits: Limits) -> SpeedProfile:
-        """The speed the curvature allows at each vertex, with no braking (endless loops)."""
+    def curvature_bound(cls, polyline: Polyline, limits: Limits,
+                        angular_share: float = ANGULAR_SHARE) -> SpeedProfile:
+        """The speed the curvature allows at each vertex under this share of the top turn
+        rate, with no braking: an endless loop's, or a curve's on a base that changes speed at
+        once (turtlesim), where its time is each segment's length at its own speed."""
         curvature = np.abs(polyline.curvatures)
-        per_segment = np.minimum(limits.linear_speed, limits.angular_speed * ANGULAR_SHARE
+        per_segment = np.minimum(limits.linear_speed, limits.angular_speed * angular_share
                                  / np.maximum(curvature, 1e-9))
         speed = np.concatenate((per_segment, [per_segment[-1]]))
         speed[1:-1] = np.minimum(per_segment[:-1], per_segment[1:])
-        return cls(polyline.cumulative_length, speed, math.nan)
+        duration = math.nan if polyline.repeat else float(np.sum(polyline.segment_lengths
+                                                                  / per_segment))
+        return cls(polyline.cumulative_length, speed, duration)
 
 
 def solver_loaded() -> bool:
@@ -138,12 +147,12 @@ def load_solver() -> None:
 
 def profile_for(polyline: Polyline, limits: Limits, start_speed: float = 0.0,
                 shares: tuple[float, float, float] = PLANNING_SHARES) -> SpeedProfile | None:
-    """The profile a base with acceleration limits follows on `polyline` (from `start_speed`,
-    under these `shares` of its limits): the curvature's bound on an endless loop, the
+    """The profile a base follows on `polyline` (from `start_speed`, under these `shares` of
+    its limits): the curvature's bound on an endless loop or without acceleration limits, the
     time-optimal profile on a curve, and None on a straight line (the window and braking alone
     bound it there)."""
-    if polyline.repeat:
-        return SpeedProfile.curvature_bound(polyline, limits)
+    if polyline.repeat or not limits.limited:
+        return SpeedProfile.curvature_bound(polyline, limits, shares[0])
     if not np.any(np.abs(polyline.curvatures) > 1e-9):
         return None
     return SpeedProfile.plan(polyline, limits, shares, start_speed)

@@ -22,7 +22,7 @@ from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig, Limits
 from turtle_traj.core.control.dynamics import can_stop, stopping_speed
 from turtle_traj.core.control.prediction import Prediction
-from turtle_traj.core.control.profile import SpeedProfile, profile_for
+from turtle_traj.core.control.profile import CURVATURE_SHARE, SpeedProfile, profile_for
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
 
@@ -251,8 +251,13 @@ class PolylineTracker:
                 profiled = max(profiled, min(abs(remaining) / limits.period_s,
                                              limits.linear_accel * limits.period_s))
             speed = min(speed, profiled)
+        elif isinstance(self._profile, SpeedProfile):  # a rounded path's, at the full turn rate
+            polyline = self.polyline
+            speed = min(speed, self._profile.speed_at(
+                polyline.cumulative_length[self.segment]
+                + fraction * polyline.segment_lengths[self.segment]))
         elif abs(curvature) > 1e-9:
-            speed = min(speed, 0.8 * limits.angular_speed / abs(curvature))
+            speed = min(speed, CURVATURE_SHARE * limits.angular_speed / abs(curvature))
         if remaining != math.inf:
             overrun = prediction.overrun_when(limits.limited)[0]
             speed = min(speed, _braking_speed(max(abs(remaining) - overrun, 0.0),

@@ -23,6 +23,7 @@ from functools import lru_cache
 import numpy as np
 
 from turtle_traj.core.geometry.angles import wrap_angle
+from turtle_traj.core.geometry.cusps import cusps_cut_short
 from turtle_traj.core.geometry.path import Leg, Path, Polyline, Turn
 from turtle_traj.core.geometry.projection import WithinDistance, excess_distance
 from turtle_traj.core.geometry.swing import swung_out
@@ -156,7 +157,8 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
     (`_swung_corners`), the stretch smoothed within the tolerance's tube by each of
     `tube.WINDOWS_M`, for a single curve the curve as it is, and `more(points, width)`:
     another curve of the caller's through the stretch's points within `width` of them
-    (None: none).
+    (None: none). A turn too sharp to round that doubles the path back is turned short of the
+    cusp (`cusps.cusps_cut_short`).
     """
     if tolerance <= 0.0:
         return path
@@ -175,7 +177,8 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
             legs.append(min(candidates, key=duration))
         else:
             legs.append(candidates[0])
-    return replace(path, legs=_turns_aimed(legs))
+    return replace(path, legs=_turns_aimed(cusps_cut_short(
+        legs, path.points(), shape_width(tolerance), MAX_ROUNDED_RAD)))
 
 
 def _turns_aimed(legs: list[Leg]) -> tuple[Leg, ...]:

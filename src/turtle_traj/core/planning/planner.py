@@ -75,7 +75,7 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
         planned = replace(planned, path=_rounded(path, tolerance, run,
                                                  settings.defaults.minimum_time_corners),
                           drawn=checked.points())
-    if run.limited:  # planned here, not in the control loop (a curve's takes milliseconds)
+    if run.limited or tolerance > 0.0:  # planned here, not in the control loop
         planned = replace(planned, profiles=tuple(
             profile_for(leg, run.limits, start_speed if index == 0 else 0.0, shares)
             if isinstance(leg, Polyline) else None
@@ -125,8 +125,7 @@ def limit_path(points: np.ndarray, width: float, *, config: ControlConfig) -> np
 
 def _stretch_duration(polyline: Polyline, *, config: ControlConfig) -> float:
     """The least time the controller drives rounded `polyline` in, from rest to rest."""
-    profiles = ((profile_for(polyline, config.limits, shares=FULL_LIMITS),) if config.limited
-                else ())
+    profiles = (profile_for(polyline, config.limits, shares=FULL_LIMITS),)
     return least_time_s(Path(legs=(polyline,)), config, profiles)
 
 
