@@ -10,6 +10,7 @@ from turtle_traj_interfaces.msg import Drawing, Ending
 
 from turtle_traj.apps.in_process import InProcessFleet, InProcessSystem
 from turtle_traj.apps.sim import starting_places
+from turtle_traj.testing.geometry import distance_to_polyline
 
 CLEARANCE_M = 0.6
 TEXT = {'trajectory': 'text', 'text': 'ROS 2', 'height': 1.0}
@@ -27,6 +28,14 @@ def _finish(system, client, goal, timeout_s: float = 300.0):
 
 def _inked(system) -> np.ndarray:
     return system.sim.canvas.trails[..., 3] > 0
+
+
+def _ink_metres(ink: np.ndarray) -> np.ndarray:
+    """The centres of the inked pixels, in world metres (y up)."""
+    from turtle_traj.core.turtlesim_contract import CANVAS_HEIGHT_M, PIXELS_PER_METER
+    rows, columns = np.nonzero(ink)
+    return np.stack([(columns + 0.5) / PIXELS_PER_METER,
+                     CANVAS_HEIGHT_M - (rows + 0.5) / PIXELS_PER_METER], axis=1)
 
 
 def _closest_approach(poses: dict) -> float:
@@ -81,9 +90,58 @@ def test_three_turtles_write_the_text_apart_faster_with_the_same_ink(fleet, alon
     progress = [message.progress for message in feedback]
     assert progress == sorted(progress) and progress[-1] == 1.0
     assert set(feedback[-1].state) == {'done'}
-    # they parked off the drawing, and once it was done came back where they started
-    for name, (x, y, _) in zip(fleet.names, starting_places(3), strict=True):
-        assert math.dist((fleet.poses[name][-1].x, fleet.poses[name][-1].y), (x, y)) < 0.01
+    # the answer came with every turtle parked: standing still, the clearance from the ink
+    ink_m = _ink_metres(ink)
+    for name in fleet.names:
+        last = fleet.poses[name][-1]
+        assert last.linear_velocity == 0.0 and last.angular_velocity == 0.0
+        assert np.hypot(*(ink_m - (last.x, last.y)).T).min() >= CLEARANCE_M - 0.02
+
+
+def test_the_next_drawing_starts_where_the_last_one_did_while_turtle1_stays_parked(fleet):
+    """turtle1 parks off the text it started, so the next request (the fleet tutorial's star)
+    starts where the text did, as it would had turtle1 gone back there; once turtle1 is moved,
+    the next starts where it stands."""
+    from turtle_traj.api.ros_interface import make_request
+    from turtle_traj.core.geometry.path import Pose2D
+    from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+    from turtle_traj.core.planning import planner
+    from turtle_traj.core.registry import BY_NAME
+
+    client = fleet.action_client(FleetDraw, '/fleet/draw')
+    _, result, _ = _finish(fleet, client, FleetDraw.Goal(drawing=Drawing(**TEXT),
+                                                         turtles=fleet.names))
+    assert result.success, result.message
+    start = Pose2D(*starting_places(3)[0])
+    parked = fleet.poses['turtle1'][-1]
+    assert math.dist((parked.x, parked.y), (start.x, start.y)) > CLEARANCE_M
+    before = _inked(fleet)
+    star = {'trajectory': 'star', 'size': 1.5}
+    _, result, _ = _finish(fleet, client, FleetDraw.Goal(
+        drawing=Drawing(**star), turtles=['turtle1', 'turtle2'], clearance=0.8))
+    assert result.success, result.message
+    drawn = planner.plan('star', make_request(BY_NAME['star'], {'size': 1.5}), start,
+                         DEFAULT_SETTINGS).path.points()
+    new_ink = _ink_metres(_inked(fleet) & ~before)
+    assert len(new_ink) > 100
+    # every new pixel on the star drawn from the text's start (a pixel is 2.2 cm)
+    assert distance_to_polyline(new_ink, drawn).max() < 0.05
+    # moved away, turtle1 is where the next drawing starts
+    from turtlesim.srv import TeleportAbsolute
+    moved = Pose2D(2.0, 8.5, 0.0)
+    teleported = fleet.start(TeleportAbsolute, '/turtle1/teleport_absolute',
+                             TeleportAbsolute.Request(x=moved.x, y=moved.y, theta=moved.theta))
+    assert fleet.spin_until(teleported.done, timeout_s=10.0)
+    fleet.spin_until(lambda: math.dist((fleet.poses['turtle1'][-1].x,
+                                        fleet.poses['turtle1'][-1].y), (2.0, 8.5)) < 1e-3,
+                     timeout_s=10.0)
+    before = _inked(fleet)
+    _, result, _ = _finish(fleet, client, FleetDraw.Goal(
+        drawing=Drawing(trajectory='square', size=1.0), turtles=['turtle1']))
+    assert result.success, result.message
+    square = planner.plan('square', make_request(BY_NAME['square'], {'size': 1.0}), moved,
+                          DEFAULT_SETTINGS).path.points()
+    assert distance_to_polyline(_ink_metres(_inked(fleet) & ~before), square).max() < 0.05
 
 
 def test_requests_it_cannot_draw_are_refused_with_a_reason(rclpy_context, tmp_path):

@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+import shapely
 
 from turtle_traj.api.ros_interface import make_request
 from turtle_traj.core.fleet.pieces import Piece, pieces_in, request_s, travel_s
@@ -142,6 +143,7 @@ def test_refining_with_the_waits_counted_ends_the_svg_sooner_and_keeps_the_clear
     from tests.test_fleet_timing import _tracks, closest_approach
     from turtle_traj.apps.sim import starting_places
     from turtle_traj.core.fleet.moves import routes
+    from turtle_traj.core.fleet.parking import Parking
     from turtle_traj.core.fleet.refine import refine
 
     example = BY_NAME['svg'].example
@@ -149,19 +151,21 @@ def test_refining_with_the_waits_counted_ends_the_svg_sooner_and_keeps_the_clear
                         Pose2D(*example.start), DEFAULT_SETTINGS)
     pieces = pieces_in(plan.path, CONFIG)
     starts = [Pose2D(*example.start), *(Pose2D(*p) for p in starting_places(3)[1:])]
-    split = share(pieces, starts, CONFIG, clearance=0.6)
-    refined = refine(split, pieces, starts, CONFIG, 0.6)
-    assert refined.timing.drawn_s < 0.95 * split.timing.drawn_s
+    parking = Parking(pieces, 0.6, DEFAULT_SETTINGS.arena)
+    split = share(pieces, starts, CONFIG, clearance=0.6, parking=parking)
+    refined = refine(split, pieces, starts, CONFIG, 0.6, parking=parking)
+    # every turtle parked: the drawing is done
+    assert refined.timing.makespan_s < 0.95 * split.timing.makespan_s
     assert sorted(i for s in refined.shares for i in s.pieces) == list(range(len(pieces)))
-    moves = routes(refined.shares, pieces, starts, CONFIG)
+    moves = routes(refined.shares, pieces, starts, CONFIG, parking)
     assert closest_approach(_tracks(moves, starts, refined.timing, step_s=0.02)) >= 0.6 - 1e-9
 
 
-def test_a_turtle_that_started_on_the_drawing_goes_home_off_it():
-    """The demo's SVG covers most of the arena: turtles starting on it go, once they drew, to
-    the nearest spot on the border twice the clearance from every piece and from each other;
-    one that started clear of it goes back there."""
-    from turtle_traj.core.fleet.moves import homes_for
+def test_a_turtle_that_drew_parks_clear_of_the_drawing_near_where_it_ended():
+    """The demo's SVG covers most of the arena: a turtle that ends on it parks at the spot
+    nearest its end that keeps the clearance from every piece and from the spots taken before;
+    one that ends clear of it stays there; each faces the way it drove there."""
+    from turtle_traj.core.fleet.parking import Parking
     from turtle_traj.core.geometry.shapes import Arena
 
     example = BY_NAME['svg'].example
@@ -169,16 +173,33 @@ def test_a_turtle_that_started_on_the_drawing_goes_home_off_it():
                         Pose2D(*example.start), DEFAULT_SETTINGS)
     pieces = pieces_in(plan.path, CONFIG)
     arena = DEFAULT_SETTINGS.arena
-    starts = [Pose2D(5.5, 5.0, 0.0), Pose2D(9.0, 5.0, 0.0), Pose2D(10.0, 1.0, 0.5)]
-    homes = homes_for(starts, pieces, 0.6, arena)
-    drawn = np.concatenate([piece.polyline.points for piece in pieces])
+    assert isinstance(arena, Arena)
+    parking = Parking(pieces, 0.6, arena)
+    on = [pieces[0].polyline.points[0], pieces[len(pieces) // 2].polyline.points[0]]
+    ends = [Pose2D(*map(float, on[0]), 0.0), Pose2D(*map(float, on[1]), 1.0),
+            Pose2D(10.0, 1.0, 0.5)]
+    drawn = shapely.MultiLineString([piece.polyline.points for piece in pieces])
 
-    def gap(pose):  # to the pieces, sampled densely
-        return float(np.hypot(*(drawn - (pose.x, pose.y)).T).min())
-    assert gap(starts[0]) < 1.2 and gap(starts[1]) < 1.2  # on the drawing
-    assert homes[2] == starts[2]  # clear of it: home is where it started
-    for home in homes:
-        assert gap(home) >= 1.2 - 0.02
-        assert isinstance(arena, Arena) and arena.contains([(home.x, home.y)])
-    assert all(math.dist((a.x, a.y), (b.x, b.y)) >= 1.2
-               for a, b in itertools.combinations(homes, 2))
+    def gap(pose):
+        return float(shapely.distance(shapely.Point(pose.x, pose.y), drawn))
+    assert gap(ends[0]) < 0.6 and gap(ends[1]) < 0.6 and gap(ends[2]) >= 0.6
+    taken: list[Pose2D] = []
+    for end in ends:
+        spot = parking.spot(end, taken)
+        assert gap(spot) >= 0.6 and arena.contains([(spot.x, spot.y)])
+        assert all(math.dist((spot.x, spot.y), (t.x, t.y)) >= 0.6 for t in taken)
+        # no spot on the grid that keeps those distances is nearer
+        xs, ys = np.meshgrid(np.arange(arena.min_x + arena.margin, arena.max_x - arena.margin
+                                       + 1e-9, 0.25),
+                             np.arange(arena.min_y + arena.margin, arena.max_y - arena.margin
+                                       + 1e-9, 0.25))
+        grid = np.stack([xs.ravel(), ys.ravel()], axis=1)
+        fine = shapely.distance(shapely.points(grid), drawn) >= 0.6
+        for t in taken:
+            fine &= np.hypot(*(grid - (t.x, t.y)).T) >= 0.6
+        nearest = float(np.hypot(*(grid[fine] - (end.x, end.y)).T).min())
+        assert math.dist((spot.x, spot.y), (end.x, end.y)) <= nearest + 1e-9
+        if spot != end:
+            assert math.isclose(spot.theta, math.atan2(spot.y - end.y, spot.x - end.x))
+        taken.append(spot)
+    assert taken[2] == ends[2]  # it ended clear of the drawing: it stays

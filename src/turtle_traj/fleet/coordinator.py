@@ -2,11 +2,12 @@
 trajectory node, kept apart by timing.
 
 `~/draw` (turtle_traj_interfaces/action/FleetDraw) plans the drawing as the first turtle's node
-would (with that node's parameters, from its pose), shares its pieces out (`core.fleet`), and
-sends each turtle its moves one Draw goal at a time, each when the schedule allows: as soon as
-the moves it waits for end (in their goals' result callbacks). A timer (`TICK_S`, node clock)
+would (with that node's parameters, from its pose, or where the last drawing started while it
+stands parked after it: `core.fleet.anchor`), shares its pieces out (`core.fleet`), and sends
+each turtle its moves one Draw goal at a time, each when the schedule allows: as soon as the
+moves it waits for end (in their goals' result callbacks). A timer (`TICK_S`, node clock)
 watches the turtles, publishes the feedback and completes the future the goal's handler
-awaits.
+awaits once every piece is drawn and every turtle parked.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from turtle_traj_interfaces.action import FleetDraw
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.fleet.anchor import Anchor, drawing_start
 from turtle_traj.core.fleet.pieces import pieces_in
 from turtle_traj.core.fleet.run import FleetRun, closest
 from turtle_traj.core.fleet.timing import Deadlock
@@ -75,6 +77,7 @@ class FleetCoordinator(Node):
         self._links: dict[str, TurtleLink] = {}
         self._planner = Offloader(self, 'fleet_plan')
         self._drawing: UnderWay | None = None
+        self._anchor: Anchor | None = None  # where the last drawing started
         self._claimed = False  # a goal is being prepared or drawn
         group = ReentrantCallbackGroup()
         self._server = ActionServer(self, FleetDraw, '~/draw', self._execute,
@@ -95,8 +98,9 @@ class FleetCoordinator(Node):
             goal_handle.abort()
             return refusal('the fleet is drawing another request', Ending.BUSY)
         self._claimed = True
+        received_s = self._now_s()
         try:
-            drawing = await self._prepare(goal_handle)
+            drawing = await self._prepare(goal_handle, received_s)
             self._drawing = drawing
             held = self._elsewhere(drawing.links)
             for link in held:
@@ -111,6 +115,9 @@ class FleetCoordinator(Node):
                 for link in held:
                     link.release()
             drawing.goal.publish_feedback(progress(drawing, self._now_s()))
+            if drawing.run.done and drawing.failure is None and drawing.links[0].present():
+                self._anchor = Anchor(drawing.links[0].name, drawing.anchor,
+                                      drawing.links[0].pose)
             return report(drawing, self._now_s())
         except Refused as refused:
             if goal_handle.is_cancel_requested:
@@ -121,7 +128,7 @@ class FleetCoordinator(Node):
         finally:
             self._drawing, self._claimed = None, False
 
-    async def _prepare(self, goal_handle: ServerGoalHandle) -> UnderWay:
+    async def _prepare(self, goal_handle: ServerGoalHandle, received_s: float) -> UnderWay:
         """The drawing planned and shared out, its turtles ready; Refused if it cannot be."""
         goal = goal_handle.request
         names, clearance = self._asked(goal)
@@ -138,8 +145,10 @@ class FleetCoordinator(Node):
                                  clearance):
             raise Refused(problem, Ending.INVALID_REQUEST)
 
+        anchor = drawing_start(self._anchor, drawers[0].name, drawers[0].pose)
+
         def shared() -> tuple[Plan, ControlConfig, FleetRun]:
-            planned = plan(goal.drawing.trajectory, goal.drawing, starts[0], settings)
+            planned = plan(goal.drawing.trajectory, goal.drawing, anchor, settings)
             config = planned.control(settings.control)
             return planned, config, FleetRun(
                 pieces_in(planned.path, config), [link.name for link in drawers], starts,
@@ -166,7 +175,7 @@ class FleetCoordinator(Node):
         if goal_handle.is_cancel_requested:
             raise Refused('cancelled before it started', Ending.CANCELLED)
         return UnderWay(run, drawers, self._pens(planned.pen or settings.pen, len(drawers)),
-                        config.linear_speed, goal_handle, self._now_s(), left_out, starts)
+                        config.linear_speed, goal_handle, received_s, left_out, starts, anchor)
 
     def _pens(self, pen: PenStyle, count: int) -> list[PenStyle]:
         """Each turtle's pen: the drawing's, or in `turtle_colors` (one colour per turtle, in
@@ -258,11 +267,7 @@ class FleetCoordinator(Node):
             drawing.goal.publish_feedback(progress(drawing, self._now_s()))
         if any(run.driving(index) for index in range(len(drawing.links))):
             return
-        if run.done and drawing.failure is None and run.serving and not run.returning:
-            run.return_home({index: drawing.links[index].pose for index in run.serving},
-                            self._lost_standing(drawing))
-            self._dispatch(drawing)
-        elif run.returned or drawing.failure is not None or not run.serving:
+        if (run.done and run.parked) or drawing.failure is not None or not run.serving:
             drawing.finished.set_result(True)
 
     def _dispatch(self, drawing: UnderWay) -> None:
@@ -284,8 +289,6 @@ class FleetCoordinator(Node):
             return
         if end.ok:
             drawing.run.end(index, end.deviation)
-            if drawing.run.done and not drawing.drawn_s:
-                drawing.drawn_s = self._now_s()
         else:
             drawing.run.end_failed(index)
             if drawing.failure is None:

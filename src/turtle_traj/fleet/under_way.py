@@ -26,14 +26,14 @@ class UnderWay:
     pens: list[PenStyle]  # each turtle's
     linear_speed: float
     goal: ServerGoalHandle
-    started_s: float
+    started_s: float  # when the goal came
     left_out: list[str]
     homes: list[Pose2D]  # where each turtle started (where a lost one is carried, if clear)
+    anchor: Pose2D  # where the drawing starts, as one turtle would start it
     finished: Future = field(default_factory=Future)
     to_carry: set[int] = field(default_factory=set)  # lost turtles to put out of the way
     carrying: set[int] = field(default_factory=set)  # lost turtles being put there
     min_distance: float = math.inf
-    drawn_s: float = 0.0  # when the last piece was drawn (0 until then)
     ticks: int = 0
     failure: tuple[str, Ending] | None = None
 
@@ -57,7 +57,7 @@ def report(drawing: UnderWay, now_s: float) -> FleetDraw.Result:
     sharing = run.first_sharing
     result = FleetDraw.Result(
         success=success, message='; '.join(parts), ending=ending_message(reason),
-        makespan=(drawing.drawn_s or now_s) - drawing.started_s,
+        makespan=now_s - drawing.started_s,
         planned_makespan=run.planned_makespan_s,
         lower_bound=sharing.lower_bound_s if sharing else 0.0,
         min_distance=drawing.min_distance if math.isfinite(drawing.min_distance) else 0.0,

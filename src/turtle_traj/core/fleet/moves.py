@@ -2,7 +2,7 @@
 
 A turtle gets to each of its pieces by a pen-up travel (in stretches of at most `PIECE_M`) that
 ends facing the piece, or, standing at its start already, by a turn onto it; then draws it; and
-parks once it drew its part, off the drawing and out of the others' way (`homes_for`).
+parks once it drew its part, off the drawing and out of the others' way (`parking`).
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ import numpy as np
 import shapely
 
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import JOINED_M, PIECE_M, Piece, request_s, travel_s
 from turtle_traj.core.fleet.timing import Move
 from turtle_traj.core.geometry.angles import wrap_angle
@@ -33,13 +34,15 @@ class Share:
 
 
 def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Pose2D],
-           config: ControlConfig, homes: Sequence[Pose2D] | None = None) -> list[list[Move]]:
+           config: ControlConfig, parking: Parking | None = None) -> list[list[Move]]:
     """Each turtle's moves, in order: for each of its pieces, a travel there (pen up) that ends
     facing it, or where the turtle stands there already, a turn onto it (pen down: it
-    continues a stroke); then the piece. A turtle that drew goes to its home (by default where
-    it started), out of the way of the others' pieces."""
+    continues a stroke); then the piece. A turtle that drew then parks (`parking`'s spot
+    nearest where it ended, clear of those of the turtles before it and of the turtles that
+    draw nothing); without `parking`, it goes back where it started."""
     moves: list[list[Move]] = []
-    for part, start, home in zip(shares, starts, homes or starts, strict=True):
+    taken = [start for part, start in zip(shares, starts, strict=True) if not part.pieces]
+    for part, start in zip(shares, starts, strict=True):
         route: list[Move] = []
         here = start
         order = reversed(part.pieces) if part.reverse else part.pieces
@@ -58,7 +61,10 @@ def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Po
                               pieces=(index,)))
             here = end
         if route:
-            route += way(here, home, config)
+            home = start if parking is None else parking.spot(here, taken)
+            taken.append(home)
+            if math.hypot(home.x - here.x, home.y - here.y) > JOINED_M:
+                route += way(here, home, config)
         moves.append(route)
     return moves
 
@@ -98,16 +104,3 @@ def clear_spot(preferred: Pose2D, keep: shapely.Geometry, distance: float,
         return preferred
     x, y = min(clear, key=lambda spot: math.dist(spot, (preferred.x, preferred.y)))
     return Pose2D(x, y, preferred.theta)
-
-
-def homes_for(starts: Sequence[Pose2D], pieces: Sequence[Piece], clearance: float,
-              arena: Arena) -> list[Pose2D]:
-    """Where each turtle goes once it drew its part: where it started if that is twice the
-    clearance from every piece and from the homes before it, or else the nearest such spot on
-    the arena's border (a turtle parked on the drawing would keep the others from it)."""
-    drawing = [shapely.LineString(piece.polyline.points) for piece in pieces]
-    homes: list[Pose2D] = []
-    for start in starts:
-        keep = shapely.union_all([*drawing, *(shapely.Point(h.x, h.y) for h in homes)])
-        homes.append(clear_spot(start, keep, 2.0 * clearance, arena))
-    return homes

@@ -4,10 +4,10 @@ The tour split (`sharing.share`) cuts the tour for the least makespan without wa
 that keep the turtles apart depend on where the cuts fall and on which way each turtle draws its
 part, so the split is then refined by steepest descent: each round tries every cut moved by a
 few pieces either way and every part drawn the other way round, judges each by `simulate` (the
-times the turtles draw their last pieces, waits included), and keeps the best until none is
-better. Better compares those times from the latest (the drawing's end) down: a change that
-lets the second-last finish sooner without delaying the last is kept, so the search crosses
-the plateaus where only the last one counts.
+times the turtles have parked, waits included), and keeps the best until none is better.
+Better compares those times from the latest (the drawing's end) down: a change that lets the
+second-last finish sooner without delaying the last is kept, so the search crosses the
+plateaus where only the last one counts.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from dataclasses import dataclass, replace
 
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.fleet.moves import Share, routes
+from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece
 from turtle_traj.core.fleet.sharing import Sharing, share
 from turtle_traj.core.fleet.timing import Deadlock, Timing, simulate
@@ -36,20 +37,20 @@ class _Part:
 
 def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
            config: ControlConfig, clearance: float, standing: Sequence[Pose2D] = (),
-           homes: Sequence[Pose2D] | None = None) -> Sharing:
+           parking: Parking | None = None) -> Sharing:
     """`sharing` (judged with `clearance`: its `timing` set) improved while a neighbour ends
-    the drawing sooner; `standing` and `homes` as for `share`."""
+    the drawing sooner; `standing` and `parking` as for `share`."""
     assert sharing.timing is not None
 
     def judged(parts: list[_Part]) -> tuple[tuple[float, ...], Sharing] | None:
         candidate = _sharing(parts, sharing.lower_bound_s, len(starts))
-        moves = routes(candidate.shares, pieces, starts, config, homes)
+        moves = routes(candidate.shares, pieces, starts, config, parking)
         try:
             timing = simulate([*moves, *([] for _ in standing)], [*starts, *standing],
                               clearance)
         except Deadlock:
             return None
-        return _finishes(moves, timing), replace(candidate, shares=tuple(
+        return _finishes(timing), replace(candidate, shares=tuple(
             replace(part, time_s=_drawing_s(route)) for part, route in zip(
                 candidate.shares, moves, strict=True)), timing=timing)
 
@@ -70,12 +71,10 @@ def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
     return best
 
 
-def _finishes(moves: Sequence[Sequence], timing: Timing) -> tuple[float, ...]:
-    """When each turtle draws its last piece, latest first (to the microsecond: a change
-    smaller than that is no change)."""
-    return tuple(sorted((round(max((at + move.duration_s for move, at in zip(
-        route, begun, strict=True) if move.pieces), default=0.0), 6)
-        for route, begun in zip(moves, timing.starts_s, strict=False)), reverse=True))
+def _finishes(timing: Timing) -> tuple[float, ...]:
+    """When each turtle has parked, latest first (to the microsecond: a change smaller than
+    that is no change): the drawing is done at the first."""
+    return tuple(sorted((round(end, 6) for end in timing.ends_s), reverse=True))
 
 
 def _drawing_s(route: Sequence) -> float:
@@ -119,11 +118,11 @@ def _neighbours(parts: list[_Part], count: int) -> Iterator[list[_Part]]:
 
 def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
                 clearance: float, standing: Sequence[Pose2D] = (),
-                homes: Sequence[Pose2D] | None = None) -> Sharing:
+                parking: Parking | None = None) -> Sharing:
     """The pieces shared out among turtles at `starts`, kept `clearance` apart (`share`), then
     refined with the waits counted.
 
     :raises Deadlock: every sharing tried would deadlock.
     """
-    return refine(share(pieces, starts, config, clearance, standing, homes), pieces, starts,
-                  config, clearance, standing, homes)
+    return refine(share(pieces, starts, config, clearance, standing, parking), pieces, starts,
+                  config, clearance, standing, parking)

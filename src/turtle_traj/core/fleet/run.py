@@ -7,8 +7,8 @@ piece it had not finished, the one it was drawing included, goes back to the dra
 finish the moves they drive, and once none drives, what is left is shared among them from where
 they stand, kept clear of lost turtles that still stand in the arena. A piece that passes within
 the clearance of such a turtle cannot be drawn without coming that near it: it is left undrawn
-(`blocked`), and the run says so. Once the drawing is done, the turtles go back where they
-started (`return_home`).
+(`blocked`), and the run says so. Each turtle's route ends where it parks, clear of the
+drawing, so that the drawing is done once every route is (`parked`).
 """
 
 from __future__ import annotations
@@ -20,12 +20,13 @@ from dataclasses import dataclass
 import shapely
 
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.fleet.moves import clear_spot, homes_for, routes, way
-from turtle_traj.core.fleet.pieces import JOINED_M, Piece
+from turtle_traj.core.fleet.moves import clear_spot, routes
+from turtle_traj.core.fleet.parking import Parking
+from turtle_traj.core.fleet.pieces import Piece
 from turtle_traj.core.fleet.refine import share_apart
 from turtle_traj.core.fleet.schedule import Schedule
 from turtle_traj.core.fleet.sharing import Sharing
-from turtle_traj.core.fleet.timing import Deadlock, Move, simulate
+from turtle_traj.core.fleet.timing import Move
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.shapes import Arena
 
@@ -43,8 +44,8 @@ class TurtleRecord:
 class FleetRun:
     """The pieces of one drawing (`pieces`, in tour order) drawn by the turtles `names`,
     standing at `starts`, at least `clearance` apart; `standing`: turtles that do not draw.
-    In an `arena`, a turtle that drew goes home off the drawing (`moves.homes_for`); else back
-    where it started.
+    In an `arena`, a turtle that drew parks off the drawing, near where it ended (`Parking`);
+    else it goes back where it started.
 
     :raises Deadlock: no sharing of the drawing keeps the turtles apart without a deadlock.
     """
@@ -55,9 +56,6 @@ class FleetRun:
         self.pieces, self.config, self.clearance = pieces, config, clearance
         self.arena = arena
         self.starts = list(starts)
-        self.homes = (homes_for(starts, pieces, clearance, arena) if arena is not None
-                      else list(starts))
-        self.returning = False  # the drawing is done: the turtles go back where they started
         self.turtles = [TurtleRecord(name) for name in names]
         self.drawn: set[int] = set()  # the pieces drawn, by index
         self.blocked: set[int] = set()  # pieces within the clearance of a turtle standing still
@@ -72,12 +70,13 @@ class FleetRun:
         left = [index for index in range(len(self.pieces))
                 if index not in self.drawn and index not in self.blocked]
         pieces = [self.pieces[index] for index in left]
-        homes = [self.homes[turtle] for turtle in serving]
-        sharing = share_apart(pieces, starts, self.config, self.clearance, standing, homes)
+        parking = (Parking(self.pieces, self.clearance, self.arena, standing)
+                   if self.arena is not None else None)
+        sharing = share_apart(pieces, starts, self.config, self.clearance, standing, parking)
         if self.first_sharing is None:
             self.first_sharing = sharing
         moves = [[_renumbered(move, left) for move in route]
-                 for route in routes(sharing.shares, pieces, starts, self.config, homes)]
+                 for route in routes(sharing.shares, pieces, starts, self.config, parking)]
         self._serving = serving
         self._schedule = Schedule(moves, sharing.timing, self.clearance)
         self._replan_due = False
@@ -93,21 +92,21 @@ class FleetRun:
 
     def out_of_the_way(self, preferred: Pose2D, others: Sequence[Pose2D]) -> Pose2D:
         """Where to put a lost turtle: `preferred` (where it started), or else the spot along
-        the arena's border nearest it, that is twice the clearance from every piece not drawn,
-        from `others` (the turtles that serve, where they stand) and from their homes;
-        `preferred` without an arena or such a spot."""
+        the arena's border nearest it, that is twice the clearance from every piece not drawn
+        and from `others` (the turtles that serve, where they stand); `preferred` without an
+        arena or such a spot."""
         if self.arena is None:
             return preferred
         left = [shapely.LineString(piece.polyline.points)
                 for index, piece in enumerate(self.pieces) if index not in self.drawn]
-        keep = shapely.union_all([*left, *(shapely.Point(p.x, p.y) for p in [
-            *others, *(self.homes[turtle] for turtle in self.serving)])])
+        keep = shapely.union_all([*left, *(shapely.Point(p.x, p.y) for p in others)])
         return clear_spot(preferred, keep, 2.0 * self.clearance, self.arena)
 
     @property
     def planned_makespan_s(self) -> float:
+        """When the first sharing's timing has every turtle parked, the drawing done."""
         assert self.first_sharing is not None and self.first_sharing.timing is not None
-        return self.first_sharing.timing.drawn_s
+        return self.first_sharing.timing.makespan_s
 
     def ready(self) -> list[int]:
         """The turtles (by index in `names`) whose next move may start now."""
@@ -162,29 +161,11 @@ class FleetRun:
         serving = [turtle for turtle in range(len(self.turtles)) if not self.turtles[turtle].lost]
         self._share(serving, [poses[turtle] for turtle in serving], standing)
 
-    def return_home(self, poses: dict[int, Pose2D], standing: Sequence[Pose2D]) -> None:
-        """The drawing is done: the turtles that serve, standing at `poses` (by index), go back
-        where they started, kept apart as ever (none goes if that would deadlock)."""
-        serving = self.serving
-        ways = [way(poses[turtle], self.starts[turtle], self.config)
-                if math.dist((poses[turtle].x, poses[turtle].y),
-                             (self.starts[turtle].x, self.starts[turtle].y)) > JOINED_M else []
-                for turtle in serving]
-        where = [poses[turtle] for turtle in serving]
-        try:
-            timing = simulate([*ways, *([] for _ in standing)], [*where, *standing],
-                              self.clearance)
-        except Deadlock:
-            ways = [[] for _ in serving]
-            timing = simulate(ways, where, self.clearance)
-        self._serving = serving
-        self._schedule = Schedule(ways, timing, self.clearance)
-        self.returning = True
-
     @property
-    def returned(self) -> bool:
-        """The turtles are back where they started (or stay where they parked)."""
-        return self.returning and self._schedule.done and not any(self._schedule.driving)
+    def parked(self) -> bool:
+        """Every turtle that serves drove its whole route: it ends parked clear of the drawing
+        (`Parking`)."""
+        return self._schedule.done and not any(self._schedule.driving)
 
     @property
     def serving(self) -> list[int]:

@@ -26,6 +26,7 @@ from dataclasses import dataclass, replace
 
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.fleet.moves import Share, routes
+from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece, request_s, travel_s
 from turtle_traj.core.fleet.timing import Deadlock, Timing, simulate
 from turtle_traj.core.geometry.path import Pose2D
@@ -141,12 +142,12 @@ def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[i
 
 def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
           clearance: float | None = None, standing: Sequence[Pose2D] = (),
-          homes: Sequence[Pose2D] | None = None) -> Sharing:
+          parking: Parking | None = None) -> Sharing:
     """The pieces of one turtle's tour (`pieces`, in its order) shared out among turtles
     standing at `starts` (see the module). With a `clearance`, each candidate is judged by when
     its turtles end with the waits that keep them that far apart (`timing.simulate`), and one
     that would deadlock is passed over; `standing` are turtles that do not draw, kept clear of;
-    `homes`, where each goes once it drew (`moves.routes`).
+    `parking`, where each parks once it drew (`moves.routes`).
 
     :raises Deadlock: with a clearance, every candidate would deadlock.
     """
@@ -171,12 +172,12 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
                                     for turtle in range(len(starts))), bound)
             if clearance is not None:
                 try:
-                    timing = simulate([*routes(sharing.shares, pieces, starts, config, homes),
+                    timing = simulate([*routes(sharing.shares, pieces, starts, config, parking),
                                        *([] for _ in standing)], [*starts, *standing], clearance)
                 except Deadlock:
                     continue
                 sharing = replace(sharing, timing=timing)
-            judged = sharing.timing.drawn_s if sharing.timing else sharing.makespan_s
+            judged = sharing.timing.makespan_s if sharing.timing else sharing.makespan_s
             if best is None or judged < best[0] - 1e-9:
                 best = (judged, sharing)
     if best is None:
