@@ -203,3 +203,27 @@ def test_a_turtle_that_drew_parks_clear_of_the_drawing_near_where_it_ended():
             assert math.isclose(spot.theta, math.atan2(spot.y - end.y, spot.x - end.x))
         taken.append(spot)
     assert taken[2] == ends[2]  # it ended clear of the drawing: it stays
+
+
+def test_a_turtle_with_nothing_to_draw_that_stands_on_the_drawing_parks_off_it():
+    """It would keep the others from the pieces near it for ever; one that stands clear stays."""
+    from turtle_traj.core.fleet.moves import Share, routes
+    from turtle_traj.core.fleet.parking import Parking
+
+    example = BY_NAME['star'].example
+    plan = planner.plan('star', make_request(BY_NAME['star'], dict(example.given)),
+                        Pose2D(*example.start), DEFAULT_SETTINGS)
+    pieces = pieces_in(plan.path, CONFIG)
+    parking = Parking(pieces, 0.6, DEFAULT_SETTINGS.arena)
+    on = Pose2D(*map(float, pieces[0].polyline.points[1]), 0.0)
+    clear = Pose2D(1.0, 1.0, 0.0)
+    assert not parking.clear(on) and parking.clear(clear)
+    everything = Share(tuple(range(len(pieces))), 0.0)
+    drawer, idle_on, idle_clear = routes([everything, Share((), 0.0), Share((), 0.0)],
+                                         pieces, [Pose2D(*example.start), on, clear], CONFIG,
+                                         parking)
+    assert not idle_clear and idle_on and not any(move.pen for move in idle_on)
+    parked = idle_on[-1].end
+    drawn = shapely.MultiLineString([piece.polyline.points for piece in pieces])
+    assert shapely.distance(shapely.Point(parked), drawn) >= 0.6
+    assert math.dist(parked, (clear.x, clear.y)) >= 0.6

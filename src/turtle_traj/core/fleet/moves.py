@@ -39,9 +39,11 @@ def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Po
     facing it, or where the turtle stands there already, a turn onto it (pen down: it
     continues a stroke); then the piece. A turtle that drew then parks (`parking`'s spot
     nearest where it ended, clear of those of the turtles before it and of the turtles that
-    draw nothing); without `parking`, it goes back where it started."""
+    stay), and so does one with nothing to draw that stands on the drawing (it would keep the
+    others from it); without `parking`, a turtle that drew goes back where it started."""
     moves: list[list[Move]] = []
-    taken = [start for part, start in zip(shares, starts, strict=True) if not part.pieces]
+    taken = [start for part, start in zip(shares, starts, strict=True)
+             if not part.pieces and (parking is None or parking.clear(start))]
     for part, start in zip(shares, starts, strict=True):
         route: list[Move] = []
         here = start
@@ -60,7 +62,7 @@ def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Po
                               piece.time_s + request_s(config), pen=True, heading=end.theta,
                               pieces=(index,)))
             here = end
-        if route:
+        if route or (parking is not None and not parking.clear(start)):
             home = start if parking is None else parking.spot(here, taken)
             taken.append(home)
             if math.hypot(home.x - here.x, home.y - here.y) > JOINED_M:

@@ -57,6 +57,10 @@ class Parking:
             return end
         return Pose2D(float(x), float(y), math.atan2(y - end.y, x - end.x))
 
+    def clear(self, pose: Pose2D) -> bool:
+        """`pose` keeps the distance from the pieces and the turtles standing still."""
+        return self._clear(np.array([pose.x, pose.y]))
+
     def _clear(self, point: np.ndarray) -> bool:
         return self._keep.is_empty or shapely.distance(shapely.Point(point), self._keep) >= (
             self.distance)
