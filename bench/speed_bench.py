@@ -1,6 +1,7 @@
 """Lock-step speed and the node program's CPU, this checkout side by side with an older commit.
 
 Run: .venv/bin/python bench/speed_bench.py [--against REV] [--rounds N] [--skip-demo]
+     .venv/bin/python bench/speed_bench.py --step-cost [--rounds N]
 
 REV (default 9873574, the commit before lock-step moved to the EventsExecutor) is checked out
 in a temporary git worktree; every figure is measured in a fresh process for each tree in turn
@@ -42,7 +43,7 @@ def _lockstep_system(turtles: int):
     system = InProcessSystem(output_dir=Path(tempfile.mkdtemp()))
     nodes = [system.node]
     for index in range(1, turtles):
-        x, y = 1.5 + (index % 4) * 2.5, 1.5 + (index // 4) * 2.5
+        x, y = 1.5 + (index % 5) * 2.0, 1.5 + (index // 5) * 2.0  # up to 25, circles apart
         name = system.call(Spawn, '/spawn', Spawn.Request(x=x, y=y, name=f'turtle{index + 1}'))
         node = TrajectoryNode(f'turtle_traj{index + 1}', parameter_overrides=[
             SIM_TIME, Parameter('turtle_name', value=name.name)])
@@ -67,30 +68,36 @@ def measure_real_time_factor(turtles: int) -> dict:
     return {'factor': (system.sim_time_s - start_sim) / wall}
 
 
-def measure_breakdown() -> dict:
-    """Per 16 ms step, one turtle driving: executor passes, messages, where the time goes."""
+# our callbacks, as measure_breakdown labels them
+OUR_CALLBACKS = ('sim_step', 'sim_command', 'node_pose', 'node_tick')
+
+
+def measure_breakdown(turtles: int = 1) -> dict:
+    """Per 16 ms step, `turtles` driving: executor passes, messages, where the time goes (in
+    each of our callbacks: the simulator's step and command, the node's pose delivery and
+    control tick; the step and the tick include the publishing they do)."""
     from rclpy.publisher import Publisher
 
     from turtle_traj.node.base_topics import BaseTopics
     from turtle_traj.node.control_timer import ControlTimer
     from turtle_traj.sim.node import SimNode
 
-    ours = [0.0]
+    spent = dict.fromkeys(OUR_CALLBACKS, 0.0)
     published = [0]
 
-    def timed(function):
+    def timed(function, name):
         def wrapper(*args, **kwargs):
             start = time.perf_counter()
             try:
                 return function(*args, **kwargs)
             finally:
-                ours[0] += time.perf_counter() - start
+                spent[name] += time.perf_counter() - start
         return wrapper
 
-    # Our callbacks (the simulator's step and the node's tick include the publishing they do).
-    for cls, name in ((SimNode, 'step'), (SimNode, 'on_cmd_vel'),
-                      (BaseTopics, '_delivered'), (ControlTimer, '_tick')):
-        setattr(cls, name, timed(getattr(cls, name)))
+    for (cls, name), label in zip(((SimNode, 'step'), (SimNode, 'on_cmd_vel'),
+                                   (BaseTopics, '_delivered'), (ControlTimer, '_tick')),
+                                  OUR_CALLBACKS, strict=True):
+        setattr(cls, name, timed(getattr(cls, name), label))
     publish = Publisher.publish
 
     def counting_publish(self, msg):
@@ -98,7 +105,7 @@ def measure_breakdown() -> dict:
         return publish(self, msg)
     Publisher.publish = counting_publish
 
-    system = _lockstep_system(1)
+    system = _lockstep_system(turtles)
     executor = system.executor
     passes = [0]
     spin_once = executor.spin_once
@@ -107,12 +114,33 @@ def measure_breakdown() -> dict:
         passes[0] += 1
         return spin_once(*args, **kwargs)
     executor.spin_once = counting_spin_once
-    ours[0], published[0] = 0.0, 0
+    spent.update(dict.fromkeys(spent, 0.0))
+    published[0] = 0
     steps, start = executor.steps, time.perf_counter()
     system.spin_sim_seconds(SIM_SECONDS)
     wall, steps = time.perf_counter() - start, executor.steps - steps
     return {'passes': passes[0] / steps, 'messages': published[0] / steps,
-            'step_ms': 1e3 * wall / steps, 'ours_ms': 1e3 * ours[0] / steps}
+            'step_ms': 1e3 * wall / steps, 'ours_ms': 1e3 * sum(spent.values()) / steps,
+            **{f'{name}_ms': 1e3 * value / steps for name, value in spent.items()}}
+
+
+STEP_COST_TURTLES = (1, 5, 10, 20)
+
+
+def print_step_cost(rounds: int) -> None:
+    """What a lock-step step costs this checkout with 1 to 20 turtles, each drawing a circle
+    with its own trajectory node, and where it goes (median of `rounds` fresh processes)."""
+    print('per 16 ms lock-step step, this checkout (ms; median of fresh processes):')
+    print(f'{"turtles":>7} {"step":>7} {"per turtle":>10} {"rclpy+DDS":>9} {"ours":>7} '
+          + ' '.join(f'{name:>11}' for name in OUR_CALLBACKS) + f' {"x real":>7}')
+    for turtles in STEP_COST_TURTLES:
+        runs = [_run(ROOT, f'breakdown{turtles}') for _ in range(rounds)]
+        figures = {key: statistics.median(run[key] for run in runs) for key in runs[0]}
+        rest = figures['step_ms'] - figures['ours_ms']
+        print(f'{turtles:7d} {figures["step_ms"]:7.3f} {figures["step_ms"] / turtles:10.3f} '
+              f'{rest:9.3f} {figures["ours_ms"]:7.3f} '
+              + ' '.join(f'{figures[f"{name}_ms"]:11.3f}' for name in OUR_CALLBACKS)
+              + f' {16.0 / figures["step_ms"]:7.2f}', flush=True)
 
 
 def measure_node_cpu(seconds: float) -> dict:
@@ -185,6 +213,8 @@ MEASURES = {
     'rtf2': lambda: measure_real_time_factor(2),
     'rtf10': lambda: measure_real_time_factor(10),
     'breakdown': measure_breakdown,
+    **{f'breakdown{count}': (lambda count=count: measure_breakdown(count))
+       for count in STEP_COST_TURTLES},
     'cpu': lambda: measure_node_cpu(20.0),
     'demo': measure_demo,
 }
@@ -223,11 +253,16 @@ def main() -> None:
     parser.add_argument('--against', default='9873574', help='the old commit (default 9873574)')
     parser.add_argument('--rounds', type=int, default=3, help='runs of each figure per tree')
     parser.add_argument('--skip-demo', action='store_true', help='leave out make demo')
+    parser.add_argument('--step-cost', action='store_true',
+                        help='only the step cost of this checkout with 1, 5, 10 and 20 turtles')
     parser.add_argument('--measure', choices=sorted(MEASURES), help=argparse.SUPPRESS)
     options = parser.parse_args()
     isolate('speed')
     if options.measure:
         print(json.dumps(MEASURES[options.measure]()))
+        return
+    if options.step_cost:
+        print_step_cost(options.rounds)
         return
     old = _worktree(options.against)
     try:
