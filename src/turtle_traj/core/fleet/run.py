@@ -55,7 +55,6 @@ class FleetRun:
                  arena: Arena | None = None) -> None:
         self.pieces, self.config, self.clearance = pieces, config, clearance
         self.arena = arena
-        self.starts = list(starts)
         self.turtles = [TurtleRecord(name) for name in names]
         self.drawn: set[int] = set()  # the pieces drawn, by index
         self.blocked: set[int] = set()  # pieces within the clearance of a turtle standing still
