@@ -220,8 +220,12 @@ def test_cancelling_stops_every_turtle_and_a_turtle_busy_alone_is_left_out(fleet
 
 def test_in_lock_step_the_same_request_gives_the_same_figures(rclpy_context,
                                                                         tmp_path):
-    """Two fresh fleets draw the same star: every figure alike to the bit (the poses are not:
-    under load one turtle may start a step later, see the closing note of issue 65)."""
+    """Two fresh fleets draw the same star: every figure alike to the bit but the makespan
+    (the poses are not: under load one turtle may start a step later, see the closing note of
+    issue 65). The makespan counts from the step the goal arrived in to the step the
+    coordinator heard the last turtle park, each as DDS delivers a message against the
+    stepping: from the first moves on it is alike to a step (0.016 s; measured beside two busy
+    loops, 1 run in 8 a step apart)."""
     runs = []
     for attempt in range(2):
         system = InProcessFleet(starting_places(3), context=rclpy_context,
@@ -235,11 +239,14 @@ def test_in_lock_step_the_same_request_gives_the_same_figures(rclpy_context,
             _, result, _ = _finish(system, client, FleetDraw.Goal(
                 drawing=Drawing(trajectory='star', size=1.5)))
             assert result.success, result.message
-            runs.append((result.makespan, result.min_distance, list(result.pieces),
-                         list(result.max_deviation), result.planned_makespan))
+            assert 0.0 <= result.start_delay < result.makespan
+            runs.append((result.makespan - result.start_delay, result.min_distance,
+                         list(result.pieces), list(result.max_deviation),
+                         result.planned_makespan))
         finally:
             system.close()
-    assert runs[0] == runs[1]
+    assert runs[0][1:] == runs[1][1:]
+    assert abs(runs[0][0] - runs[1][0]) <= 0.016 + 1e-9
 
 
 def test_turtles_that_stand_closer_than_the_clearance_are_told_so(rclpy_context, tmp_path):

@@ -175,7 +175,8 @@ class FleetCoordinator(Node):
         if goal_handle.is_cancel_requested:
             raise Refused('cancelled before it started', Ending.CANCELLED)
         return UnderWay(run, drawers, self._pens(planned.pen or settings.pen, len(drawers)),
-                        config.linear_speed, goal_handle, received_s, left_out, starts, anchor)
+                        config.linear_speed, goal_handle, received_s, left_out, starts, anchor,
+                        self._now_s())
 
     def _pens(self, pen: PenStyle, count: int) -> list[PenStyle]:
         """Each turtle's pen: the drawing's, or in `turtle_colors` (one colour per turtle, in
@@ -268,6 +269,7 @@ class FleetCoordinator(Node):
         if any(run.driving(index) for index in range(len(drawing.links))):
             return
         if (run.done and run.parked) or drawing.failure is not None or not run.serving:
+            drawing.ended_s = self._now_s()  # in this tick: the await resumes a step later, or not
             drawing.finished.set_result(True)
 
     def _dispatch(self, drawing: UnderWay) -> None:

@@ -30,10 +30,12 @@ class UnderWay:
     left_out: list[str]
     homes: list[Pose2D]  # where each turtle started (where a lost one is carried, if clear)
     anchor: Pose2D  # where the drawing starts, as one turtle would start it
+    moving_s: float  # when the first moves could go
     finished: Future = field(default_factory=Future)
     to_carry: set[int] = field(default_factory=set)  # lost turtles to put out of the way
     carrying: set[int] = field(default_factory=set)  # lost turtles being put there
     min_distance: float = math.inf
+    ended_s: float = 0.0  # when the timer found every piece drawn and every turtle parked
     ticks: int = 0
     failure: tuple[str, Ending] | None = None
 
@@ -57,7 +59,8 @@ def report(drawing: UnderWay, now_s: float) -> FleetDraw.Result:
     sharing = run.first_sharing
     result = FleetDraw.Result(
         success=success, message='; '.join(parts), ending=ending_message(reason),
-        makespan=now_s - drawing.started_s,
+        makespan=(drawing.ended_s or now_s) - drawing.started_s,
+        start_delay=drawing.moving_s - drawing.started_s,
         planned_makespan=run.planned_makespan_s,
         lower_bound=sharing.lower_bound_s if sharing else 0.0,
         min_distance=drawing.min_distance if math.isfinite(drawing.min_distance) else 0.0,
