@@ -46,6 +46,7 @@ from turtle_traj.grading.sandbox import (
     simulator_first,
     student_command,
 )
+from turtle_traj.grading.slots import room_slot
 from turtle_traj.grading.submission import NotReady, copy_submission, prepare
 
 ROOM_GRACE_S = 30.0  # the room's start and end, beyond the student's time limit
@@ -213,8 +214,9 @@ def _run_room(command: list[str], run_dir: Path, timeout_s: float) -> str:
     Rooms start one at a time: a room's start (Python, rclpy, the simulator: about a second
     of a core) runs at nice -10, and several starting together keep running simulators from
     their steps (the turtle then moves less than it was told to). Started, its simulator runs
-    real-time (`simulator_first`)."""
-    with (run_dir / 'room.log').open('wb') as log:
+    real-time (`simulator_first`). A room first waits for one of the machine's slots
+    (`slots.room_slot`): no more rooms run at once than one grader would start."""
+    with room_slot(default_jobs()), (run_dir / 'room.log').open('wb') as log:
         with _STARTING:
             room = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=log,
                                     stderr=subprocess.STDOUT, start_new_session=True)
