@@ -85,7 +85,7 @@ def test_the_exact_follower_keeps_the_pace_of_its_plan_through_swung_corners(deg
     """The plan's profile takes the base's whole turn rate and angular acceleration (the
     tolerance's reserve is the steering's); the follower clamps its steering where it is out
     of reach rather than slowing for it, so it drives in its plan's least time, within the
-    tolerance. (Slowing for its steering, it lost 0.22 and 0.38 s at these two.)"""
+    tolerance (slowing for its steering would lose 0.22 and 0.38 s at these two)."""
     points, plan, settings, record = _paper_step(degrees, tolerance)
     assert record.run.ending[0], record.run.ending
     assert shapely.distance(shapely.LineString(points),

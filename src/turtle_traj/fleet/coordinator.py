@@ -269,7 +269,7 @@ class FleetCoordinator(Node):
         if any(run.driving(index) for index in range(len(drawing.links))):
             return
         if (run.done and run.parked) or drawing.failure is not None or not run.serving:
-            drawing.ended_s = self._now_s()  # in this tick: the await resumes a step later, or not
+            drawing.ended_s = self._now_s()  # now: the awaiting handler may resume a step later
             drawing.finished.set_result(True)
 
     def _dispatch(self, drawing: UnderWay) -> None:

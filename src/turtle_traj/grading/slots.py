@@ -2,9 +2,9 @@
 
 One grader runs up to `grader.default_jobs()` rooms at once. Two classes graded at the same
 time (two teachers, or a test suite's workers) would run twice as many, and an open-loop
-student's program, starved beside them, sleeps past its deadlines (a right letter L scored 3
-of 7 so). A room therefore holds one of the machine's slots while it runs: an exclusive lock
-on one of `count` files, which goes with its holder even if that is killed.
+student's program, starved beside them, sleeps past its deadlines and loses points it should
+have. A room therefore holds one of the machine's slots while it runs: an exclusive lock on
+one of `count` files, which goes with its holder even if that is killed.
 """
 
 from __future__ import annotations

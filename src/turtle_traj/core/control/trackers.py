@@ -252,10 +252,7 @@ class PolylineTracker:
                                              limits.linear_accel * limits.period_s))
             speed = min(speed, profiled)
         elif isinstance(self._profile, SpeedProfile):  # a rounded path's, at the full turn rate
-            polyline = self.polyline
-            speed = min(speed, self._profile.speed_at(
-                polyline.cumulative_length[self.segment]
-                + fraction * polyline.segment_lengths[self.segment]))
+            speed = min(speed, self._profile.speed_at(self._arc(fraction)))
         elif abs(curvature) > 1e-9:
             speed = min(speed, CURVATURE_SHARE * limits.angular_speed / abs(curvature))
         if remaining != math.inf:
@@ -265,6 +262,11 @@ class PolylineTracker:
                                               prediction, limits.limited, landing))
             speed = math.copysign(speed, remaining)
         return speed
+
+    def _arc(self, fraction: float) -> float:
+        """How far along the polyline `fraction` of the current segment is, metres."""
+        return float(self.polyline.cumulative_length[self.segment]
+                     + fraction * self.polyline.segment_lengths[self.segment])
 
     def _profiled_speed(self, fraction: float, velocity: Command,
                         limits: Limits) -> float:
@@ -276,8 +278,7 @@ class PolylineTracker:
             self._profile = profile_for(polyline, limits)
         if self._profile is None:  # a straight line
             return limits.linear_speed
-        arc = (polyline.cumulative_length[self.segment]
-               + fraction * polyline.segment_lengths[self.segment])
+        arc = self._arc(fraction)
         reach = abs(velocity.linear) + (limits.linear_accel or 1e6) * limits.period_s
         ahead = min(reach, limits.linear_speed) * limits.period_s
         if polyline.repeat:

@@ -14,6 +14,7 @@ import numpy as np
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Leg, Polyline, Turn
 from turtle_traj.core.geometry.projection import all_near
+from turtle_traj.core.geometry.tube import resampled
 
 _SAMPLE_M = 0.005  # the new connection is checked against the path this often
 
@@ -42,7 +43,7 @@ def cusps_cut_short(legs: Sequence[Leg], drawn: np.ndarray, width: float,
         if math.dist(turned_at, onward[0]) < 1e-9:  # the legs lie on one line
             onward = onward[1:]
         leaving = np.concatenate(([turned_at], onward))
-        if len(leaving) < 2 or not all_near(_sampled(leaving[:2]), drawn, width):
+        if len(leaving) < 2 or not all_near(resampled(leaving[:2], _SAMPLE_M), drawn, width):
             continue
         shortened, left = replace(before, points=kept), replace(after, points=leaving)
         sweep = (turn.sweep_rad
@@ -69,8 +70,3 @@ def _from(points: np.ndarray, arc: np.ndarray, length: float) -> np.ndarray:
 def _at(points: np.ndarray, arc: np.ndarray, length: float) -> np.ndarray:
     return np.array([np.interp(length, arc, points[:, 0]), np.interp(length, arc, points[:, 1])])
 
-
-def _sampled(segment: np.ndarray) -> np.ndarray:
-    """Points along a segment, _SAMPLE_M apart at most, its ends included."""
-    count = max(int(math.dist(segment[0], segment[1]) / _SAMPLE_M), 1) + 1
-    return segment[0] + np.linspace(0.0, 1.0, count)[:, None] * (segment[1] - segment[0])
