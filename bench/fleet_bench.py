@@ -1,11 +1,12 @@
 """Several turtles drawing one request, against one turtle drawing it alone, in lock-step.
 
-    .venv/bin/python bench/fleet_bench.py [--turtles 4] [--picture docs/_static/fleet.png]
+    .venv/bin/python bench/fleet_bench.py [--turtles 1,3,10,20] [--picture docs/_static/fleet.png]
 
 For the text "ROS 2" (1 m, from turtlesim's spawn point), the demo's SVG and the demo's star
 (the registry's examples, from their start poses), one turtle draws the request with its own
 Draw action, then 2 to N turtles draw it through the fleet coordinator: turtle1 where the one
-turtle started, the others where `up --turtles N` puts them (a 3 m ring round the spawn point).
+turtle started, the others where `up --turtles N` puts them (rings of 3 and 4.5 m round the
+spawn point).
 Every figure but the planned ones is measured here from what the simulator did:
   answer      simulated time from sending the goal to its answer, what a user waits for, and
               its ratio to the one turtle's;
@@ -130,7 +131,9 @@ def draw(name: str, count: int, output: Path, colors: str = '') -> dict:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    parser.add_argument('--turtles', type=int, default=4, help='up to this many (default 4)')
+    parser.add_argument('--turtles', type=lambda text: [int(n) for n in text.split(',')],
+                        default=[1, 2, 3, 4], help='the fleet sizes, comma-separated '
+                        '(default 1,2,3,4; the ratio is to the first)')
     parser.add_argument('--drawings', nargs='*', default=list(DRAWINGS), choices=list(DRAWINGS))
     parser.add_argument('--no-table', dest='table', action='store_false',
                         help='skip the makespan table')
@@ -149,7 +152,7 @@ def main() -> int:
     try:
         for name in options.drawings if options.table else []:
             alone = None
-            for count in range(1, options.turtles + 1):
+            for count in options.turtles:
                 row = draw(name, count, output)
                 alone = alone or row
                 ink = row['trails'][..., 3] > 0
@@ -167,7 +170,7 @@ def main() -> int:
                 for at_s in (4.0, 8.0, 12.0):
                     print(lose_one(fault, at_s, output, single), flush=True)
         if options.picture:
-            row = draw('svg', options.turtles, output, PICTURE_COLORS)
+            row = draw('svg', options.turtles[-1], output, PICTURE_COLORS)
             options.picture.parent.mkdir(parents=True, exist_ok=True)
             row['picture'].save(options.picture)
             print(f'saved {options.picture}')

@@ -227,3 +227,30 @@ def test_a_turtle_with_nothing_to_draw_that_stands_on_the_drawing_parks_off_it()
     drawn = shapely.MultiLineString([piece.polyline.points for piece in pieces])
     assert shapely.distance(shapely.Point(parked), drawn) >= 0.6
     assert math.dist(parked, (clear.x, clear.y)) >= 0.6
+
+
+def test_twenty_turtles_share_the_svg_apart_in_a_fifth_of_one_turtles_time():
+    """The demo's SVG among the 20 turtles `up --turtles 20` places: every piece drawn once,
+    the turtles apart at every sampled instant (steps aside included), ending sooner than a
+    fifth of one turtle's time."""
+    from tests.test_fleet_timing import _tracks, closest_approach
+    from turtle_traj.apps.sim import starting_places
+    from turtle_traj.core.fleet.aside import SpotAside
+    from turtle_traj.core.fleet.parking import Parking
+    from turtle_traj.core.fleet.refine import share_apart
+
+    example = BY_NAME['svg'].example
+    plan = planner.plan('svg', make_request(BY_NAME['svg'], dict(example.given)),
+                        Pose2D(*example.start), DEFAULT_SETTINGS)
+    pieces = pieces_in(plan.path, CONFIG)
+    starts = [Pose2D(*example.start), *(Pose2D(*p) for p in starting_places(20)[1:])]
+    arena = DEFAULT_SETTINGS.arena
+    sharing = share_apart(pieces, starts, CONFIG, 0.6, parking=Parking(pieces, 0.6, arena),
+                          aside=SpotAside(CONFIG, 0.6, arena))
+    drawn = sorted(index for route in sharing.timing.routes for move in route
+                   for index in move.pieces)
+    assert drawn == list(range(len(pieces)))
+    tracks = _tracks(sharing.timing.routes, starts, sharing.timing, step_s=0.02)
+    assert closest_approach(tracks) >= 0.6 - 1e-9
+    alone = share(pieces, starts[:1], CONFIG).makespan_s
+    assert sharing.lower_bound_s <= sharing.timing.makespan_s < 0.2 * alone

@@ -95,3 +95,60 @@ def test_random_routes_keep_their_clearance_at_every_instant():
         assert closest_approach(_tracks(routes, starts, timing)) >= CLEARANCE - 1e-9
         assert [len(begun) for begun in timing.starts_s] == [4, 4, 4]
     assert completed >= 10
+
+
+def _step_aside():
+    from turtle_traj.core.fleet.aside import SpotAside
+    from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+    return SpotAside(DEFAULT_SETTINGS.control, CLEARANCE, DEFAULT_SETTINGS.arena)
+
+
+def test_turtles_swapping_places_step_aside_and_keep_their_clearance():
+    """The swap that deadlocks by waiting alone: the turtle in the way steps off and back once
+    the other has passed; apart at every instant, every move of theirs driven in order."""
+    starts = [Pose2D(3.0, 5.0, 0.0), Pose2D(6.0, 5.0, math.pi)]
+    routes = [[_line((3, 5), (6, 5))], [_line((6, 5), (3, 5))]]
+    timing = simulate(routes, starts, CLEARANCE, _step_aside())
+    assert timing.asides >= 1
+    assert closest_approach(_tracks(timing.routes, starts, timing)) >= CLEARANCE - 1e-9
+    for given, driven in zip(routes, timing.routes, strict=True):
+        assert [move for move in driven if any(move is g for g in given)] == given
+    second = timing.routes[1]  # stepped aside, came back, then drove its own move
+    assert second[0].end != (6.0, 5.0) and second[1].end == (6.0, 5.0)
+    assert second[2] is routes[1][0]
+    assert timing.starts_s[1][1] >= timing.starts_s[0][0] + routes[0][0].duration_s
+
+
+def test_a_turtle_that_may_not_move_is_never_asked_to_step_aside():
+    starts = [Pose2D(3.0, 5.0, 0.0), Pose2D(6.0, 5.0, math.pi)]
+    routes = [[_line((3, 5), (6, 5))], []]
+    with pytest.raises(Deadlock):
+        simulate(routes, starts, CLEARANCE, _step_aside(), staying=1)
+    assert simulate(routes, starts, CLEARANCE, _step_aside()).routes[1][0].end != (6.0, 5.0)
+
+
+def test_random_crowded_routes_with_steps_aside_complete_apart():
+    """Fleets of eight on random routes in a 5 m square: with steps aside, every fleet ends
+    its routes (no deadlock), and keeps the clearance at every sampled instant."""
+    asides = 0
+    for seed in range(10):
+        rng = np.random.default_rng(seed)
+        starts = [Pose2D(2.5 + 1.6 * (k % 4), 2.5 + 5.0 * (k // 4), 0.0) for k in range(8)]
+        routes = []
+        for start in starts:
+            here, route = (start.x, start.y), []
+            for _ in range(3):
+                there = tuple(rng.uniform(2.5, 7.5, 2))
+                route.append(_line(here, there, speed=rng.uniform(0.5, 2.0)))
+                here = there
+            routes.append(route)
+        timing = simulate(routes, starts, CLEARANCE, _step_aside())
+        asides += timing.asides
+        assert closest_approach(_tracks(timing.routes, starts, timing, 0.01)) >= CLEARANCE - 1e-9
+        for given, driven in zip(routes, timing.routes, strict=True):
+            kept = [move for move in driven if any(move is g for g in given)]
+            assert kept == given  # in order, none lost
+            # each move from where the one before left the turtle
+            assert all(move.points[0].tolist() == list(before.end)
+                       for before, move in zip(driven, driven[1:], strict=False))
+    assert asides >= 10  # each fleet needed steps aside: waiting alone would deadlock

@@ -21,6 +21,8 @@ from turtle_traj.sim.options import SimOptions, SimUnavailable, add_sim_options,
 
 GUI_FRAME_PERIOD_S = 1.0 / 30.0
 FLEET_RING_M = 3.0  # the other turtles start this far round turtle1
+INNER_RING_TURTLES = 7  # on that ring; the others, on a ring this far round it:
+OUTER_RING_M = 4.5
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -87,12 +89,16 @@ def create_sim(options: SimOptions, stop: Callable[[], None], *,
 
 
 def starting_places(count: int) -> list[tuple[float, float, float]]:
-    """Where `count` turtles start: turtle1 at turtlesim's spawn point, the others evenly on a
-    ring `FLEET_RING_M` round it, facing east (x, y, theta)."""
-    others = [2.0 * math.pi * index / max(count - 1, 1) for index in range(count - 1)]
+    """Where `count` turtles start: turtle1 at turtlesim's spawn point, the next
+    `INNER_RING_TURTLES` evenly on a ring `FLEET_RING_M` round it, the rest evenly on a ring
+    `OUTER_RING_M` round it, between the inner ones; all facing east (x, y, theta)."""
+    inner = min(count - 1, INNER_RING_TURTLES)
+    outer = count - 1 - inner
+    rings = [(FLEET_RING_M, 2.0 * math.pi * index / max(inner, 1)) for index in range(inner)]
+    rings += [(OUTER_RING_M, 2.0 * math.pi * (index + 0.5) / outer) for index in range(outer)]
     return [(SPAWN_XY_M, SPAWN_XY_M, 0.0), *(
-        (SPAWN_XY_M + FLEET_RING_M * math.cos(angle), SPAWN_XY_M + FLEET_RING_M * math.sin(angle),
-         0.0) for angle in others)]
+        (SPAWN_XY_M + radius * math.cos(angle), SPAWN_XY_M + radius * math.sin(angle), 0.0)
+        for radius, angle in rings)]
 
 
 def save_outputs(node: SimNode, options: SimOptions) -> None:

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 WEB_HOST, WEB_PORT = '127.0.0.1', 8080
-MAX_TURTLES = 8  # at the start, on a ring 3 m round turtle1: each 2.6 m from the next at most
+MAX_TURTLES = 20  # at the start, on a ring 3 m round turtle1: each 0.99 m from the next at least
 
 
 class SimUnavailable(RuntimeError):

@@ -20,6 +20,7 @@ from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.shapes import Arena
 
 SPOT_STEP_M = 0.25  # the grid of spots tried, across the arena
+_CHUNK = 64  # spots judged at once
 
 
 class Parking:
@@ -46,13 +47,17 @@ class Parking:
         where it does), facing the way there; `end` where no spot does."""
         here = np.array([end.x, end.y])
         candidates = np.concatenate(([here], self._spots)) if self._clear(here) else self._spots
-        if taken:
-            others = np.array([(pose.x, pose.y) for pose in taken])
-            gaps = np.hypot(*(candidates[:, None, :] - others[None]).transpose(2, 0, 1))
-            candidates = candidates[np.all(gaps >= self.distance, axis=1)]
-        if not len(candidates):
+        candidates = candidates[np.argsort(np.hypot(*(candidates - here).T), kind='stable')]
+        others = np.array([(pose.x, pose.y) for pose in taken]).reshape(-1, 2)
+        for first in range(0, len(candidates), _CHUNK):  # nearest first, a chunk at a time
+            chunk = candidates[first:first + _CHUNK]
+            gaps = np.hypot(*(chunk[:, None, :] - others[None]).transpose(2, 0, 1))
+            keeps = np.flatnonzero(np.all(gaps >= self.distance, axis=1))
+            if len(keeps):
+                break
+        else:
             return end
-        x, y = candidates[int(np.argmin(np.hypot(*(candidates - here).T)))]
+        x, y = chunk[keeps[0]]
         if math.dist((x, y), (end.x, end.y)) < 1e-9:
             return end
         return Pose2D(float(x), float(y), math.atan2(y - end.y, x - end.x))

@@ -20,11 +20,12 @@ from turtle_traj.core.fleet.moves import Share, routes
 from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece
 from turtle_traj.core.fleet.sharing import Sharing, share
-from turtle_traj.core.fleet.timing import Deadlock, Timing, simulate
+from turtle_traj.core.fleet.timing import Deadlock, StepAside, Timing, simulate
 from turtle_traj.core.geometry.path import Pose2D
 
 SHIFTS = (1, 2, 4, 8)  # pieces a cut is moved by, either way
 MAX_ROUNDS = 40
+FOCUS_TURTLES = 2  # each round changes the parts of the turtles that park last, this many
 
 
 @dataclass(frozen=True)
@@ -37,9 +38,9 @@ class _Part:
 
 def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
            config: ControlConfig, clearance: float, standing: Sequence[Pose2D] = (),
-           parking: Parking | None = None) -> Sharing:
+           parking: Parking | None = None, aside: StepAside | None = None) -> Sharing:
     """`sharing` (judged with `clearance`: its `timing` set) improved while a neighbour ends
-    the drawing sooner; `standing` and `parking` as for `share`."""
+    the drawing sooner; `standing`, `parking` and `aside` as for `share`."""
     assert sharing.timing is not None
 
     def judged(parts: list[_Part]) -> tuple[tuple[float, ...], Sharing] | None:
@@ -47,12 +48,12 @@ def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
         moves = routes(candidate.shares, pieces, starts, config, parking)
         try:
             timing = simulate([*moves, *([] for _ in standing)], [*starts, *standing],
-                              clearance)
+                              clearance, aside, len(standing))
         except Deadlock:
             return None
         return _finishes(timing), replace(candidate, shares=tuple(
             replace(part, time_s=_drawing_s(route)) for part, route in zip(
-                candidate.shares, moves, strict=True)), timing=timing)
+                candidate.shares, timing.routes, strict=False)), timing=timing)
 
     parts = _parts_of(sharing)
     first = judged(parts)
@@ -60,7 +61,11 @@ def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
         return sharing
     (best_key, best) = first
     for _ in range(MAX_ROUNDS):
-        found = [(judgement, neighbour) for neighbour in _neighbours(parts, len(pieces))
+        assert best.timing is not None
+        latest = sorted(range(len(starts)), key=lambda turtle: -best.timing.ends_s[turtle])
+        focus = set(latest[:FOCUS_TURTLES])
+        found = [(judgement, neighbour)
+                 for neighbour in _neighbours(parts, len(pieces), focus)
                  if (judgement := judged(neighbour)) is not None]
         if not found:
             break
@@ -102,27 +107,30 @@ def _sharing(parts: list[_Part], bound: float, turtles: int) -> Sharing:
     return Sharing(tuple(shares), bound)
 
 
-def _neighbours(parts: list[_Part], count: int) -> Iterator[list[_Part]]:
-    """Every cut moved by each of SHIFTS either way (parts may empty), every part reversed."""
+def _neighbours(parts: list[_Part], count: int, focus: set[int]) -> Iterator[list[_Part]]:
+    """Every cut next to a part of a turtle in `focus` moved by each of SHIFTS either way
+    (parts may empty), every such part reversed."""
     for index in range(len(parts) - 1):
         left, right = parts[index], parts[index + 1]
+        if left.turtle not in focus and right.turtle not in focus:
+            continue
         for shift in (*SHIFTS, *(-s for s in SHIFTS)):
             cut = left.stop + shift
             if left.first <= cut <= right.stop and 0 <= cut <= count:
                 yield [*parts[:index], replace(left, stop=cut), replace(right, first=cut),
                        *parts[index + 2:]]
     for index, part in enumerate(parts):
-        if part.stop > part.first:
+        if part.stop > part.first and part.turtle in focus:
             yield [*parts[:index], replace(part, reverse=not part.reverse), *parts[index + 1:]]
 
 
 def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
                 clearance: float, standing: Sequence[Pose2D] = (),
-                parking: Parking | None = None) -> Sharing:
+                parking: Parking | None = None, aside: StepAside | None = None) -> Sharing:
     """The pieces shared out among turtles at `starts`, kept `clearance` apart (`share`), then
     refined with the waits counted.
 
     :raises Deadlock: every sharing tried would deadlock.
     """
-    return refine(share(pieces, starts, config, clearance, standing, parking), pieces, starts,
-                  config, clearance, standing, parking)
+    return refine(share(pieces, starts, config, clearance, standing, parking, aside), pieces,
+                  starts, config, clearance, standing, parking, aside)

@@ -20,7 +20,8 @@ from dataclasses import dataclass
 import shapely
 
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.fleet.moves import clear_spot, routes
+from turtle_traj.core.fleet.aside import SpotAside
+from turtle_traj.core.fleet.moves import clear_spot
 from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece
 from turtle_traj.core.fleet.refine import share_apart
@@ -71,11 +72,14 @@ class FleetRun:
         pieces = [self.pieces[index] for index in left]
         parking = (Parking(self.pieces, self.clearance, self.arena, standing)
                    if self.arena is not None else None)
-        sharing = share_apart(pieces, starts, self.config, self.clearance, standing, parking)
+        aside = SpotAside(self.config, self.clearance, self.arena) if self.arena else None
+        sharing = share_apart(pieces, starts, self.config, self.clearance, standing, parking,
+                              aside)
         if self.first_sharing is None:
             self.first_sharing = sharing
+        assert sharing.timing is not None
         moves = [[_renumbered(move, left) for move in route]
-                 for route in routes(sharing.shares, pieces, starts, self.config, parking)]
+                 for route in sharing.timing.routes[:len(starts)]]
         self._serving = serving
         self._schedule = Schedule(moves, sharing.timing, self.clearance)
         self._replan_due = False

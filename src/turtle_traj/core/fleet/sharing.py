@@ -7,14 +7,16 @@ Sharing them out is a min-max multiple travelling salesman problem (NP-hard). We
 SIAM J. Computing 7(2), 1978): each turtle draws one contiguous part of it, so each keeps the
 tour's short travel, and only the travel to its part's first piece is new. The parts are cut
 for the least makespan by a binary search over it (each trial fills the parts greedily in tour
-order), for every order of the turtles along the tour (up to `EXHAUSTIVE_TURTLES`; beyond, each
-part takes the nearest turtle left). With a clearance, the `SIMULATED_ORDERS` orders whose splits
-end soonest are then judged with the waits that keep the turtles apart, each with its cuts
-loosened a little too.
+order), for every order of the turtles along the tour (up to `EXHAUSTIVE_TURTLES`; beyond, for
+the whole fleet and for the shares of it nearest the drawing in `SUBSET_SHARES`, each part takes
+the nearest turtle left: among many turtles, fewer may crowd the drawing less). With a
+clearance, the `SIMULATED_ORDERS` orders whose splits end soonest are then judged with the waits
+that keep the turtles apart, each with its cuts loosened a little too.
 
-A lower bound of the makespan is the larger of the longest piece (with the travel to it from
-the nearest start) and all the drawing shared evenly (`lower_bound_s`): where a drawing cannot
-be shared that finely, the bench shows how close the sharing comes to it.
+A lower bound of the makespan (`lower_bound_s`) is the larger of the longest piece (with the
+travel to it from the nearest start) and all the drawing shared among turtles that cannot begin
+before they reach it, each piece with its request and the least turn onto it. It leaves out the
+crowding: where turtles must wait for each other, the bench shows how far the sharing is from it.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.fleet.moves import Share, routes
 from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece, request_s, travel_s
-from turtle_traj.core.fleet.timing import Deadlock, Timing, simulate
+from turtle_traj.core.fleet.timing import Deadlock, StepAside, Timing, simulate
 from turtle_traj.core.geometry.path import Pose2D
 
 
@@ -125,29 +127,41 @@ def _looser(tour: _Tour, starts: Sequence[Pose2D], least: float,
 
 
 def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[int, ...]]:
-    """The orders of the turtles along the tour to try: all of them for a few turtles; else
-    each part in turn takes the turtle left nearest the tour's next stretch."""
+    """The orders of the turtles along the tour to try: all of them for a few turtles; else,
+    for the whole fleet and for the `SUBSET_SHARES` of it nearest the drawing, each part in
+    turn taking the turtle left nearest the tour's next stretch."""
     if len(starts) <= EXHAUSTIVE_TURTLES:
         yield from itertools.permutations(range(len(starts)))
         return
-    left, order = set(range(len(starts))), []
-    for part in range(len(starts)):
-        anchor = tour[min(part * len(tour) // len(starts), len(tour) - 1)].ends(False)[0]
-        nearest = min(sorted(left), key=lambda k: math.dist((starts[k].x, starts[k].y),
-                                                            (anchor.x, anchor.y)))
-        order.append(nearest)
-        left.remove(nearest)
-    yield tuple(order)
+    begins = [piece.ends(False)[0] for piece in tour]
+    nearest_piece = [min(math.dist((s.x, s.y), (b.x, b.y)) for b in begins) for s in starts]
+    by_distance = sorted(range(len(starts)), key=lambda k: nearest_piece[k])
+    sizes = sorted({max(EXHAUSTIVE_TURTLES, round(share * len(starts)))
+                    for share in SUBSET_SHARES}, reverse=True)
+    for size in sizes:
+        left, order = set(by_distance[:size]), []
+        for part in range(size):
+            anchor = begins[min(part * len(tour) // size, len(tour) - 1)]
+            nearest = min(sorted(left), key=lambda k: math.dist((starts[k].x, starts[k].y),
+                                                                (anchor.x, anchor.y)))
+            order.append(nearest)
+            left.remove(nearest)
+        yield tuple(order)
+
+
+SUBSET_SHARES = (1.0, 0.75, 0.5, 0.35, 0.25)  # beyond EXHAUSTIVE_TURTLES: the shares of the
+# fleet tried
 
 
 def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
           clearance: float | None = None, standing: Sequence[Pose2D] = (),
-          parking: Parking | None = None) -> Sharing:
+          parking: Parking | None = None, aside: StepAside | None = None) -> Sharing:
     """The pieces of one turtle's tour (`pieces`, in its order) shared out among turtles
     standing at `starts` (see the module). With a `clearance`, each candidate is judged by when
     its turtles end with the waits that keep them that far apart (`timing.simulate`), and one
     that would deadlock is passed over; `standing` are turtles that do not draw, kept clear of;
-    `parking`, where each parks once it drew (`moves.routes`).
+    `parking`, where each parks once it drew (`moves.routes`); `aside`, where a turtle in the
+    way of another steps aside (`timing.simulate`).
 
     :raises Deadlock: with a clearance, every candidate would deadlock.
     """
@@ -167,13 +181,15 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
         tried = [cuts] if clearance is None else _looser(tour, ordered, least, cuts)
         for cuts in tried:
             parts = dict(zip(order, zip(cuts, cuts[1:], strict=False), strict=True))
-            sharing = Sharing(tuple(Share(tuple(range(*parts[turtle])),
-                                          tour.part_s(*parts[turtle], starts[turtle]))
+            sharing = Sharing(tuple(Share(tuple(range(*parts.get(turtle, (0, 0)))),
+                                          tour.part_s(*parts.get(turtle, (0, 0)),
+                                                      starts[turtle]))
                                     for turtle in range(len(starts))), bound)
             if clearance is not None:
                 try:
                     timing = simulate([*routes(sharing.shares, pieces, starts, config, parking),
-                                       *([] for _ in standing)], [*starts, *standing], clearance)
+                                       *([] for _ in standing)], [*starts, *standing], clearance,
+                                      aside, len(standing))
                 except Deadlock:
                     continue
                 sharing = replace(sharing, timing=timing)
@@ -188,11 +204,39 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
 
 def lower_bound_s(pieces: Sequence[Piece], starts: Sequence[Pose2D],
                   config: ControlConfig) -> float:
-    """No sharing ends sooner: the longest piece, reached from the nearest start at the
-    earliest, or all the drawing shared evenly."""
+    """No sharing ends sooner, however near the turtles come: the longest piece, reached from
+    the nearest start at the earliest; and all the drawing shared among the turtles, none of
+    which draws before it could reach the drawing (the travel from where they stand)."""
     if not pieces:
         return 0.0
-    longest = max(piece.time_s + min(travel_s(start, piece.ends(reverse)[0], config)
-                                      for start in starts for reverse in (False, True))
-                  for piece in pieces)
-    return max(longest, sum(piece.time_s for piece in pieces) / len(starts))
+    begins = [[piece.ends(reverse)[0] for reverse in (False, True)] for piece in pieces]
+    longest = max(piece.time_s + min(travel_s(start, begin, config)
+                                      for start in starts for begin in begun)
+                  for piece, begun in zip(pieces, begins, strict=True))
+    reach = sorted(min(travel_s(start, begin, config) for begun in begins for begin in begun)
+                   for start in starts)
+    return max(longest, _shared_s(_work_s(pieces, starts, config), reach))
+
+
+def _work_s(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig) -> float:
+    """What drawing every piece costs at least: its drawing, its request and the turn onto it
+    from the nearest pose it could be begun from (another piece's end, or a start)."""
+    ends = [[piece.ends(reverse) for reverse in (False, True)] for piece in pieces]
+    total = 0.0
+    for index, piece in enumerate(pieces):
+        before = [*starts, *(end for other, both in enumerate(ends) if other != index
+                             for _, end in both)]
+        total += piece.time_s + request_s(config) + min(
+            travel_s(pose, begin, config) for begin, _ in ends[index] for pose in before)
+    return total
+
+
+def _shared_s(work: float, reach: Sequence[float]) -> float:
+    """The least M for which turtles able to begin at `reach` (ascending) have `work` of time
+    between them: the sum over them of max(0, M - reach) reaches it."""
+    shared = math.inf
+    for count in range(1, len(reach) + 1):
+        shared = (work + sum(reach[:count])) / count
+        if count == len(reach) or shared <= reach[count]:
+            break
+    return shared
