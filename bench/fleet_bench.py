@@ -1,12 +1,13 @@
 """Several turtles drawing one request, against one turtle drawing it alone, in lock-step.
 
-    .venv/bin/python bench/fleet_bench.py [--turtles 1,3,10,20] [--picture docs/_static/fleet.png]
+    .venv/bin/python bench/fleet_bench.py [--turtles 1,3,10,20] [--planning] [--faults]
+        [--picture docs/fleet.png]
 
 For the text "ROS 2" (1 m, from turtlesim's spawn point), the demo's SVG and the demo's star
 (the registry's examples, from their start poses), one turtle draws the request with its own
-Draw action, then 2 to N turtles draw it through the fleet coordinator: turtle1 where the one
-turtle started, the others where `up --turtles N` puts them (rings of 3 and 4.5 m round the
-spawn point).
+Draw action, then the other sizes of `--turtles` draw it through the fleet coordinator:
+turtle1 where the one turtle started, the others where `up --turtles N` puts them (rings of 3
+and 4.5 m round the spawn point).
 Every figure but the planned ones is measured here from what the simulator did:
   answer      simulated time from sending the goal to its answer, what a user waits for, and
               its ratio to the one turtle's;
@@ -89,7 +90,28 @@ def lose_one(fault: str, at_s: float, output: Path, single: np.ndarray) -> str:
         system.close()
 
 
-PICTURE_COLORS = 'orange,#40e0d0,#ff69b4,#adff2f'  # turtle1, turtle2, ... in the picture
+def planning_s(name: str, count: int) -> float:
+    """CPU seconds the coordinator's planning takes for `name` among `count` turtles where the
+    bench puts them: the drawing planned, cut into pieces, shared out and timed apart."""
+    from turtle_traj.api.ros_interface import make_request
+    from turtle_traj.core.fleet.pieces import pieces_in
+    from turtle_traj.core.fleet.run import FleetRun
+    from turtle_traj.core.geometry.path import Pose2D
+    from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+    from turtle_traj.core.planning.planner import plan
+    trajectory, given, start = DRAWINGS[name]
+    starts = [Pose2D(*start), *(Pose2D(*place) for place in starting_places(count)[1:])]
+    began = time.process_time()
+    planned = plan(trajectory, make_request(BY_NAME[trajectory], dict(given)), starts[0],
+                   DEFAULT_SETTINGS)
+    config = planned.control(DEFAULT_SETTINGS.control)
+    FleetRun(pieces_in(planned.path, config), [f'turtle{k + 1}' for k in range(count)], starts,
+             config, 0.6, arena=DEFAULT_SETTINGS.arena)
+    return time.process_time() - began
+
+
+PICTURE_COLORS = ('orange,#40e0d0,#ff69b4,#adff2f,#ffd700,#1e90ff,#ff4500,#9370db,#00fa9a,'
+                  '#f5f5f5')  # turtle1, turtle2, ... in the picture (in turn)
 
 
 def draw(name: str, count: int, output: Path, colors: str = '') -> dict:
@@ -139,6 +161,8 @@ def main() -> int:
                         help='skip the makespan table')
     parser.add_argument('--faults', action='store_true', help='then lose turtle2 of three at '
                         'quarter, half and three quarters of "ROS 2": /kill, and its node gone')
+    parser.add_argument('--planning', action='store_true', help='then the CPU time the '
+                        'coordinator takes to plan each drawing for each fleet size')
     parser.add_argument('--picture', type=Path, help='draw the demo\'s SVG with the most '
                         'turtles, each in its own colour, and save the canvas here')
     options = parser.parse_args()
@@ -169,6 +193,11 @@ def main() -> int:
             for fault in ('kill', 'node'):
                 for at_s in (4.0, 8.0, 12.0):
                     print(lose_one(fault, at_s, output, single), flush=True)
+        if options.planning:
+            for name in options.drawings:
+                print(f'planning {name:8} CPU s: ' + ', '.join(
+                    f'{count} turtles {planning_s(name, count):.2f}'
+                    for count in options.turtles if count > 1), flush=True)
         if options.picture:
             row = draw('svg', options.turtles[-1], output, PICTURE_COLORS)
             options.picture.parent.mkdir(parents=True, exist_ok=True)
