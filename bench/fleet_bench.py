@@ -90,9 +90,9 @@ def lose_one(fault: str, at_s: float, output: Path, single: np.ndarray) -> str:
         system.close()
 
 
-def planning_s(name: str, count: int) -> float:
-    """CPU seconds the coordinator's planning takes for `name` among `count` turtles where the
-    bench puts them: the drawing planned, cut into pieces, shared out and timed apart."""
+def _planned(name: str, count: int):
+    """The coordinator's FleetRun for `name` among `count` turtles where the bench puts them:
+    the drawing planned, cut into pieces, shared out and timed apart."""
     from turtle_traj.api.ros_interface import make_request
     from turtle_traj.core.fleet.pieces import pieces_in
     from turtle_traj.core.fleet.run import FleetRun
@@ -101,13 +101,58 @@ def planning_s(name: str, count: int) -> float:
     from turtle_traj.core.planning.planner import plan
     trajectory, given, start = DRAWINGS[name]
     starts = [Pose2D(*start), *(Pose2D(*place) for place in starting_places(count)[1:])]
-    began = time.process_time()
     planned = plan(trajectory, make_request(BY_NAME[trajectory], dict(given)), starts[0],
                    DEFAULT_SETTINGS)
     config = planned.control(DEFAULT_SETTINGS.control)
-    FleetRun(pieces_in(planned.path, config), [f'turtle{k + 1}' for k in range(count)], starts,
-             config, 0.6, arena=DEFAULT_SETTINGS.arena)
+    return FleetRun(pieces_in(planned.path, config), [f'turtle{k + 1}' for k in range(count)],
+                    starts, config, 0.6, arena=DEFAULT_SETTINGS.arena)
+
+
+def planning_s(name: str, count: int) -> float:
+    """CPU seconds the coordinator's planning takes for `name` among `count` turtles."""
+    began = time.process_time()
+    _planned(name, count)
     return time.process_time() - began
+
+
+def faults_at_scale(output: Path, single: np.ndarray, count: int = 20) -> str:
+    """The demo's SVG by `count` turtles: the one with the third longest part has a worn motor
+    (half its speed, throughout); the one with the longest is removed with /kill 3 s in, the
+    next one's node destroyed 6 s in. A line of figures."""
+    from rclpy.parameter import Parameter
+    from turtle_traj_interfaces.action import FleetDraw
+    shares = _planned('svg', count).first_sharing.shares
+    longest = sorted(range(count), key=lambda turtle: -shares[turtle].time_s)
+    killed, dead_node, worn = (f'turtle{turtle + 1}' for turtle in longest[:3])
+    trajectory, given, start = DRAWINGS['svg']
+    system = InProcessFleet([start, *starting_places(count)[1:]], output_dir=output)
+    try:
+        system.sim.set_parameters([Parameter('motor_gains', value=f'{worn}=0.5')])
+        for log in system.poses.values():
+            log.clear()
+        client = system.action_client(FleetDraw, '/fleet/draw')
+        asked_s = system.sim_time_s
+        sent = client.send_goal_async(make_fleet_goal(BY_NAME[trajectory], given, system.names))
+        system.spin_until(sent.done, timeout_s=30.0)
+        answer = sent.result().get_result_async()
+        for at_s, name, how in ((3.0, killed, 'kill'), (6.0, dead_node, 'node')):
+            system.spin_until(lambda at_s=at_s: system.sim_time_s > asked_s + at_s)
+            system.lose(name, how)
+        system.spin_until(answer.done, timeout_s=900.0)
+        result = answer.result().result
+        ink = system.sim.canvas.trails[..., 3] > 0
+        differ = 100.0 * np.count_nonzero(ink ^ single) / np.count_nonzero(single)
+        lost = '; '.join(f'{name}: {why}' for name, why in zip(result.turtles, result.lost,
+                                                               strict=True) if why)
+        return (f'svg, {count} turtles, {worn} at half speed, {killed} killed at 3 s, '
+                f'{dead_node}\'s node gone at 6 s: '
+                f'{"drawn" if result.success else "FAILED: " + result.message}, answer '
+                f'{system.sim_time_s - asked_s:.2f} s (planned {result.planned_makespan:.2f}), '
+                f'pieces {sum(result.pieces)}, ink {differ:.2f}%, closest '
+                f'{_closest(system.poses):.3f} m, deviation '
+                f'{max(result.max_deviation) * 1000:.2f} mm; lost: {lost}')
+    finally:
+        system.close()
 
 
 PICTURE_COLORS = ('orange,#40e0d0,#ff69b4,#adff2f,#ffd700,#1e90ff,#ff4500,#9370db,#00fa9a,'
@@ -160,7 +205,8 @@ def main() -> int:
     parser.add_argument('--no-table', dest='table', action='store_false',
                         help='skip the makespan table')
     parser.add_argument('--faults', action='store_true', help='then lose turtle2 of three at '
-                        'quarter, half and three quarters of "ROS 2": /kill, and its node gone')
+                        'quarter, half and three quarters of "ROS 2": /kill, and its node gone; '
+                        'and the SVG by 20, one at half speed, two lost')
     parser.add_argument('--planning', action='store_true', help='then the CPU time the '
                         'coordinator takes to plan each drawing for each fleet size')
     parser.add_argument('--picture', type=Path, help='draw the demo\'s SVG with the most '
@@ -193,6 +239,8 @@ def main() -> int:
             for fault in ('kill', 'node'):
                 for at_s in (4.0, 8.0, 12.0):
                     print(lose_one(fault, at_s, output, single), flush=True)
+            single = draw('svg', 1, output)['trails'][..., 3] > 0
+            print(faults_at_scale(output, single), flush=True)
         if options.planning:
             for name in options.drawings:
                 print(f'planning {name:8} CPU s: ' + ', '.join(

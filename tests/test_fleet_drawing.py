@@ -191,6 +191,24 @@ def test_a_turtle_lost_halfway_leaves_its_pieces_to_the_others(fleet, alone, fau
     assert max(result.max_deviation) < 2e-3
 
 
+def test_a_turtle_at_half_speed_throughout_keeps_the_others_apart_and_draws_its_part(fleet,
+                                                                                       alone):
+    """turtle2's motors deliver half of every command (the simulator's `motor_gains`): its
+    moves take longer than planned; the passing order keeps the turtles apart all the same,
+    and it draws its own part, as exactly as its node reports."""
+    from rclpy.parameter import Parameter
+    _, single_ink = alone
+    fleet.sim.set_parameters([Parameter('motor_gains', value='turtle2=0.5')])
+    client = fleet.action_client(FleetDraw, '/fleet/draw')
+    _, result, _ = _finish(fleet, client, FleetDraw.Goal(drawing=Drawing(**TEXT)))
+    assert result.success, result.message
+    assert not any(result.lost) and result.pieces[1] > 0
+    assert result.makespan > result.planned_makespan + 1.0  # it did run late
+    assert _closest_approach(fleet.poses) >= CLEARANCE_M
+    ink = _inked(fleet)
+    assert np.count_nonzero(ink ^ single_ink) <= 0.02 * np.count_nonzero(single_ink)
+
+
 def test_cancelling_stops_every_turtle_and_a_turtle_busy_alone_is_left_out(fleet):
     # turtle3 circles on a request of its own: left out, and kept clear of
     own = fleet.action_client(Draw, '/turtle3/turtle_traj/draw')

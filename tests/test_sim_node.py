@@ -190,6 +190,11 @@ def _set_parameter(turtle_sim, name, value):
      'Wrong parameter type'),
     ('time_scale', ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=2.0),
      'read-only'),
+    ('motor_gains', ParameterValue(type=ParameterType.PARAMETER_STRING,
+                                   string_value='turtle1=1.5'),
+     "motor_gains: 'turtle1=1.5' is not name=gain with a gain in (0, 1]"),
+    ('motor_gains', ParameterValue(type=ParameterType.PARAMETER_STRING, string_value='turtle1'),
+     "motor_gains: 'turtle1' is not name=gain"),
 ])
 def test_invalid_parameters_are_refused_with_a_reason(turtle_sim, name, value, reason):
     """The parameter layer's refusals (rclcpp's words in turtlesim, rclpy's here)."""

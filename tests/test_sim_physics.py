@@ -57,6 +57,21 @@ def test_one_command_lasts_63_steps_as_on_turtlesim():
     assert turtle.y == SPAWN_XY_M
 
 
+def test_a_worn_motor_moves_its_share_and_its_pose_still_echoes_the_command():
+    world = _world()
+    world.spawn(2.0, 2.0, 0.0, 'turtle2')
+    world.motor_gains = {'turtle2': 0.5}
+    for name in ('turtle1', 'turtle2'):
+        world.command(name, 1.0, 0.0, 1.0)
+    for _ in range(10):
+        world.step()
+    whole, worn = world.turtles['turtle1'], world.turtles['turtle2']
+    assert worn.theta == pytest.approx(whole.theta / 2.0, abs=1e-12)
+    assert math.hypot(worn.x - 2.0, worn.y - 2.0) == pytest.approx(
+        math.hypot(whole.x - SPAWN_XY_M, whole.y - SPAWN_XY_M) / 2.0, rel=0.01)
+    assert (worn.vx, worn.omega) == (1.0, 1.0)  # as turtlesim reports the command
+
+
 def test_the_timeout_runs_on_the_clock_the_caller_gives():
     world = _world()
     world.command('turtle1', 1.0, 0.0, 0.0, now_s=100.0)  # stamped at the reading tick

@@ -83,9 +83,11 @@ def _verdict(drawing: UnderWay) -> tuple[bool, Ending, str]:
     if not run.done:
         return False, Ending.NO_PROGRESS, 'every turtle was lost'
     if run.blocked:
+        numbers = ', '.join(str(index + 1) for index in sorted(run.blocked))
         return False, Ending.NO_PROGRESS, (
-            f'{len(run.blocked)} of {len(run.pieces)} pieces left undrawn: they pass within '
-            'the clearance of a turtle that stands where it was lost')
+            f'{len(run.blocked)} of {len(run.pieces)} pieces left undrawn (pieces {numbers}, '
+            'in drawing order): they pass within the clearance of a turtle that stands where '
+            'it was lost')
     return True, Ending.SUCCEEDED, 'drawn'
 
 

@@ -23,7 +23,7 @@ from turtle_traj.rosutils.lockstep import clock_message
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 from turtle_traj.sim.canvas import Canvas
 from turtle_traj.sim.endpoints import TurtleEndpoints
-from turtle_traj.sim.parameters import declare_parameters
+from turtle_traj.sim.parameters import check_parameters, declare_parameters, motor_gains
 from turtle_traj.sim.physics import Inertia, World
 from turtle_traj.sim.rotation_goals import RotationGoals
 from turtle_traj.sim.run_record import RunRecord
@@ -54,6 +54,7 @@ class SimNode(Node):
         self.world = World()
         self.rotations = RotationGoals(self, self.world)
         self._background: tuple[int, int, int] | None = None
+        self.add_on_set_parameters_callback(check_parameters)
         self.add_post_set_parameters_callback(self._apply_parameters)
         declared = declare_parameters(self)
         self.world.inertia = Inertia(declared.max_linear_accel, declared.max_angular_accel)
@@ -95,6 +96,8 @@ class SimNode(Node):
         for parameter in parameters:
             if parameter.name == 'holonomic':
                 self.world.holonomic = parameter.value
+            elif parameter.name == 'motor_gains':
+                self.world.motor_gains = motor_gains(parameter.value)
         self._background = None  # read again when next asked for
 
     @property

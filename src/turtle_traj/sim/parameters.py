@@ -2,11 +2,18 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rcl_interfaces.msg import (
+    FloatingPointRange,
+    IntegerRange,
+    ParameterDescriptor,
+    SetParametersResult,
+)
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 
 
 @dataclass(frozen=True)
@@ -69,4 +76,37 @@ def declare_parameters(node: Node) -> SimParameters:
             description='Inertia: how fast a turtle\'s turn rate may change [rad/s^2]; 0 is '
                         'instant (turtle_traj extension)', read_only=True,
             floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1000.0)])).value)
+    node.declare_parameter('motor_gains', '', ParameterDescriptor(
+        description='Worn motors: "turtle3=0.5,turtle7=0.8" has those turtles deliver that '
+                    'share of every commanded velocity, 0 to 1 (turtle_traj extension, for '
+                    'fleet fault tests)'))
     return SimParameters(time_scale, publish_clock, output_dir, *delay, *inertia)
+
+
+def motor_gains(text: str) -> dict[str, float]:
+    """The `motor_gains` parameter read: turtle name to gain.
+
+    :raises ValueError: not "name=gain" pairs separated by commas, or a gain outside (0, 1].
+    """
+    gains: dict[str, float] = {}
+    for item in filter(None, (part.strip() for part in text.split(','))):
+        name, equals, value = item.partition('=')
+        try:
+            gain = float(value)
+        except ValueError:
+            gain = math.nan
+        if not equals or not name.strip() or not 0.0 < gain <= 1.0:
+            raise ValueError(f'motor_gains: {item!r} is not name=gain with a gain in (0, 1]')
+        gains[name.strip()] = gain
+    return gains
+
+
+def check_parameters(parameters: list[Parameter]) -> SetParametersResult:
+    """Refuse a `motor_gains` that does not read (the others are checked by their ranges)."""
+    for parameter in parameters:
+        if parameter.name == 'motor_gains':
+            try:
+                motor_gains(parameter.value)
+            except ValueError as error:
+                return SetParametersResult(successful=False, reason=str(error))
+    return SetParametersResult(successful=True)

@@ -72,6 +72,10 @@ class World:
         self.time_s = 0.0
         self.turtles: dict[str, Turtle] = {}
         self._name_counter = 0
+        # By turtle name: the share of its velocity its motors deliver (1 unless given), as a
+        # worn motor would; its pose still reports the velocity, as turtlesim's reports the
+        # command.
+        self.motor_gains: dict[str, float] = {}
 
     def __iter__(self) -> Iterator[Turtle]:
         return (self.turtles[name] for name in sorted(self.turtles))
@@ -204,10 +208,11 @@ class World:
         self._accelerate(turtle)
 
         old = (turtle.x, turtle.y)
-        turtle.theta = normalize_angle(turtle.theta + turtle.omega * STEP_S)
+        moved_s = self.motor_gains.get(turtle.name, 1.0) * STEP_S
+        turtle.theta = normalize_angle(turtle.theta + turtle.omega * moved_s)
         cos_t, sin_t = math.cos(turtle.theta), math.sin(turtle.theta)
-        turtle.x += (turtle.vx * cos_t - turtle.vy * sin_t) * STEP_S
-        turtle.y += (turtle.vx * sin_t + turtle.vy * cos_t) * STEP_S
+        turtle.x += (turtle.vx * cos_t - turtle.vy * sin_t) * moved_s
+        turtle.y += (turtle.vx * sin_t + turtle.vy * cos_t) * moved_s
         if not (0.0 <= turtle.x <= WORLD_SIZE_M and 0.0 <= turtle.y <= WORLD_SIZE_M):
             report.wall_hits.append((turtle.name, turtle.x, WORLD_SIZE_M - turtle.y))
             turtle.x = min(max(turtle.x, 0.0), WORLD_SIZE_M)
