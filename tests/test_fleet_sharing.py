@@ -254,3 +254,25 @@ def test_twenty_turtles_share_the_svg_apart_in_a_fifth_of_one_turtles_time():
     assert closest_approach(tracks) >= 0.6 - 1e-9
     alone = share(pieces, starts[:1], CONFIG).makespan_s
     assert sharing.lower_bound_s <= sharing.timing.makespan_s < 0.2 * alone
+
+
+def test_pieces_beside_a_turtle_that_stands_still_are_left_undrawn_and_named():
+    """A turtle that does not draw stands on the text's first stroke: the pieces within the
+    clearance of it are set aside, and the answer names them, in drawing order."""
+    from types import SimpleNamespace
+
+    from turtle_traj.core.fleet.run import FleetRun
+    from turtle_traj.fleet.under_way import _verdict
+
+    pieces = pieces_in(_text_plan().path, CONFIG)
+    first = pieces[0].polyline.points[0]
+    blocker = Pose2D(float(first[0]), float(first[1]), 0.0)
+    run = FleetRun(pieces, ['turtle1', 'turtle2'], [Pose2D(1.0, 1.0, 0.0), Pose2D(10.0, 1.0, 0.0)],
+                   CONFIG, 0.6, standing=[blocker], arena=DEFAULT_SETTINGS.arena)
+    near = {index for index, piece in enumerate(pieces) if shapely.distance(
+        shapely.LineString(piece.polyline.points), shapely.Point(first)) < 0.6}
+    assert run.blocked == near and 0 in near
+    run.drawn = set(range(len(pieces))) - near
+    success, _, message = _verdict(SimpleNamespace(run=run, failure=None))
+    assert not success
+    assert f'pieces {", ".join(str(index + 1) for index in sorted(near))},' in message
