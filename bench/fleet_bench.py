@@ -104,7 +104,8 @@ def _planned(name: str, count: int):
     planned = plan(trajectory, make_request(BY_NAME[trajectory], dict(given)), starts[0],
                    DEFAULT_SETTINGS)
     config = planned.control(DEFAULT_SETTINGS.control)
-    return FleetRun(pieces_in(planned.path, config), [f'turtle{k + 1}' for k in range(count)],
+    pieces = pieces_in(planned.path, config, corner_angle=DEFAULT_SETTINGS.defaults.corner_angle)
+    return FleetRun(pieces, [f'turtle{k + 1}' for k in range(count)],
                     starts, config, 0.6, arena=DEFAULT_SETTINGS.arena)
 
 

@@ -276,3 +276,37 @@ def test_pieces_beside_a_turtle_that_stands_still_are_left_undrawn_and_named():
     success, _, message = _verdict(SimpleNamespace(run=run, failure=None))
     assert not success
     assert f'pieces {", ".join(str(index + 1) for index in sorted(near))},' in message
+
+
+def test_at_a_corner_of_the_drawing_the_pieces_own_request_turns_onto_it():
+    """A piece the drawing turns onto by more than the corner angle (a follow-path from the
+    piece before it turns there in place too) is sent as one request with its turn; a smaller
+    turn stays a request of its own."""
+    from turtle_traj.core.fleet.moves import Share, routes
+    from turtle_traj.core.geometry.path import Turn
+
+    plan = _text_plan()
+    corner = DEFAULT_SETTINGS.defaults.corner_angle
+    pieces = pieces_in(plan.path, CONFIG, corner_angle=corner)
+    sharp = [(leg.x, leg.y) for leg in plan.path.legs
+             if isinstance(leg, Turn) and abs(leg.sweep_rad) > corner]
+    cornered = [piece for piece in pieces if piece.turned_onto(False)]
+    assert 0 < len(cornered) < len(pieces)
+    for piece in cornered:  # each begins where the plan turns sharply
+        assert min(math.dist(piece.polyline.points[0], at) for at in sharp) < 1e-9
+    route = routes([Share(tuple(range(len(pieces))), 0.0)], pieces, [ANCHOR], CONFIG)[0]
+    drawn = [index for index, move in enumerate(route) if move.pieces]
+    for index in drawn:
+        piece = pieces[route[index].pieces[0]]
+        before = route[index - 1]
+        if piece.turned_onto(False) and before.pieces:  # joined to the piece before it
+            begin = piece.ends(False)[0]
+            end = pieces[before.pieces[0]].ends(False)[1]
+            assert route[index].duration_s == pytest.approx(
+                piece.time_s + request_s(CONFIG) + travel_s(end, begin, CONFIG))
+    folded = sum(1 for index in drawn if pieces[route[index].pieces[0]].turned_onto(False)
+                 and route[index - 1].pieces)
+    assert folded > 0
+    unfolded = routes([Share(tuple(range(len(pieces))), 0.0)], pieces_in(plan.path, CONFIG),
+                      [ANCHOR], CONFIG)[0]
+    assert len(unfolded) == len(route) + folded  # one request fewer at each such corner

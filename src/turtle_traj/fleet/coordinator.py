@@ -151,7 +151,8 @@ class FleetCoordinator(Node):
             planned = plan(goal.drawing.trajectory, goal.drawing, anchor, settings)
             config = planned.control(settings.control)
             return planned, config, FleetRun(
-                pieces_in(planned.path, config), [link.name for link in drawers], starts,
+                pieces_in(planned.path, config, corner_angle=settings.defaults.corner_angle),
+                [link.name for link in drawers], starts,
                 config, clearance, standing, settings.arena)
         # Planned beside the executor (seconds on a loaded machine): meanwhile this node still
         # answers its clients, and lock-step holds the simulator, as for a callback.

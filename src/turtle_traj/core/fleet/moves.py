@@ -1,8 +1,10 @@
 """What each turtle drives: its part of the pieces, as moves sent one request at a time. Pure.
 
 A turtle gets to each of its pieces by a pen-up travel (in stretches of at most `PIECE_M`) that
-ends facing the piece, or, standing at its start already, by a turn onto it; then draws it; and
-parks once it drew its part, off the drawing and out of the others' way (`parking`).
+ends facing the piece, or, standing at its start already, by a turn onto it (at a corner of the
+drawing, the piece's own request turns first, as the drawing does: one request, not two); then
+draws it; and parks once it drew its part, off the drawing and out of the others' way
+(`parking`).
 """
 
 from __future__ import annotations
@@ -51,16 +53,20 @@ def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Po
         for index in order:
             piece = pieces[index]
             begin, end = piece.ends(part.reverse)
+            turn, turn_s = abs(wrap_angle(begin.theta - here.theta)), 0.0
             if math.hypot(begin.x - here.x, begin.y - here.y) > JOINED_M:
                 route += way(here, begin, config)
-            elif abs(wrap_angle(begin.theta - here.theta)) > JOINED_M:
+            elif turn > JOINED_M and piece.turned_onto(part.reverse):
+                # a corner of the drawing: the piece's own follow-path turns onto it first
+                turn_s = travel_s(here, begin, config)
+            elif turn > JOINED_M:
                 route.append(Move(np.array([(begin.x, begin.y)]),
                                   travel_s(here, begin, config) + request_s(config), pen=True,
                                   heading=begin.theta))
             points = piece.polyline.points
             route.append(Move(points[::-1] if part.reverse else points,
-                              piece.time_s + request_s(config), pen=True, heading=end.theta,
-                              pieces=(index,)))
+                              turn_s + piece.time_s + request_s(config), pen=True,
+                              heading=end.theta, pieces=(index,)))
             here = end
         if route or (parking is not None and not parking.clear(start)):
             home = start if parking is None else parking.spot(here, taken)

@@ -19,7 +19,7 @@ import numpy as np
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.duration import least_time_s, ramp_s
 from turtle_traj.core.geometry.angles import wrap_angle
-from turtle_traj.core.geometry.path import Path, Polyline, Pose2D
+from turtle_traj.core.geometry.path import Path, Polyline, Pose2D, Turn
 
 JOINED_M = 1e-6  # a piece beginning this near where the turtle stands (and as near its heading,
 # in radians) continues from there
@@ -32,6 +32,13 @@ class Piece:
 
     polyline: Polyline
     time_s: float
+    # the drawing turns in place onto it where it begins (drawn forwards, backwards) at a
+    # corner that a follow-path from the piece before it turns at too (`pieces_in`)
+    cornered: tuple[bool, bool] = (False, False)
+
+    def turned_onto(self, reverse: bool) -> bool:
+        """The drawing turns in place onto it, drawn forwards or backwards (`cornered`)."""
+        return self.cornered[reverse]
 
     def ends(self, reverse: bool) -> tuple[Pose2D, Pose2D]:
         """The pose it is started in and the pose it ends in, drawn forwards or backwards."""
@@ -45,12 +52,25 @@ class Piece:
 PIECE_M = 1.0  # pieces longer than this are cut into even parts no longer
 
 
-def pieces_in(path: Path, config: ControlConfig, longest: float = PIECE_M) -> list[Piece]:
+def pieces_in(path: Path, config: ControlConfig, longest: float = PIECE_M,
+              corner_angle: float = math.inf) -> list[Piece]:
     """The pen-down pieces of a drawing's path, in its order, each at most `longest` long: a
     long stroke is cut where it goes straight on, so that several turtles can share it and a
-    turtle waiting for another waits for a short stretch, not a whole stroke."""
-    return [Piece(part, least_time_s(Path((part,)), config)) for leg in path.legs
-            if isinstance(leg, Polyline) and leg.pen for part in _parts(leg, longest)]
+    turtle waiting for another waits for a short stretch, not a whole stroke. A piece is
+    `cornered` where the drawing turns onto it by more than `corner_angle` (the drawing nodes'
+    own: a follow-path through it turns in place there first)."""
+    legs, pieces = path.legs, []
+    for index, leg in enumerate(legs):
+        if not (isinstance(leg, Polyline) and leg.pen):
+            continue
+        before, after = (0 <= other < len(legs) and isinstance(legs[other], Turn)
+                         and abs(legs[other].sweep_rad) > corner_angle
+                         for other in (index - 1, index + 1))
+        parts = _parts(leg, longest)
+        pieces += [Piece(part, least_time_s(Path((part,)), config),
+                         (before and number == 0, after and number == len(parts) - 1))
+                   for number, part in enumerate(parts)]
+    return pieces
 
 
 def _parts(leg: Polyline, longest: float) -> list[Polyline]:
