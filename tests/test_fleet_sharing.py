@@ -310,3 +310,21 @@ def test_at_a_corner_of_the_drawing_the_pieces_own_request_turns_onto_it():
     unfolded = routes([Share(tuple(range(len(pieces))), 0.0)], pieces_in(plan.path, CONFIG),
                       [ANCHOR], CONFIG)[0]
     assert len(unfolded) == len(route) + folded  # one request fewer at each such corner
+
+
+@pytest.mark.parametrize('seed', range(6))
+def test_the_bottleneck_assignment_is_the_least_longest_then_the_least_total(seed):
+    """Against every assignment of 4 parts to 6 turtles, on random costs with ties."""
+    from turtle_traj.core.fleet.assignment import bottleneck_assignment
+
+    rng = np.random.default_rng(seed)
+    costs = rng.integers(1, 12, size=(6, 4)).astype(float)
+    turtle_of = bottleneck_assignment(costs)
+    assert len(set(turtle_of)) == 4  # a turtle each
+    every = [(max(costs[t, p] for p, t in enumerate(turtles)),
+              sum(costs[t, p] for p, t in enumerate(turtles)))
+             for turtles in itertools.permutations(range(6), 4)]
+    longest = min(pair[0] for pair in every)
+    total = min(pair[1] for pair in every if pair[0] == longest)
+    assert max(costs[t, p] for p, t in enumerate(turtle_of)) == longest
+    assert sum(costs[t, p] for p, t in enumerate(turtle_of)) == total

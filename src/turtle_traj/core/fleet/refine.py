@@ -19,7 +19,7 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.fleet.moves import Share, routes
 from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece
-from turtle_traj.core.fleet.sharing import Sharing, share
+from turtle_traj.core.fleet.sharing import EXHAUSTIVE_TURTLES, Sharing, candidates
 from turtle_traj.core.fleet.timing import Deadlock, StepAside, Timing, simulate
 from turtle_traj.core.geometry.path import Pose2D
 
@@ -127,10 +127,17 @@ def _neighbours(parts: list[_Part], count: int, focus: set[int]) -> Iterator[lis
 def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
                 clearance: float, standing: Sequence[Pose2D] = (),
                 parking: Parking | None = None, aside: StepAside | None = None) -> Sharing:
-    """The pieces shared out among turtles at `starts`, kept `clearance` apart (`share`), then
-    refined with the waits counted.
+    """The pieces shared out among turtles at `starts`, kept `clearance` apart (`candidates`),
+    then refined with the waits counted: the best candidate, or beyond `EXHAUSTIVE_TURTLES`
+    (where the candidates come from fewer orders) each of the `REFINED_CANDIDATES` best.
 
     :raises Deadlock: every sharing tried would deadlock.
     """
-    return refine(share(pieces, starts, config, clearance, standing, parking, aside), pieces,
-                  starts, config, clearance, standing, parking, aside)
+    found = candidates(pieces, starts, config, clearance, standing, parking, aside)
+    count = 1 if len(starts) <= EXHAUSTIVE_TURTLES else REFINED_CANDIDATES
+    refined = [refine(sharing, pieces, starts, config, clearance, standing, parking, aside)
+               for sharing in found[:count]]
+    return min(refined, key=lambda sharing: _finishes(sharing.timing))
+
+
+REFINED_CANDIDATES = 3

@@ -9,9 +9,11 @@ tour's short travel, and only the travel to its part's first piece is new. The p
 for the least makespan by a binary search over it (each trial fills the parts greedily in tour
 order), for every order of the turtles along the tour (up to `EXHAUSTIVE_TURTLES`; beyond, for
 the whole fleet and for the shares of it nearest the drawing in `SUBSET_SHARES`, each part takes
-the nearest turtle left: among many turtles, fewer may crowd the drawing less). With a
-clearance, the `SIMULATED_ORDERS` orders whose splits end soonest are then judged with the waits
-that keep the turtles apart, each with its cuts loosened a little too.
+the nearest turtle left, then its split's parts are given to the turtles by a bottleneck
+assignment (`assignment`) and the tour split again for that order, while that changes: among
+many turtles, fewer may crowd the drawing less). With a clearance, the orders whose splits end
+soonest (`SIMULATED_ORDERS`; beyond `EXHAUSTIVE_TURTLES`, all) are then judged with the waits
+that keep the turtles apart, the first ones with their cuts loosened a little too.
 
 A lower bound of the makespan (`lower_bound_s`) is the larger of the longest piece (with the
 travel to it from the nearest start) and all the drawing shared among turtles that cannot begin
@@ -26,7 +28,10 @@ import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 
+import numpy as np
+
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.fleet.assignment import bottleneck_assignment
 from turtle_traj.core.fleet.moves import Share, routes
 from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece, request_s, travel_s
@@ -126,14 +131,16 @@ def _looser(tour: _Tour, starts: Sequence[Pose2D], least: float,
     return tried
 
 
-def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[int, ...]]:
+def _orders(starts: Sequence[Pose2D], tour: _Tour, low: float,
+            high: float) -> Iterator[tuple[int, ...]]:
     """The orders of the turtles along the tour to try: all of them for a few turtles; else,
     for the whole fleet and for the `SUBSET_SHARES` of it nearest the drawing, each part in
-    turn taking the turtle left nearest the tour's next stretch."""
+    turn taking the turtle left nearest the tour's next stretch, then the parts of its split
+    given to the turtles by a bottleneck assignment, and split again, while that changes."""
     if len(starts) <= EXHAUSTIVE_TURTLES:
         yield from itertools.permutations(range(len(starts)))
         return
-    begins = [piece.ends(False)[0] for piece in tour]
+    begins = tour.begins
     nearest_piece = [min(math.dist((s.x, s.y), (b.x, b.y)) for b in begins) for s in starts]
     by_distance = sorted(range(len(starts)), key=lambda k: nearest_piece[k])
     sizes = sorted({max(EXHAUSTIVE_TURTLES, round(share * len(starts)))
@@ -141,14 +148,26 @@ def _orders(starts: Sequence[Pose2D], tour: Sequence[Piece]) -> Iterator[tuple[i
     for size in sizes:
         left, order = set(by_distance[:size]), []
         for part in range(size):
-            anchor = begins[min(part * len(tour) // size, len(tour) - 1)]
+            anchor = begins[min(part * len(begins) // size, len(begins) - 1)]
             nearest = min(sorted(left), key=lambda k: math.dist((starts[k].x, starts[k].y),
                                                                 (anchor.x, anchor.y)))
             order.append(nearest)
             left.remove(nearest)
+        tried = {tuple(order)}
         yield tuple(order)
+        for _ in range(REASSIGNMENTS):
+            _, cuts = tour.split([starts[k] for k in order], low, high)
+            costs = np.array([[tour.part_s(first, stop, start)
+                               for first, stop in zip(cuts, cuts[1:], strict=False)]
+                              for start in starts])
+            order = bottleneck_assignment(costs)
+            if tuple(order) in tried:
+                break
+            tried.add(tuple(order))
+            yield tuple(order)
 
 
+REASSIGNMENTS = 4  # beyond EXHAUSTIVE_TURTLES: rounds of splitting and assigning again
 SUBSET_SHARES = (1.0, 0.75, 0.5, 0.35, 0.25)  # beyond EXHAUSTIVE_TURTLES: the shares of the
 # fleet tried
 
@@ -156,12 +175,24 @@ SUBSET_SHARES = (1.0, 0.75, 0.5, 0.35, 0.25)  # beyond EXHAUSTIVE_TURTLES: the s
 def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
           clearance: float | None = None, standing: Sequence[Pose2D] = (),
           parking: Parking | None = None, aside: StepAside | None = None) -> Sharing:
+    """The best of `candidates`.
+
+    :raises Deadlock: with a clearance, every candidate would deadlock.
+    """
+    return candidates(pieces, starts, config, clearance, standing, parking, aside)[0]
+
+
+def candidates(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
+               clearance: float | None = None, standing: Sequence[Pose2D] = (),
+               parking: Parking | None = None,
+               aside: StepAside | None = None) -> list[Sharing]:
     """The pieces of one turtle's tour (`pieces`, in its order) shared out among turtles
     standing at `starts` (see the module). With a `clearance`, each candidate is judged by when
     its turtles end with the waits that keep them that far apart (`timing.simulate`), and one
     that would deadlock is passed over; `standing` are turtles that do not draw, kept clear of;
     `parking`, where each parks once it drew (`moves.routes`); `aside`, where a turtle in the
-    way of another steps aside (`timing.simulate`).
+    way of another steps aside (`timing.simulate`). The sharings tried, the soonest to end
+    first.
 
     :raises Deadlock: with a clearance, every candidate would deadlock.
     """
@@ -171,14 +202,17 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
     bound = lower_bound_s(pieces, starts, config)
     alone = max(tour.part_s(0, len(pieces), start) for start in starts)
     splits = sorted(((tour.split([starts[k] for k in order], bound, alone), order)
-                     for order in _orders(starts, pieces)), key=lambda split: split[0][0])
-    best: tuple[float, Sharing] | None = None
+                     for order in _orders(starts, tour, bound, alone)),
+                    key=lambda split: split[0][0])
+    judged: list[tuple[float, int, Sharing]] = []
+    judged_orders = (1 if clearance is None else SIMULATED_ORDERS
+                     if len(starts) <= EXHAUSTIVE_TURTLES else len(splits))
     for rank, ((least, cuts), order) in enumerate(splits):
-        if rank >= (1 if clearance is None else SIMULATED_ORDERS) and best is not None:
+        if rank >= judged_orders and judged:
             break  # the orders whose splits end soonest without waits are judged with them
-        ordered = [starts[k] for k in order]
         # with waits, parts a little longer for the first turtles may end sooner
-        tried = [cuts] if clearance is None else _looser(tour, ordered, least, cuts)
+        tried = ([cuts] if clearance is None or rank >= SIMULATED_ORDERS
+                 else _looser(tour, [starts[k] for k in order], least, cuts))
         for cuts in tried:
             parts = dict(zip(order, zip(cuts, cuts[1:], strict=False), strict=True))
             sharing = Sharing(tuple(Share(tuple(range(*parts.get(turtle, (0, 0)))),
@@ -186,20 +220,28 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
                                                       starts[turtle]))
                                     for turtle in range(len(starts))), bound)
             if clearance is not None:
-                try:
-                    timing = simulate([*routes(sharing.shares, pieces, starts, config, parking),
-                                       *([] for _ in standing)], [*starts, *standing], clearance,
-                                      aside, len(standing))
-                except Deadlock:
-                    continue
-                sharing = replace(sharing, timing=timing)
-            judged = sharing.timing.makespan_s if sharing.timing else sharing.makespan_s
-            if best is None or judged < best[0] - 1e-9:
-                best = (judged, sharing)
-    if best is None:
+                sharing = _timed(sharing, pieces, starts, config, clearance, standing, parking,
+                                 aside)
+            if sharing is not None:
+                ends_s = sharing.timing.makespan_s if sharing.timing else sharing.makespan_s
+                judged.append((round(ends_s, 9), len(judged), sharing))
+    if not judged:
         raise Deadlock(f'every way of sharing the drawing among {len(starts)} turtles has two '
                        'of them wait for each other for ever')
-    return best[1]
+    return [sharing for _, _, sharing in sorted(judged, key=lambda item: item[:2])]
+
+
+def _timed(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
+           config: ControlConfig, clearance: float, standing: Sequence[Pose2D],
+           parking: Parking | None, aside: StepAside | None) -> Sharing | None:
+    """`sharing` with the timing that keeps its turtles apart; None if it would deadlock."""
+    try:
+        timing = simulate([*routes(sharing.shares, pieces, starts, config, parking),
+                           *([] for _ in standing)], [*starts, *standing], clearance, aside,
+                          len(standing))
+    except Deadlock:
+        return None
+    return replace(sharing, timing=timing)
 
 
 def lower_bound_s(pieces: Sequence[Piece], starts: Sequence[Pose2D],
