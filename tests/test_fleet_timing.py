@@ -49,6 +49,20 @@ def _tracks(routes, starts, timing, step_s: float = 0.005) -> list[np.ndarray]:
     return tracks
 
 
+def _random_routes(rng, starts, moves: int, span: tuple[float, float]) -> list[list[Move]]:
+    """From each start, `moves` lines to random points in the square `span` x `span`, each at
+    a random speed."""
+    routes = []
+    for start in starts:
+        here, route = (start.x, start.y), []
+        for _ in range(moves):
+            there = tuple(rng.uniform(*span, 2))
+            route.append(_line(here, there, speed=rng.uniform(0.5, 2.0)))
+            here = there
+        routes.append(route)
+    return routes
+
+
 def test_two_crossing_turtles_take_turns():
     starts = [Pose2D(0.0, 5.0, 0.0), Pose2D(5.0, 0.0, 0.0)]
     routes = [[_line((0, 5), (10, 5))], [_line((5, 0), (5, 10))]]
@@ -77,16 +91,8 @@ def test_random_routes_keep_their_clearance_at_every_instant():
     their clearance at every sampled instant, and start every move."""
     completed = 0
     for seed in range(20):
-        rng = np.random.default_rng(seed)
         starts = [Pose2D(float(x), 0.0, 0.0) for x in (0.0, 4.0, 8.0)]
-        routes = []
-        for start in starts:
-            here, route = (start.x, start.y), []
-            for _ in range(4):
-                there = tuple(rng.uniform(0.0, 8.0, 2))
-                route.append(_line(here, there, speed=rng.uniform(0.5, 2.0)))
-                here = there
-            routes.append(route)
+        routes = _random_routes(np.random.default_rng(seed), starts, 4, (0.0, 8.0))
         try:
             timing = simulate(routes, starts, CLEARANCE)
         except Deadlock:
@@ -132,16 +138,8 @@ def test_random_crowded_routes_with_steps_aside_complete_apart():
     its routes (no deadlock), and keeps the clearance at every sampled instant."""
     asides = 0
     for seed in range(10):
-        rng = np.random.default_rng(seed)
         starts = [Pose2D(2.5 + 1.6 * (k % 4), 2.5 + 5.0 * (k // 4), 0.0) for k in range(8)]
-        routes = []
-        for start in starts:
-            here, route = (start.x, start.y), []
-            for _ in range(3):
-                there = tuple(rng.uniform(2.5, 7.5, 2))
-                route.append(_line(here, there, speed=rng.uniform(0.5, 2.0)))
-                here = there
-            routes.append(route)
+        routes = _random_routes(np.random.default_rng(seed), starts, 3, (2.5, 7.5))
         timing = simulate(routes, starts, CLEARANCE, _step_aside())
         asides += timing.asides
         assert closest_approach(_tracks(timing.routes, starts, timing, 0.01)) >= CLEARANCE - 1e-9
