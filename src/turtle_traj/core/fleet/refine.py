@@ -2,9 +2,10 @@
 
 The tour split (`sharing.share`) cuts the tour for the least makespan without waits. The waits
 that keep the turtles apart depend on where the cuts fall and on which way each turtle draws its
-part, so the split is then refined by steepest descent: each round tries every cut moved by a
-few pieces either way and every part drawn the other way round, judges each by `simulate` (the
-times the turtles have parked, waits included), and keeps the best until none is better.
+part, so the split is then refined by steepest descent: each round tries every cut next to the
+parts of the turtles that park last (`FOCUS_TURTLES`) moved by a few pieces either way, and each
+of those parts drawn the other way round, judges each by `simulate` (the times the turtles have
+parked, waits and steps aside included), and keeps the best until none is better.
 Better compares those times from the latest (the drawing's end) down: a change that lets the
 second-last finish sooner without delaying the last is kept, so the search crosses the
 plateaus where only the last one counts.
