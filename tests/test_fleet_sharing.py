@@ -245,11 +245,15 @@ def test_twenty_turtles_share_the_svg_apart_in_a_fifth_of_one_turtles_time():
     pieces = pieces_in(plan.path, CONFIG)
     starts = [Pose2D(*example.start), *(Pose2D(*p) for p in starting_places(20)[1:])]
     arena = DEFAULT_SETTINGS.arena
+    ink = shapely.union_all([shapely.LineString(piece.polyline.points) for piece in pieces])
     sharing = share_apart(pieces, starts, CONFIG, 0.6, parking=Parking(pieces, 0.6, arena),
-                          aside=SpotAside(CONFIG, 0.6, arena))
+                          aside=SpotAside(CONFIG, 0.6, arena, ink))
     drawn = sorted(index for route in sharing.timing.routes for move in route
                    for index in move.pieces)
     assert drawn == list(range(len(pieces)))
+    for route in sharing.timing.routes:  # every turtle that moved ends parked clear of it
+        if route:
+            assert shapely.distance(shapely.Point(route[-1].end), ink) >= 0.6 - 1e-9
     tracks = _tracks(sharing.timing.routes, starts, sharing.timing, step_s=0.02)
     assert closest_approach(tracks) >= 0.6 - 1e-9
     alone = share(pieces, starts[:1], CONFIG).makespan_s

@@ -150,3 +150,25 @@ def test_random_crowded_routes_with_steps_aside_complete_apart():
             assert all(move.points[0].tolist() == list(before.end)
                        for before, move in zip(driven, driven[1:], strict=False))
     assert asides >= 10  # each fleet needed steps aside: waiting alone would deadlock
+
+
+def test_a_parked_turtle_pushed_aside_stays_clear_of_the_drawing():
+    """turtle2 has parked 1.2 m below a stroke of the drawing, on turtle1's way: it steps
+    aside for good, to a spot the clearance from the way and from the drawing (the nearest
+    spot off the way alone is too near the stroke)."""
+    import shapely
+
+    from turtle_traj.core.fleet.aside import SpotAside
+    from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+
+    stroke = shapely.LineString([(3.0, 6.2), (6.5, 6.2)])
+    starts = [Pose2D(2.0, 5.0, 0.0), Pose2D(4.7, 5.0, 0.0)]
+    routes = [[_line((2, 5), (7, 5))], []]
+    way = routes[0][0].shape
+    for drawing, clear in ((stroke, True), (None, False)):
+        aside = SpotAside(DEFAULT_SETTINGS.control, CLEARANCE, DEFAULT_SETTINGS.arena, drawing)
+        timing = simulate(routes, starts, CLEARANCE, aside)
+        (off,) = timing.routes[1]  # no way back: it had nothing left to drive
+        spot = shapely.Point(off.end)
+        assert shapely.distance(spot, way) >= CLEARANCE
+        assert (shapely.distance(spot, stroke) >= CLEARANCE) == clear

@@ -31,10 +31,13 @@ FARTHEST_M = 4.0  # no spot farther than this
 
 class SpotAside:
     """Steps aside (`timing.StepAside`) for turtles kept `clearance` apart in `arena`, timed as
-    `config`'s turtles drive them."""
+    `config`'s turtles drive them; a turtle that stays where it stepped keeps clear of the
+    `drawing` too (its pieces, as lines)."""
 
-    def __init__(self, config: ControlConfig, clearance: float, arena: Arena) -> None:
+    def __init__(self, config: ControlConfig, clearance: float, arena: Arena,
+                 drawing: shapely.Geometry | None = None) -> None:
         self.config, self.clearance, self.arena = config, clearance, arena
+        self.drawing = drawing
         radii = np.arange(RING_STEP_M, FARTHEST_M + 1e-9, RING_STEP_M)
         angles = 2.0 * math.pi * np.arange(DIRECTIONS) / DIRECTIONS
         offsets = np.stack([np.outer(radii, np.cos(angles)).ravel(),
@@ -42,10 +45,12 @@ class SpotAside:
         self._offsets = offsets[np.argsort(np.hypot(*offsets.T), kind='stable')]
 
     def __call__(self, at: Pose2D, clear_of: shapely.Geometry,
-                 others: Sequence[shapely.Geometry]) -> tuple[Move, Move] | None:
+                 others: Sequence[shapely.Geometry],
+                 stays: bool = False) -> tuple[Move, Move] | None:
         spots = self._offsets + (at.x, at.y)
         spots = spots[self.arena.inside(spots)]
-        keep = shapely.union_all([clear_of, *others])
+        parked = [self.drawing] if stays and self.drawing is not None else []
+        keep = shapely.union_all([clear_of, *others, *parked])
         spots = spots[shapely.distance(shapely.points(spots), keep) >= self.clearance]
         away = shapely.union_all(others) if others else None
         for x, y in spots:  # nearest first

@@ -80,10 +80,12 @@ class Whereabouts:
 class StepAside(Protocol):
     """Where a turtle standing `at` steps to, to let a waiting move pass: a move off its spot
     to one `clearance` from `clear_of` (and from `others`, the way there too), and the move
-    back; None where there is no such spot."""
+    back; None where there is no such spot. A turtle that has nothing left to drive (`stays`)
+    stays there: the spot then keeps clear of the drawing too, as a parking spot does."""
 
     def __call__(self, at: Pose2D, clear_of: shapely.Geometry,
-                 others: Sequence[shapely.Geometry]) -> tuple[Move, Move] | None: ...
+                 others: Sequence[shapely.Geometry],
+                 stays: bool = False) -> tuple[Move, Move] | None: ...
 
 
 @dataclass(frozen=True)
@@ -245,7 +247,8 @@ class _Prediction:
             point = self.where.shapes[other]
             at = Pose2D(point.x, point.y, self.facing[other])
             step = self.step_aside(at, waiting.shape,
-                                   [shape for index, shape in enumerate(others) if index != other])
+                                   [shape for index, shape in enumerate(others) if index != other],
+                                   stays=self.next_move[other] >= len(self.routes[other]))
             if step is None:
                 return None
             steps[other] = step
