@@ -50,12 +50,13 @@ class SpotAside:
         spots = self._offsets + (at.x, at.y)
         spots = spots[self.arena.inside(spots)]
         parked = [self.drawing] if stays and self.drawing is not None else []
-        keep = shapely.union_all([clear_of, *others, *parked])
-        spots = spots[shapely.distance(shapely.points(spots), keep) >= self.clearance]
-        away = shapely.union_all(others) if others else None
-        for x, y in spots:  # nearest first
+        keep = np.array([clear_of, *others, *parked], dtype=object)
+        points = shapely.points(spots)
+        apart = shapely.distance(points[:, None], keep[None, :]).min(axis=1) >= self.clearance
+        away = np.array(others, dtype=object)
+        for x, y in spots[apart]:  # nearest first
             way = shapely.LineString([(at.x, at.y), (x, y)])
-            if away is None or shapely.distance(way, away) >= self.clearance:
+            if not len(away) or shapely.distance(way, away).min() >= self.clearance:
                 return self._moves(at, float(x), float(y))
         return None
 

@@ -48,6 +48,11 @@ class Move:
         return float(self.points[-1][0]), float(self.points[-1][1])
 
     @cached_property
+    def end_shape(self) -> shapely.Point:
+        """Where it ends, as shapely measures it (made once)."""
+        return shapely.Point(self.end)
+
+    @cached_property
     def shape(self) -> shapely.Geometry:
         """Its path as shapely measures it (made once: a waiting move is asked about again)."""
         points = self.points
@@ -63,8 +68,8 @@ class Whereabouts:
     def driving(self, turtle: int, move: Move) -> None:
         self.shapes[turtle] = move.shape
 
-    def standing(self, turtle: int, at: tuple[float, float]) -> None:
-        self.shapes[turtle] = shapely.Point(at)
+    def standing(self, turtle: int, at: shapely.Point) -> None:
+        self.shapes[turtle] = at
 
     def near(self, turtle: int, shape: shapely.Geometry, clearance: float) -> list[int]:
         """The other turtles whose whereabouts come within `clearance` of `shape`."""
@@ -139,6 +144,8 @@ class _Prediction:
         self.facing = [start.theta for start in starts]
         self.next_move = [0] * len(routes)
         self.busy_until: list[float | None] = [None] * len(routes)
+        self.waiting = {turtle for turtle, route in enumerate(routes) if route}  # idle, with
+        # moves left
         self.ready_at = [0.0] * len(routes)  # since when each has waited for its next move
         self.begun: list[list[float]] = [[] for _ in routes]
         self.order: list[tuple[int, int]] = []
@@ -161,7 +168,7 @@ class _Prediction:
             if pending:
                 now = min(pending)
                 continue
-            stuck = [t for t, route in enumerate(self.routes) if self.next_move[t] < len(route)]
+            stuck = sorted(self.waiting)
             if not stuck:
                 break
             if not self._make_way(stuck):
@@ -179,17 +186,17 @@ class _Prediction:
             if until is not None and until <= now + 1e-12:
                 move = self.routes[turtle][self.next_move[turtle] - 1]
                 self.busy_until[turtle], self.ready_at[turtle] = None, now
+                if self.next_move[turtle] < len(self.routes[turtle]):
+                    self.waiting.add(turtle)
                 self.ended.add(id(move))
                 self.ends_heard[turtle] += 1
                 self.facing[turtle] = move.heading
-                self.where.standing(turtle, move.end)
+                self.where.standing(turtle, move.end_shape)
 
     def _start_moves(self, now: float) -> None:
         """In turtle order, every waiting turtle whose next move is clear starts it."""
-        for turtle, route in enumerate(self.routes):
-            if self.busy_until[turtle] is not None or self.next_move[turtle] >= len(route):
-                continue
-            move = route[self.next_move[turtle]]
+        for turtle in sorted(self.waiting):
+            move = self.routes[turtle][self.next_move[turtle]]
             if self._held(move) or self._blocked(turtle, move):
                 continue
             self.waited[turtle] += now - self.ready_at[turtle]
@@ -198,6 +205,7 @@ class _Prediction:
             self.where.driving(turtle, move)
             self.busy_until[turtle] = now + move.duration_s
             self.next_move[turtle] += 1
+            self.waiting.discard(turtle)
 
     def _blocked(self, turtle: int, move: Move) -> bool:
         """Whether another turtle may be within the clearance of `move` now (`Whereabouts`)."""
@@ -229,6 +237,7 @@ class _Prediction:
                 index = self.next_move[other]
                 more = index < len(self.routes[other])
                 self.routes[other][index:index] = [off, back] if more else [off]
+                self.waiting.add(other)  # it stands (all wait): its step aside is next
                 if more:
                     self.held[id(back)] = id(waiting)
             self.asides += len(steps)
