@@ -10,8 +10,9 @@ draws it; and parks once it drew its part, off the drawing and out of the others
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import shapely
@@ -36,13 +37,17 @@ class Share:
 
 
 def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Pose2D],
-           config: ControlConfig, parking: Parking | None = None) -> list[list[Move]]:
+           config: ControlConfig, parking: Parking | None = None,
+           made: dict | None = None) -> list[list[Move]]:
     """Each turtle's moves, in order: for each of its pieces, a travel there (pen up) that ends
     facing it, or where the turtle stands there already, a turn onto it (pen down: it
     continues a stroke); then the piece. A turtle that drew then parks (`parking`'s spot
     nearest where it ended, clear of those of the turtles before it and of the turtles that
     stay), and so does one with nothing to draw that stands on the drawing (it would keep the
-    others from it); without `parking`, a turtle that drew goes back where it started."""
+    others from it); without `parking`, a turtle that drew goes back where it started. `made`
+    keeps the moves made, by what they are, for the next call (each sharing judged asks for
+    most of the same moves again)."""
+    made = {} if made is None else made
     moves: list[list[Move]] = []
     taken = [start for part, start in zip(shares, starts, strict=True)
              if not part.pieces and (parking is None or parking.clear(start))]
@@ -55,26 +60,46 @@ def routes(shares: Sequence[Share], pieces: Sequence[Piece], starts: Sequence[Po
             begin, end = piece.ends(part.reverse)
             turn, turn_s = abs(wrap_angle(begin.theta - here.theta)), 0.0
             if math.hypot(begin.x - here.x, begin.y - here.y) > JOINED_M:
-                route += way(here, begin, config)
+                route += _made(made, ('way', here, begin), way, here, begin, config)
             elif turn > JOINED_M and piece.turned_onto(part.reverse):
                 # a corner of the drawing: the piece's own follow-path turns onto it first
                 turn_s = travel_s(here, begin, config)
             elif turn > JOINED_M:
-                route.append(Move(np.array([(begin.x, begin.y)]),
-                                  travel_s(here, begin, config) + request_s(config), pen=True,
-                                  heading=begin.theta))
-            points = piece.polyline.points
-            route.append(Move(points[::-1] if part.reverse else points,
-                              turn_s + piece.time_s + request_s(config), pen=True,
-                              heading=end.theta, pieces=(index,)))
+                route += _made(made, ('turn', here, begin), _turn, here, begin, config)
+            route += _made(made, ('piece', index, part.reverse, turn_s), _drawn, pieces, index,
+                           part.reverse, turn_s, config)
             here = end
         if route or (parking is not None and not parking.clear(start)):
             home = start if parking is None else parking.spot(here, taken)
             taken.append(home)
             if math.hypot(home.x - here.x, home.y - here.y) > JOINED_M:
-                route += way(here, home, config)
+                route += _made(made, ('way', here, home), way, here, home, config)
         moves.append(route)
     return moves
+
+
+def _made(made: dict, key: tuple, make: Callable[..., list[Move]], *args: Any) -> list[Move]:
+    """The moves `key` names, made by `make(*args)` the first time."""
+    moves = made.get(key)
+    if moves is None:
+        moves = made[key] = make(*args)
+    return moves
+
+
+def _turn(here: Pose2D, begin: Pose2D, config: ControlConfig) -> list[Move]:
+    """The turn onto a piece that begins where the turtle stands (pen down)."""
+    return [Move(np.array([(begin.x, begin.y)]), travel_s(here, begin, config)
+                 + request_s(config), pen=True, heading=begin.theta)]
+
+
+def _drawn(pieces: Sequence[Piece], index: int, reverse: bool, turn_s: float,
+           config: ControlConfig) -> list[Move]:
+    """Piece `index`, drawn forwards or backwards, its turn onto it first if `turn_s`."""
+    piece = pieces[index]
+    points = piece.polyline.points
+    return [Move(points[::-1] if reverse else points,
+                 turn_s + piece.time_s + request_s(config), pen=True,
+                 heading=piece.ends(reverse)[1].theta, pieces=(index,))]
 
 
 def way(here: Pose2D, to: Pose2D, config: ControlConfig,

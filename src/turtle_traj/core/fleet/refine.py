@@ -39,14 +39,15 @@ class _Part:
 
 def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
            config: ControlConfig, clearance: float, standing: Sequence[Pose2D] = (),
-           parking: Parking | None = None, aside: StepAside | None = None) -> Sharing:
+           parking: Parking | None = None, aside: StepAside | None = None,
+           made: dict | None = None) -> Sharing:
     """`sharing` (judged with `clearance`: its `timing` set) improved while a neighbour ends
-    the drawing sooner; `standing`, `parking` and `aside` as for `share`."""
+    the drawing sooner; `standing`, `parking`, `aside` and `made` as for `candidates`."""
     assert sharing.timing is not None
 
     def judged(parts: list[_Part]) -> tuple[tuple[float, ...], Sharing] | None:
         candidate = _sharing(parts, sharing.lower_bound_s, len(starts))
-        moves = routes(candidate.shares, pieces, starts, config, parking)
+        moves = routes(candidate.shares, pieces, starts, config, parking, made)
         try:
             timing = simulate([*moves, *([] for _ in standing)], [*starts, *standing],
                               clearance, aside, len(standing))
@@ -134,10 +135,11 @@ def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: Contr
 
     :raises Deadlock: every sharing tried would deadlock.
     """
-    found = candidates(pieces, starts, config, clearance, standing, parking, aside)
+    made: dict = {}  # the moves, made once for every sharing judged
+    found = candidates(pieces, starts, config, clearance, standing, parking, aside, made)
     count = 1 if len(starts) <= EXHAUSTIVE_TURTLES else REFINED_CANDIDATES
-    refined = [refine(sharing, pieces, starts, config, clearance, standing, parking, aside)
-               for sharing in found[:count]]
+    refined = [refine(sharing, pieces, starts, config, clearance, standing, parking, aside,
+                      made) for sharing in found[:count]]
     return min(refined, key=lambda sharing: _finishes(sharing.timing))
 
 

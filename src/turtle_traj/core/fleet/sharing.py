@@ -184,15 +184,15 @@ def share(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConf
 
 def candidates(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
                clearance: float | None = None, standing: Sequence[Pose2D] = (),
-               parking: Parking | None = None,
-               aside: StepAside | None = None) -> list[Sharing]:
+               parking: Parking | None = None, aside: StepAside | None = None,
+               made: dict | None = None) -> list[Sharing]:
     """The pieces of one turtle's tour (`pieces`, in its order) shared out among turtles
     standing at `starts` (see the module). With a `clearance`, each candidate is judged by when
     its turtles end with the waits that keep them that far apart (`timing.simulate`), and one
     that would deadlock is passed over; `standing` are turtles that do not draw, kept clear of;
     `parking`, where each parks once it drew (`moves.routes`); `aside`, where a turtle in the
-    way of another steps aside (`timing.simulate`). The sharings tried, the soonest to end
-    first.
+    way of another steps aside (`timing.simulate`); `made`, the moves made so far
+    (`moves.routes`). The sharings tried, the soonest to end first.
 
     :raises Deadlock: with a clearance, every candidate would deadlock.
     """
@@ -221,7 +221,7 @@ def candidates(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: Contro
                                     for turtle in range(len(starts))), bound)
             if clearance is not None:
                 sharing = _timed(sharing, pieces, starts, config, clearance, standing, parking,
-                                 aside)
+                                 aside, made)
             if sharing is not None:
                 ends_s = sharing.timing.makespan_s if sharing.timing else sharing.makespan_s
                 judged.append((round(ends_s, 9), len(judged), sharing))
@@ -233,10 +233,11 @@ def candidates(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: Contro
 
 def _timed(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
            config: ControlConfig, clearance: float, standing: Sequence[Pose2D],
-           parking: Parking | None, aside: StepAside | None) -> Sharing | None:
+           parking: Parking | None, aside: StepAside | None,
+           made: dict | None = None) -> Sharing | None:
     """`sharing` with the timing that keeps its turtles apart; None if it would deadlock."""
     try:
-        timing = simulate([*routes(sharing.shares, pieces, starts, config, parking),
+        timing = simulate([*routes(sharing.shares, pieces, starts, config, parking, made),
                            *([] for _ in standing)], [*starts, *standing], clearance, aside,
                           len(standing))
     except Deadlock:
