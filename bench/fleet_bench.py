@@ -1,7 +1,7 @@
 """Several turtles drawing one request, against one turtle drawing it alone, in lock-step.
 
     .venv/bin/python bench/fleet_bench.py [--turtles 1,3,10,20] [--planning] [--faults]
-        [--picture docs/fleet.png]
+        [--step-cost] [--picture docs/fleet.png]
 
 For the text "ROS 2" (1 m, from turtlesim's spawn point), the demo's SVG and the demo's star
 (the registry's examples, from their start poses), one turtle draws the request with its own
@@ -210,6 +210,9 @@ def main() -> int:
                         'and the SVG by 20, one at half speed, two lost')
     parser.add_argument('--planning', action='store_true', help='then the CPU time the '
                         'coordinator takes to plan each drawing for each fleet size')
+    parser.add_argument('--step-cost', action='store_true', help='then what a lock-step step '
+                        'costs with 1, 5, 10 and 20 turtles, and where it goes '
+                        '(speed_bench.py --step-cost)')
     parser.add_argument('--picture', type=Path, help='draw the demo\'s SVG with the most '
                         'turtles, each in its own colour, and save the canvas here')
     options = parser.parse_args()
@@ -247,6 +250,10 @@ def main() -> int:
                 print(f'planning {name:8} CPU s: ' + ', '.join(
                     f'{count} turtles {planning_s(name, count):.2f}'
                     for count in options.turtles if count > 1), flush=True)
+        if options.step_cost:
+            sys.path.insert(0, str(Path(__file__).parent))
+            from speed_bench import print_step_cost
+            print_step_cost(rounds=3)
         if options.picture:
             row = draw('svg', options.turtles[-1], output, PICTURE_COLORS)
             options.picture.parent.mkdir(parents=True, exist_ok=True)
