@@ -246,8 +246,9 @@ def test_twenty_turtles_share_the_svg_apart_in_a_fifth_of_one_turtles_time():
     starts = [Pose2D(*example.start), *(Pose2D(*p) for p in starting_places(20)[1:])]
     arena = DEFAULT_SETTINGS.arena
     ink = shapely.union_all([shapely.LineString(piece.polyline.points) for piece in pieces])
-    sharing = share_apart(pieces, starts, CONFIG, 0.6, parking=Parking(pieces, 0.6, arena),
-                          aside=SpotAside(CONFIG, 0.6, arena, ink))
+    parking = Parking(pieces, 0.6, arena)
+    sharing = share_apart(pieces, starts, CONFIG, 0.6, parking=parking,
+                          aside=SpotAside(CONFIG, 0.6, arena, parking))
     drawn = sorted(index for route in sharing.timing.routes for move in route
                    for index in move.pieces)
     assert drawn == list(range(len(pieces)))

@@ -159,14 +159,19 @@ def test_a_parked_turtle_pushed_aside_stays_clear_of_the_drawing():
     import shapely
 
     from turtle_traj.core.fleet.aside import SpotAside
+    from turtle_traj.core.fleet.parking import Parking
+    from turtle_traj.core.fleet.pieces import Piece
+    from turtle_traj.core.geometry.path import Polyline
     from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 
+    arena = DEFAULT_SETTINGS.arena
     stroke = shapely.LineString([(3.0, 6.2), (6.5, 6.2)])
+    parking = Parking([Piece(Polyline(np.array(stroke.coords)), 3.5)], CLEARANCE, arena)
     starts = [Pose2D(2.0, 5.0, 0.0), Pose2D(4.7, 5.0, 0.0)]
     routes = [[_line((2, 5), (7, 5))], []]
     way = routes[0][0].shape
-    for drawing, clear in ((stroke, True), (None, False)):
-        aside = SpotAside(DEFAULT_SETTINGS.control, CLEARANCE, DEFAULT_SETTINGS.arena, drawing)
+    for spots, clear in ((parking, True), (None, False)):
+        aside = SpotAside(DEFAULT_SETTINGS.control, CLEARANCE, arena, spots)
         timing = simulate(routes, starts, CLEARANCE, aside)
         (off,) = timing.routes[1]  # no way back: it had nothing left to drive
         spot = shapely.Point(off.end)

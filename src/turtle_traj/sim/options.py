@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 WEB_HOST, WEB_PORT = '127.0.0.1', 8080
-MAX_TURTLES = 20  # at the start, on a ring 3 m round turtle1: each 0.99 m from the next at least
+MAX_TURTLES = 20  # at the start, on rings 3 and 4.5 m round turtle1: 1.5 m apart at least
 
 
 class SimUnavailable(RuntimeError):

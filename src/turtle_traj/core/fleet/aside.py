@@ -19,6 +19,7 @@ import numpy as np
 import shapely
 
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import request_s, travel_s
 from turtle_traj.core.fleet.timing import Move
 from turtle_traj.core.geometry.path import Pose2D
@@ -31,13 +32,13 @@ FARTHEST_M = 4.0  # no spot farther than this
 
 class SpotAside:
     """Steps aside (`timing.StepAside`) for turtles kept `clearance` apart in `arena`, timed as
-    `config`'s turtles drive them; a turtle that stays where it stepped keeps clear of the
-    `drawing` too (its pieces, as lines)."""
+    `config`'s turtles drive them; a turtle that stays where it stepped takes a spot `parking`
+    allows too (clear of the drawing)."""
 
     def __init__(self, config: ControlConfig, clearance: float, arena: Arena,
-                 drawing: shapely.Geometry | None = None) -> None:
+                 parking: Parking | None = None) -> None:
         self.config, self.clearance, self.arena = config, clearance, arena
-        self.drawing = drawing
+        self.parking = parking
         radii = np.arange(RING_STEP_M, FARTHEST_M + 1e-9, RING_STEP_M)
         angles = 2.0 * math.pi * np.arange(DIRECTIONS) / DIRECTIONS
         offsets = np.stack([np.outer(radii, np.cos(angles)).ravel(),
@@ -49,8 +50,9 @@ class SpotAside:
                  stays: bool = False) -> tuple[Move, Move] | None:
         spots = self._offsets + (at.x, at.y)
         spots = spots[self.arena.inside(spots)]
-        parked = [self.drawing] if stays and self.drawing is not None else []
-        keep = np.array([clear_of, *others, *parked], dtype=object)
+        if stays and self.parking is not None:
+            spots = spots[self.parking.clear_points(spots)]
+        keep = np.array([clear_of, *others], dtype=object)
         points = shapely.points(spots)
         apart = shapely.distance(points[:, None], keep[None, :]).min(axis=1) >= self.clearance
         away = np.array(others, dtype=object)

@@ -39,8 +39,7 @@ class Parking:
         ys = np.arange(arena.min_y + arena.margin, arena.max_y - arena.margin + 1e-9,
                        SPOT_STEP_M)
         grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
-        self._spots = (grid if keep.is_empty else
-                       grid[shapely.distance(shapely.points(grid), keep) >= self.distance])
+        self._spots = grid[self.clear_points(grid)]
 
     def spot(self, end: Pose2D, taken: Sequence[Pose2D]) -> Pose2D:
         """The spot nearest `end` that keeps the distance from the spots `taken` (`end` itself
@@ -66,6 +65,11 @@ class Parking:
         """`pose` keeps the distance from the pieces and the turtles standing still."""
         return self._clear(np.array([pose.x, pose.y]))
 
+    def clear_points(self, points: np.ndarray) -> np.ndarray:
+        """Per point of `points` (N, 2): it keeps the distance, as `clear` says."""
+        if self._keep.is_empty:
+            return np.ones(len(points), dtype=bool)
+        return shapely.distance(shapely.points(points), self._keep) >= self.distance
+
     def _clear(self, point: np.ndarray) -> bool:
-        return self._keep.is_empty or shapely.distance(shapely.Point(point), self._keep) >= (
-            self.distance)
+        return bool(self.clear_points(point[None])[0])

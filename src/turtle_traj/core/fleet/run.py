@@ -72,9 +72,7 @@ class FleetRun:
         pieces = [self.pieces[index] for index in left]
         parking = (Parking(self.pieces, self.clearance, self.arena, standing)
                    if self.arena is not None else None)
-        drawing = shapely.union_all([shapely.LineString(piece.polyline.points)
-                                     for piece in self.pieces])
-        aside = (SpotAside(self.config, self.clearance, self.arena, drawing)
+        aside = (SpotAside(self.config, self.clearance, self.arena, parking)
                  if self.arena is not None else None)
         sharing = share_apart(pieces, starts, self.config, self.clearance, standing, parking,
                               aside)
