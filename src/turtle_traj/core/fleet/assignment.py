@@ -12,14 +12,15 @@ assignment), so that the turtles that are not the last do not travel further tha
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import maximum_bipartite_matching
 
 
 def bottleneck_assignment(costs: np.ndarray) -> list[int]:
     """For each part (a column of `costs`, turtles by parts, at least as many turtles), the
     turtle (row) that draws it, for the least longest cost, then the least total."""
+    # imported here: scipy.optimize takes 0.3 s to import, and only fleets of more than
+    # `sharing.EXHAUSTIVE_TURTLES` turtles come here (every program with a coordinator would
+    # pay it at its start)
+    from scipy.optimize import linear_sum_assignment
     values = np.unique(costs)
     low, high = 0, len(values) - 1
     while low < high:  # the least threshold under which every part can have its own turtle
@@ -39,6 +40,8 @@ def bottleneck_assignment(costs: np.ndarray) -> list[int]:
 
 def _every_part_matched(allowed: np.ndarray) -> bool:
     """Whether each part (column) can have a turtle (row) of its own among the `allowed`."""
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import maximum_bipartite_matching
     matched = maximum_bipartite_matching(csr_matrix(allowed.T.astype(np.int8)),
                                          perm_type='column')
     return bool(np.all(matched >= 0))
