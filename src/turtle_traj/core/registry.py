@@ -232,6 +232,8 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
          Field('closed', 'return to the first point', type=BOOL, default=False),
          Field('theta', 'final heading (default: none)', 'deg', default=None,
                given='use_theta', low=-180.0, high=180.0, menu=False),
+         Field('corner_angle', 'turn in place where the direction changes more than this',
+               parameter='corner_angle', menu=False),
          LINEAR_SPEED, CORNER_TOLERANCE),
         ('follow-path',), Example((2.5, 2.5, 0.0), {
             'points': [(8.5, 2.5), (8.5, 8.5), (5.5, 5.5), (2.5, 8.5)], 'closed': True})),

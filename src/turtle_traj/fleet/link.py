@@ -215,7 +215,8 @@ def _goal(move: Move, linear_speed: float) -> Draw.Goal:
     """The Draw goal that drives `move`: a piece's follow-path, or a travel's go-to."""
     if move.pieces:
         return Draw.Goal(trajectory='follow_path', linear_speed=linear_speed, points=[
-            Point(x=float(x), y=float(y)) for x, y in move.points])
+            Point(x=float(x), y=float(y)) for x, y in move.points],
+            corner_angle=move.corner_angle)
     x, y = move.end
     return Draw.Goal(trajectory='go_to', x=x, y=y, use_theta=True,
                      theta=math.remainder(move.heading, 2 * math.pi),

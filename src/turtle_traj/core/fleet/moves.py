@@ -89,7 +89,7 @@ def _made(made: dict, key: tuple, make: Callable[..., list[Move]], *args: Any) -
 def _turn(here: Pose2D, begin: Pose2D, config: ControlConfig) -> list[Move]:
     """The turn onto a piece that begins where the turtle stands (pen down)."""
     return [Move(np.array([(begin.x, begin.y)]), travel_s(here, begin, config)
-                 + request_s(config), pen=True, heading=begin.theta)]
+                 + request_s(config), pen=True, heading=begin.theta, turns_first=True)]
 
 
 def _drawn(pieces: Sequence[Piece], index: int, reverse: bool, turn_s: float,
@@ -99,7 +99,8 @@ def _drawn(pieces: Sequence[Piece], index: int, reverse: bool, turn_s: float,
     points = piece.polyline.points
     return [Move(points[::-1] if reverse else points,
                  turn_s + piece.time_s + request_s(config), pen=True,
-                 heading=piece.ends(reverse)[1].theta, pieces=(index,))]
+                 heading=piece.ends(reverse)[1].theta, pieces=(index,),
+                 turns_first=turn_s > 0.0)]
 
 
 def way(here: Pose2D, to: Pose2D, config: ControlConfig,

@@ -90,8 +90,9 @@ def _parts(leg: Polyline, longest: float) -> list[Polyline]:
 
 
 def _turn_s(sweep: float, config: ControlConfig) -> float:
+    """A turn in place as the node makes it: braking towards its end at `angular_braking`."""
     return ramp_s(abs(sweep), config.angular_speed, config.max_angular_accel,
-                  config.max_angular_accel)
+                  config.angular_braking)
 
 
 REQUEST_PERIODS = 3  # a move's request costs this many control periods besides its driving

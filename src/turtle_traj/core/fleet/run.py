@@ -15,12 +15,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import shapely
 
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.fleet.aside import SpotAside
+from turtle_traj.core.fleet.chains import chained
 from turtle_traj.core.fleet.moves import clear_spot
 from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece
@@ -76,9 +77,12 @@ class FleetRun:
                  if self.arena is not None else None)
         sharing = share_apart(pieces, starts, self.config, self.clearance, standing, parking,
                               aside)
+        assert sharing.timing is not None
+        sharing = replace(sharing, timing=chained(sharing.timing, [*starts, *standing],
+                                                  self.clearance, self.config, aside,
+                                                  len(standing)))
         if self.first_sharing is None:
             self.first_sharing = sharing
-        assert sharing.timing is not None
         moves = [[_renumbered(move, left) for move in route]
                  for route in sharing.timing.routes[:len(starts)]]
         self._serving = serving
@@ -201,8 +205,7 @@ def _renumbered(move: Move, left: Sequence[int]) -> Move:
     """`move` with its pieces numbered as in the whole drawing (not in `left`)."""
     if not move.pieces:
         return move
-    return Move(move.points, move.duration_s, move.pen, move.heading,
-                tuple(left[index] for index in move.pieces))
+    return replace(move, pieces=tuple(left[index] for index in move.pieces))
 
 
 def closest(poses: Sequence[tuple[float, float]]) -> float:

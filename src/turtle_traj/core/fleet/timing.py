@@ -42,6 +42,10 @@ class Move:
     pen: bool = False  # driven with the pen down
     heading: float = 0.0  # [rad] the heading it ends in
     pieces: tuple[int, ...] = ()  # a piece: the drawing's pieces it draws
+    turns_first: bool = False  # it begins with a turn in place (onto a piece)
+    # [rad] pieces drawn as one follow-path: turned in place where its direction changes more
+    # than this (0: as the node's corner_angle parameter has it)
+    corner_angle: float = 0.0
 
     @property
     def end(self) -> tuple[float, float]:

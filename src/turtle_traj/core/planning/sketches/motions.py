@@ -10,6 +10,7 @@ from turtle_traj.core.geometry import shapes
 from turtle_traj.core.geometry.path import Path, Pose2D
 from turtle_traj.core.geometry.shapes import Arena, ShapeError
 from turtle_traj.core.parameters.settings import Settings
+from turtle_traj.core.parameters.table import PARAMETER
 from turtle_traj.core.planning.limits import MAX_FREQUENCY, MAX_POINTS, MAX_SIDES
 from turtle_traj.core.planning.sketches.base import (
     PlanError,
@@ -162,7 +163,7 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
         if not arena.contains((x, y)):
             raise PlanError(f'points[{index}] = ({x:g}, {y:g}) is outside the arena '
                             f'({arena.describe()}, after the wall margin)')
-    corner_angle = settings.defaults.corner_angle
+    corner_angle = _corner_angle(request, settings)
     reached = settings.defaults.goal_tolerance  # arrived there, as a go-to: no leg to it
     given = shapes.follow(start, points=points, closed=request.closed,
                           corner_angle_rad=corner_angle, reached=reached,
@@ -170,3 +171,13 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
     return Sketch(f'path through {len(points)} points', lambda _: given,
                   linear_speed=requested_speed('linear_speed', request.linear_speed))
 
+
+def _corner_angle(request: Any, settings: Settings) -> float:
+    """Where a follow-path turns in place: the request's `corner_angle`, else the node's."""
+    asked = getattr(request, 'corner_angle', 0.0)
+    require_finite(corner_angle=asked)
+    spec = PARAMETER['corner_angle']
+    if asked and not spec.low <= asked <= spec.high:
+        raise PlanError(f'corner_angle must be 0 (the default) or {spec.low:g} to {spec.high:g} '
+                        f'rad, got {asked:g}')
+    return asked or settings.defaults.corner_angle
