@@ -193,16 +193,19 @@ def test_a_turtle_that_drew_parks_clear_of_the_drawing_near_where_it_ended():
         spot = parking.spot(end, taken)
         assert gap(spot) >= 0.6 and arena.contains([(spot.x, spot.y)])
         assert all(math.dist((spot.x, spot.y), (t.x, t.y)) >= 0.6 for t in taken)
-        # no spot on the grid that keeps those distances is nearer
+        # no spot on the grid or straight ahead (every 5 cm) that keeps those distances is
+        # nearer
         xs, ys = np.meshgrid(np.arange(arena.min_x + arena.margin, arena.max_x - arena.margin
                                        + 1e-9, 0.25),
                              np.arange(arena.min_y + arena.margin, arena.max_y - arena.margin
                                        + 1e-9, 0.25))
-        grid = np.stack([xs.ravel(), ys.ravel()], axis=1)
-        fine = shapely.distance(shapely.points(grid), drawn) >= 0.6
+        ahead = [(end.x + k * 0.05 * math.cos(end.theta), end.y + k * 0.05 * math.sin(end.theta))
+                 for k in range(1, 81)]
+        spots = np.concatenate([np.stack([xs.ravel(), ys.ravel()], axis=1), ahead])
+        fine = (shapely.distance(shapely.points(spots), drawn) >= 0.6) & arena.inside(spots)
         for t in taken:
-            fine &= np.hypot(*(grid - (t.x, t.y)).T) >= 0.6
-        nearest = float(np.hypot(*(grid[fine] - (end.x, end.y)).T).min())
+            fine &= np.hypot(*(spots - (t.x, t.y)).T) >= 0.6
+        nearest = float(np.hypot(*(spots[fine] - (end.x, end.y)).T).min())
         assert math.dist((spot.x, spot.y), (end.x, end.y)) <= nearest + 1e-9
         if spot != end:
             assert math.isclose(spot.theta, math.atan2(spot.y - end.y, spot.x - end.x))

@@ -20,6 +20,7 @@ from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.shapes import Arena
 
 SPOT_STEP_M = 0.25  # the grid of spots tried, across the arena
+AHEAD_STEP_M, AHEAD_SPOTS = 0.05, 80  # and the spots straight ahead of a turtle, to 4 m
 _CHUNK = 64  # spots judged at once
 
 
@@ -29,7 +30,8 @@ class Parking:
 
     def __init__(self, pieces: Sequence[Piece], clearance: float, arena: Arena,
                  standing: Sequence[Pose2D] = ()) -> None:
-        self.distance = clearance
+        self.distance, self._arena = clearance, arena
+        self._sorted: dict[tuple[float, float, float], np.ndarray] = {}
         keep = shapely.union_all([*(shapely.LineString(piece.polyline.points)
                                     for piece in pieces),
                                   *(shapely.Point(pose.x, pose.y) for pose in standing)])
@@ -43,10 +45,9 @@ class Parking:
 
     def spot(self, end: Pose2D, taken: Sequence[Pose2D]) -> Pose2D:
         """The spot nearest `end` that keeps the distance from the spots `taken` (`end` itself
-        where it does), facing the way there; `end` where no spot does."""
-        here = np.array([end.x, end.y])
-        candidates = np.concatenate(([here], self._spots)) if self._clear(here) else self._spots
-        candidates = candidates[np.argsort(np.hypot(*(candidates - here).T), kind='stable')]
+        where it does), facing the way there; `end` where no spot does. The grid's spots are
+        tried, and those straight ahead of `end` (finer: no turn to reach them)."""
+        candidates = self._nearest_first(end)
         others = np.array([(pose.x, pose.y) for pose in taken]).reshape(-1, 2)
         for first in range(0, len(candidates), _CHUNK):  # nearest first, a chunk at a time
             chunk = candidates[first:first + _CHUNK]
@@ -60,6 +61,20 @@ class Parking:
         if math.dist((x, y), (end.x, end.y)) < 1e-9:
             return end
         return Pose2D(float(x), float(y), math.atan2(y - end.y, x - end.x))
+
+    def _nearest_first(self, end: Pose2D) -> np.ndarray:
+        """The spots that keep the distance, nearest `end` first (made once for each end)."""
+        key = (end.x, end.y, end.theta)
+        if key not in self._sorted:
+            here = np.array([end.x, end.y])
+            ahead = here + np.outer(np.arange(1, AHEAD_SPOTS + 1) * AHEAD_STEP_M,
+                                    (math.cos(end.theta), math.sin(end.theta)))
+            ahead = ahead[self._arena.inside(ahead)]
+            spots = np.concatenate((ahead[self.clear_points(ahead)], self._spots))
+            if self._clear(here):
+                spots = np.concatenate(([here], spots))
+            self._sorted[key] = spots[np.argsort(np.hypot(*(spots - here).T), kind='stable')]
+        return self._sorted[key]
 
     def clear(self, pose: Pose2D) -> bool:
         """`pose` keeps the distance from the pieces and the turtles standing still."""

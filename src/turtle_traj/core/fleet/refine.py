@@ -17,6 +17,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 
 from turtle_traj.core.control.config import ControlConfig
+from turtle_traj.core.fleet.chains import chained
 from turtle_traj.core.fleet.moves import Share, routes
 from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece
@@ -129,17 +130,23 @@ def _neighbours(parts: list[_Part], count: int, focus: set[int]) -> Iterator[lis
 def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
                 clearance: float, standing: Sequence[Pose2D] = (),
                 parking: Parking | None = None, aside: StepAside | None = None) -> Sharing:
-    """The pieces shared out among turtles at `starts`, kept `clearance` apart (`candidates`),
-    then refined with the waits counted: the best candidate, or beyond `EXHAUSTIVE_TURTLES`
-    (where the candidates come from fewer orders) each of the `REFINED_CANDIDATES` best.
+    """The pieces shared out among turtles at `starts`, kept `clearance` apart (`candidates`):
+    each of the `REFINED_CANDIDATES` best refined with the waits counted, its back-to-back
+    moves chained into one request where that changes nothing for the others (`chains`), and
+    the one that ends soonest.
 
     :raises Deadlock: every sharing tried would deadlock.
     """
     made: dict = {}  # the moves, made once for every sharing judged
     found = candidates(pieces, starts, config, clearance, standing, parking, aside, made)
-    count = 1 if len(starts) <= EXHAUSTIVE_TURTLES else REFINED_CANDIDATES
-    refined = [refine(sharing, pieces, starts, config, clearance, standing, parking, aside,
-                      made) for sharing in found[:count]]
+    everyone = [*starts, *standing]
+    refined = []
+    for sharing in found[:REFINED_CANDIDATES]:
+        better = refine(sharing, pieces, starts, config, clearance, standing, parking, aside,
+                        made)
+        assert better.timing is not None
+        refined.append(replace(better, timing=chained(better.timing, everyone, clearance,
+                                                      config, aside, len(standing))))
     return min(refined, key=lambda sharing: _finishes(sharing.timing))
 
 

@@ -21,7 +21,6 @@ import shapely
 
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.fleet.aside import SpotAside
-from turtle_traj.core.fleet.chains import chained
 from turtle_traj.core.fleet.moves import clear_spot
 from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece
@@ -77,12 +76,9 @@ class FleetRun:
                  if self.arena is not None else None)
         sharing = share_apart(pieces, starts, self.config, self.clearance, standing, parking,
                               aside)
-        assert sharing.timing is not None
-        sharing = replace(sharing, timing=chained(sharing.timing, [*starts, *standing],
-                                                  self.clearance, self.config, aside,
-                                                  len(standing)))
         if self.first_sharing is None:
             self.first_sharing = sharing
+        assert sharing.timing is not None
         moves = [[_renumbered(move, left) for move in route]
                  for route in sharing.timing.routes[:len(starts)]]
         self._serving = serving
