@@ -21,7 +21,7 @@ from turtle_traj.core.fleet.chains import chained
 from turtle_traj.core.fleet.moves import Share, routes
 from turtle_traj.core.fleet.parking import Parking
 from turtle_traj.core.fleet.pieces import Piece
-from turtle_traj.core.fleet.sharing import EXHAUSTIVE_TURTLES, Sharing, candidates
+from turtle_traj.core.fleet.sharing import Sharing, candidates
 from turtle_traj.core.fleet.timing import Deadlock, StepAside, Timing, simulate
 from turtle_traj.core.geometry.path import Pose2D
 
