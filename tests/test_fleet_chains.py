@@ -130,6 +130,23 @@ def test_the_fleets_chained_timing_keeps_the_turtles_apart_and_ends_sooner():
     assert closest_approach(tracks) >= 0.6 - 1e-9
 
 
+def test_a_travel_turns_in_place_to_face_its_way_however_little():
+    """A go-to 0.3 rad off its way steers onto it under the node's corner angle (0.35 rad),
+    and so would arrive beside its end; the fleet's travels ask for the least corner angle,
+    and turn in place first, as the plan times them."""
+    from turtle_traj.fleet.link import TRAVEL_CORNER_ANGLE
+
+    start = Pose2D(2.0, 2.0, 0.0)
+    goal = {'x': 2.0 + math.cos(0.3), 'y': 2.0 + math.sin(0.3)}
+
+    def first_leg(**given):
+        return planner.plan('go_to', make_request(BY_NAME['go_to'], {**goal, **given}), start,
+                            DEFAULT_SETTINGS).path.legs[0]
+    assert isinstance(first_leg(), Polyline)
+    turn = first_leg(corner_angle=TRAVEL_CORNER_ANGLE)
+    assert isinstance(turn, Turn) and turn.sweep_rad == pytest.approx(0.3)
+
+
 def test_a_follow_path_turns_in_place_where_the_request_says():
     """corner_angle in the request overrides the node's parameter (0.35 rad); out of range or
     not a number, it is refused with a reason."""

@@ -83,6 +83,8 @@ ANGULAR_SPEED = Field('angular_speed', 'top turn rate (corners)', parameter='ang
 _SHAPE_SPEEDS = (LINEAR_SPEED, ANGULAR_SPEED)
 CORNER_TOLERANCE = Field('corner_tolerance', 'round corners by up to this much, to keep moving',
                          parameter='corner_tolerance', menu=False)
+CORNER_ANGLE = Field('corner_angle', 'turn in place where the direction changes more than this',
+                     parameter='corner_angle', menu=False)
 PEN_CORNER_TOLERANCE = Field('corner_tolerance', 'round pen-down corners by up to this much '
                              '(default: exact, whatever the parameter)', 'm', low=0.0,
                              high=PARAMETER['corner_tolerance'].high, menu=False)
@@ -213,7 +215,7 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
          Field('theta', 'final heading (default: none)', 'deg', default=None,
                given='use_theta', low=-180.0, high=180.0, menu=False),
          Field('tolerance', 'arrival tolerance', parameter='goal_tolerance', menu=False),
-         LINEAR_SPEED),
+         CORNER_ANGLE, LINEAR_SPEED),
         ('go-to',), Example((1.5, 1.5, 0.0), {'x': 9.5, 'y': 9.0, 'theta': 180.0})),
     _move('move', 'drive straight along the heading',
           Field('distance', 'distance (negative: backwards)', 'm', default=2.0, low=-50.0,
@@ -232,9 +234,7 @@ TRAJECTORIES: tuple[TrajectoryKind, ...] = (
          Field('closed', 'return to the first point', type=BOOL, default=False),
          Field('theta', 'final heading (default: none)', 'deg', default=None,
                given='use_theta', low=-180.0, high=180.0, menu=False),
-         Field('corner_angle', 'turn in place where the direction changes more than this',
-               parameter='corner_angle', menu=False),
-         LINEAR_SPEED, CORNER_TOLERANCE),
+         CORNER_ANGLE, LINEAR_SPEED, CORNER_TOLERANCE),
         ('follow-path',), Example((2.5, 2.5, 0.0), {
             'points': [(8.5, 2.5), (8.5, 8.5), (5.5, 5.5), (2.5, 8.5)], 'closed': True})),
 )

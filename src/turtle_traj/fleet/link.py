@@ -26,11 +26,15 @@ from turtle_traj.api.ros_interface import DRAW_ACTION
 from turtle_traj.client.liveness import Liveness
 from turtle_traj.core.fleet.timing import Move
 from turtle_traj.core.geometry.path import Pose2D
+from turtle_traj.core.parameters.table import PARAMETER
 from turtle_traj.core.turtlesim_contract import PenStyle
 from turtle_traj.node.lease import LEASE_QOS, LEASE_TOPIC
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 TRAVEL_TOLERANCE_M = 0.001  # a travel's go-to arrives this near its piece (the least it takes)
+# a travel turns in place to face its way, however little (as the plan times it): steering onto
+# it instead, from up to the node's corner angle off, the turtle arrives beside its end
+TRAVEL_CORNER_ANGLE = PARAMETER['corner_angle'].low
 
 
 @dataclass(frozen=True)
@@ -220,4 +224,5 @@ def _goal(move: Move, linear_speed: float) -> Draw.Goal:
     x, y = move.end
     return Draw.Goal(trajectory='go_to', x=x, y=y, use_theta=True,
                      theta=math.remainder(move.heading, 2 * math.pi),
-                     tolerance=TRAVEL_TOLERANCE_M, linear_speed=linear_speed)
+                     tolerance=TRAVEL_TOLERANCE_M, linear_speed=linear_speed,
+                     corner_angle=TRAVEL_CORNER_ANGLE)

@@ -123,7 +123,7 @@ def sketch_go_to(request: Any, start: Pose2D, settings: Settings) -> Sketch:
         raise PlanError(f'goal ({x:g}, {y:g}) is outside the arena ({arena.describe()}, after '
                         'the wall margin)')
     path = shapes.go_to(start, x=x, y=y, final_heading=theta, tolerance=tolerance,
-                        corner_angle_rad=defaults.corner_angle)
+                        corner_angle_rad=_corner_angle(request, settings))
     return Sketch(f'way to ({x:g}, {y:g})', lambda _: path,
                   linear_speed=requested_speed('linear_speed', request.linear_speed),
                   end_tolerance=tolerance)
@@ -173,7 +173,8 @@ def sketch_follow(request: Any, start: Pose2D, settings: Settings) -> Sketch:
 
 
 def _corner_angle(request: Any, settings: Settings) -> float:
-    """Where a follow-path turns in place: the request's `corner_angle`, else the node's."""
+    """Where a go-to or a follow-path turns in place: the request's `corner_angle`, else the
+    node's."""
     asked = getattr(request, 'corner_angle', 0.0)
     require_finite(corner_angle=asked)
     spec = PARAMETER['corner_angle']
