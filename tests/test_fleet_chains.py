@@ -107,17 +107,13 @@ def test_the_fleets_chained_timing_keeps_the_turtles_apart_and_ends_sooner():
     """The demo's SVG among three turtles: chained where it changes nothing for the others,
     the turtles are still apart at every sampled instant, every piece is drawn once, and the
     drawing ends sooner."""
+    from tests.test_fleet_sharing import svg_among
     from tests.test_fleet_timing import _tracks, closest_approach
-    from turtle_traj.apps.sim import starting_places
     from turtle_traj.core.fleet.parking import Parking
     from turtle_traj.core.fleet.refine import refine
     from turtle_traj.core.fleet.sharing import share
 
-    example = BY_NAME['svg'].example
-    plan = planner.plan('svg', make_request(BY_NAME['svg'], dict(example.given)),
-                        Pose2D(*example.start), DEFAULT_SETTINGS)
-    pieces = pieces_in(plan.path, CONFIG)
-    starts = [Pose2D(*example.start), *(Pose2D(*p) for p in starting_places(3)[1:])]
+    pieces, starts = svg_among(3)
     parking = Parking(pieces, 0.6, DEFAULT_SETTINGS.arena)
     sharing = refine(share(pieces, starts, CONFIG, 0.6, parking=parking), pieces, starts, CONFIG,
                      0.6, parking=parking)

@@ -142,20 +142,27 @@ def test_shared_with_a_clearance_the_turtles_keep_it_at_every_instant():
     assert sharing.timing.drawn_s < 0.6 * alone
 
 
-def test_refining_with_the_waits_counted_ends_the_svg_sooner_and_keeps_the_clearance():
-    """The demo's SVG among three turtles: the split cut for the least makespan without waits
-    is refined (cuts moved, parts reversed) to end sooner with them, still apart."""
-    from tests.test_fleet_timing import _tracks, closest_approach
+def svg_among(count: int) -> tuple[list[Piece], list[Pose2D]]:
+    """The demo's SVG in pieces, and where `up --turtles count` puts the turtles (turtle1 at
+    the drawing's start)."""
     from turtle_traj.apps.sim import starting_places
-    from turtle_traj.core.fleet.moves import routes
-    from turtle_traj.core.fleet.parking import Parking
-    from turtle_traj.core.fleet.refine import refine
 
     example = BY_NAME['svg'].example
     plan = planner.plan('svg', make_request(BY_NAME['svg'], dict(example.given)),
                         Pose2D(*example.start), DEFAULT_SETTINGS)
-    pieces = pieces_in(plan.path, CONFIG)
-    starts = [Pose2D(*example.start), *(Pose2D(*p) for p in starting_places(3)[1:])]
+    starts = [Pose2D(*example.start), *(Pose2D(*p) for p in starting_places(count)[1:])]
+    return pieces_in(plan.path, CONFIG), starts
+
+
+def test_refining_with_the_waits_counted_ends_the_svg_sooner_and_keeps_the_clearance():
+    """The demo's SVG among three turtles: the split cut for the least makespan without waits
+    is refined (cuts moved, parts reversed) to end sooner with them, still apart."""
+    from tests.test_fleet_timing import _tracks, closest_approach
+    from turtle_traj.core.fleet.moves import routes
+    from turtle_traj.core.fleet.parking import Parking
+    from turtle_traj.core.fleet.refine import refine
+
+    pieces, starts = svg_among(3)
     parking = Parking(pieces, 0.6, DEFAULT_SETTINGS.arena)
     split = share(pieces, starts, CONFIG, clearance=0.6, parking=parking)
     refined = refine(split, pieces, starts, CONFIG, 0.6, parking=parking)
@@ -242,16 +249,11 @@ def test_twenty_turtles_share_the_svg_apart_in_a_fifth_of_one_turtles_time():
     the turtles apart at every sampled instant (steps aside included), ending sooner than a
     fifth of one turtle's time."""
     from tests.test_fleet_timing import _tracks, closest_approach
-    from turtle_traj.apps.sim import starting_places
     from turtle_traj.core.fleet.aside import SpotAside
     from turtle_traj.core.fleet.parking import Parking
     from turtle_traj.core.fleet.refine import share_apart
 
-    example = BY_NAME['svg'].example
-    plan = planner.plan('svg', make_request(BY_NAME['svg'], dict(example.given)),
-                        Pose2D(*example.start), DEFAULT_SETTINGS)
-    pieces = pieces_in(plan.path, CONFIG)
-    starts = [Pose2D(*example.start), *(Pose2D(*p) for p in starting_places(20)[1:])]
+    pieces, starts = svg_among(20)
     arena = DEFAULT_SETTINGS.arena
     ink = shapely.union_all([shapely.LineString(piece.polyline.points) for piece in pieces])
     parking = Parking(pieces, 0.6, arena)
