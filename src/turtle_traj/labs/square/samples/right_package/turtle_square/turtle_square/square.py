@@ -34,11 +34,11 @@ class Square(Node):
         x0, y0, heading = self.start
         if self.leg % 2 == 0:
             left = SIDE - math.hypot(self.pose.x - x0, self.pose.y - y0)
-            command.linear.x = min(1.0, 2.0 * left)
+            command.linear.x = min(1.0, 4.0 * left)
             finished = left < 0.005
         else:
             error = math.remainder(heading + math.pi / 2 - self.pose.theta, math.tau)
-            command.angular.z = max(-1.5, min(1.5, 3.0 * error))
+            command.angular.z = max(-1.5, min(1.5, 6.0 * error))
             finished = abs(error) < 0.002
         if finished:
             command = Twist()
