@@ -119,7 +119,9 @@ def test_hostile_samples_are_contained(graded):
     assert 'socket: no connection to 127.0.0.1:47815' in results['hostile_socket'].log
     fork = results['hostile_fork']
     assert 'time limit' in fork.ended and 'refused more processes' in fork.ended
-    assert fork.seconds < task.time_limit_s + ROOM_GRACE_S
+    # its room ended within the grace after the time limit (the grader's own time on it
+    # counts the wait for a room's slot too, which other graders' rooms may hold)
+    assert task.time_limit_s <= fork.room_s < task.time_limit_s + ROOM_GRACE_S
     kill = {check.name: check for check in results['hostile_kill'].checks}['no_teleport']
     assert kill.score == 0 and 'called kill' in kill.message
     leftovers = [path for controller in RunGroup.CONTROLLERS

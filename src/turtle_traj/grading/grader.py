@@ -68,7 +68,8 @@ class StudentResult:
     peak: dict = field(default_factory=dict)
     fit: Fit | None = None
     drawn: list = field(default_factory=list)  # the pen's strokes, for the picture
-    seconds: float = 0.0  # the grader's time on it
+    seconds: float = 0.0  # the grader's time on it (waiting for a room's slot included)
+    room_s: float = 0.0  # how long its room ran, once it held a slot (0: it did not run)
 
     @property
     def score(self) -> float:
@@ -177,9 +178,9 @@ def _run(task: Task, name: str, run_dir: Path, work: Path, hidden: list[Path],
                 'settle_s': task.settle_s, 'domain_id': domain_id,
                 'live_view': str(live_view or '')}
         (run_dir / 'spec.json').write_text(json.dumps(spec))
-        room_error = _run_room(room_command(sys.executable, run_dir / 'spec.json', run_dir,
-                                            group, live_view), run_dir,
-                               limits.wall_s + ROOM_GRACE_S)
+        room_error, room_s = _run_room(room_command(sys.executable, run_dir / 'spec.json',
+                                                    run_dir, group, live_view), run_dir,
+                                       limits.wall_s + ROOM_GRACE_S)
         peak = group.peak() if group else {}
         tasks_hit = group is not None and group.hit_tasks_limit()
     finally:
@@ -200,7 +201,7 @@ def _run(task: Task, name: str, run_dir: Path, work: Path, hidden: list[Path],
         ended += (f'; the simulator fell {outcome.lost_steps} steps behind (the machine was too '
                   'busy): grade it again')
     return StudentResult(name, checks, ended, run_dir, log, peak, placed,
-                         [stroke.tolist() for stroke in record.strokes])
+                         [stroke.tolist() for stroke in record.strokes], room_s=room_s)
 
 
 _RUNS = itertools.count()
@@ -208,8 +209,9 @@ _STARTING = threading.Lock()  # one room starts at a time (see `_run_room`)
 _START_POLL_S = 0.02
 
 
-def _run_room(command: list[str], run_dir: Path, timeout_s: float) -> str:
-    """Run the room; '' when it saved its outcome, else what went wrong.
+def _run_room(command: list[str], run_dir: Path, timeout_s: float) -> tuple[str, float]:
+    """Run the room: '' when it saved its outcome, else what went wrong; and how long it ran
+    (from when it held a slot).
 
     Rooms start one at a time: a room's start (Python, rclpy, the simulator: about a second
     of a core) runs at nice -10, and several starting together keep running simulators from
@@ -217,6 +219,7 @@ def _run_room(command: list[str], run_dir: Path, timeout_s: float) -> str:
     real-time (`simulator_first`). A room first waits for one of the machine's slots
     (`slots.room_slot`): no more rooms run at once than one grader would start."""
     with room_slot(default_jobs()), (run_dir / 'room.log').open('wb') as log:
+        began = time.monotonic()
         with _STARTING:
             room = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=log,
                                     stderr=subprocess.STDOUT, start_new_session=True)
@@ -230,10 +233,12 @@ def _run_room(command: list[str], run_dir: Path, timeout_s: float) -> str:
         except subprocess.TimeoutExpired:
             os.killpg(room.pid, signal.SIGKILL)
             room.wait()
-            return f'its room did not end within {timeout_s:.0f} s'
+            return f'its room did not end within {timeout_s:.0f} s', time.monotonic() - began
+        ran_s = time.monotonic() - began
     if room.returncode != 0 or not (run_dir / 'outcome.json').exists():
-        return f'its room ended with status {room.returncode}: {_tail(run_dir / "room.log")}'
-    return ''
+        return (f'its room ended with status {room.returncode}: '
+                f'{_tail(run_dir / "room.log")}', ran_s)
+    return '', ran_s
 
 
 def _not_run(task: Task, name: str, run_dir: Path, reason: str, log: str = ''
