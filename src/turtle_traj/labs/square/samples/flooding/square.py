@@ -1,8 +1,11 @@
-"""The closed-loop square of right_package, while a thread floods a topic of its own with
-64 kB messages as fast as it can."""
+"""The closed-loop square of right_package, while a process of its own floods a topic with
+64 kB messages as fast as it can, at the lowest priority (the flood takes whatever CPU its run
+is allowed and the drawing leaves)."""
 
 import math
-import threading
+import os
+import subprocess
+import sys
 
 import rclpy
 from geometry_msgs.msg import Twist
@@ -50,21 +53,29 @@ class Square(Node):
         self.cmd_vel.publish(command)
 
 
-def flood(node):
-    publisher = node.create_publisher(String, '/flood', 10)
+def flood():
+    os.nice(19)
+    rclpy.init()
+    publisher = Node('flood').create_publisher(String, '/flood', 10)
     message = String(data='x' * 65536)
     while rclpy.ok():
         publisher.publish(message)
 
 
 def main():
-    rclpy.init()
-    node = Square()
-    threading.Thread(target=flood, args=(node,), daemon=True).start()
-    while rclpy.ok() and not node.done:
-        rclpy.spin_once(node, timeout_sec=0.1)
-    node.destroy_node()
-    rclpy.shutdown()
+    if sys.argv[1:] == ['--flood']:
+        flood()
+        return
+    flooder = subprocess.Popen([sys.executable, __file__, '--flood'])
+    try:
+        rclpy.init()
+        node = Square()
+        while rclpy.ok() and not node.done:
+            rclpy.spin_once(node, timeout_sec=0.1)
+        node.destroy_node()
+        rclpy.shutdown()
+    finally:
+        flooder.kill()
 
 
 if __name__ == '__main__':
