@@ -78,8 +78,8 @@ def declare_parameters(node: Node) -> SimParameters:
             floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1000.0)])).value)
     node.declare_parameter('motor_gains', '', ParameterDescriptor(
         description='Worn motors: "turtle3=0.5,turtle7=0.8" has those turtles deliver that '
-                    'share of every commanded velocity, 0 to 1 (turtle_traj extension, for '
-                    'fleet fault tests)'))
+                    'share of every commanded velocity, above 0 and at most 1 (turtle_traj '
+                    'extension, for fleet fault tests)'))
     return SimParameters(time_scale, publish_clock, output_dir, *delay, *inertia)
 
 

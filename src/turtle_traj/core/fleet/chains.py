@@ -60,32 +60,36 @@ def chain(timing: Timing, turtle: int, starts: Sequence[Pose2D], clearance: floa
     route, begun = timing.routes[turtle], timing.starts_s[turtle]
     others = _Others(timing, starts, turtle)
     chained: list[Move] = []
-    run: list[Move] = []  # the moves of the chain being made
+    run: list[Move] = []  # the moves of the chain being made, and that chain as one move
+    whole: Move | None = None
     since, facing = 0.0, starts[turtle].theta
     for index, move in enumerate(route):
         if run and abs(begun[index] - begun[index - 1] - route[index - 1].duration_s) < 1e-9:
             longer = joined([*run, move], facing, config)
             if longer is not None and others.apart(longer.shape, since,
                                                    begun[index] + move.duration_s, clearance):
-                run.append(move)
+                run, whole = [*run, move], longer
                 continue
-        facing = _close(run, chained, facing, config)
-        run, since = [move], begun[index]
-    _close(run, chained, facing, config)
+        facing = _close(run, whole, chained, facing, config)
+        run, whole, since = [move], move, begun[index]
+    _close(run, whole, chained, facing, config)
     return chained
 
 
-def _close(run: list[Move], chained: list[Move], facing: float, config: ControlConfig) -> float:
-    """Put `run` in `chained` as one move (a turn onto a piece that ends it stays a move of its
-    own: a follow-path ends facing its last segment); the heading it leaves the turtle in."""
-    if not run:
+def _close(run: list[Move], whole: Move | None, chained: list[Move], facing: float,
+           config: ControlConfig) -> float:
+    """Put `run` in `chained` as one move, `whole` (but a turn onto a piece that ends it stays
+    a move of its own: a follow-path ends facing its last segment); the heading it leaves the
+    turtle in."""
+    if not run or whole is None:
         return facing
-    tail = [run.pop()] if len(run) > 1 and run[-1].pen and not run[-1].pieces else []
-    if run:
-        move = joined(run, facing, config)
-        assert move is not None
-        chained.append(move)
-    chained.extend(tail)
+    if len(run) > 1 and run[-1].pen and not run[-1].pieces:
+        *run, turn = run
+        whole = joined(run, facing, config)
+        assert whole is not None  # a part of a run that joined joins
+        chained.extend((whole, turn))
+    else:
+        chained.append(whole)
     return chained[-1].heading
 
 
