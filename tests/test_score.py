@@ -2,7 +2,9 @@
 45-degree staircases, clear of the walls), and a run counts as finished only when it ends within
 the goal tolerance of the path's end."""
 
+import copy
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -74,6 +76,22 @@ def test_the_exact_follower_is_matched_at_a_rival_s_error_measured_on_the_drawn_
     assert not hasattr(go_to.request, 'corner_tolerance')
     assert matched_runs(go_to, [run_course(go_to, name, work_dir=tmp_path)
                                 for name in ('exact', 'dwpp')], tmp_path) == []
+
+
+@pytest.mark.parametrize('tolerance', [0.02, 0.07])
+def test_a_heart_rounded_within_a_tolerance_is_driven_within_it(tmp_path, tolerance):
+    """The heart's top is a cusp whose sides curve apart: turned short of it, the robot turns
+    again where the way across meets the far side (it had steered through that bend at speed,
+    80 mm off at a 20 mm tolerance)."""
+    from turtle_traj.testing.geometry import distance_to_polyline
+
+    course = next(c for c in standard_courses(('turtlesim',)) if c.name == 'heart')
+    drawn = run_course(course, 'exact', work_dir=tmp_path).plan
+    request = copy.copy(course.request)
+    request.corner_tolerance = tolerance
+    rounded = run_course(replace(course, request=request), 'exact', work_dir=tmp_path)
+    assert rounded.success
+    assert distance_to_polyline(rounded.path, drawn).max() <= tolerance
 
 
 def test_the_limit_beside_a_matched_run_is_no_slower_than_the_run(tmp_path):

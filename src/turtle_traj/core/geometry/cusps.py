@@ -17,6 +17,8 @@ from turtle_traj.core.geometry.projection import all_near
 from turtle_traj.core.geometry.tube import resampled
 
 _SAMPLE_M = 0.005  # the new connection is checked against the path this often
+# a connection meeting the next polyline at a sharper bend than this is turned in place there
+_BEND_RAD = math.radians(1.0)
 
 
 def cusps_cut_short(legs: Sequence[Leg], drawn: np.ndarray, width: float,
@@ -45,15 +47,33 @@ def cusps_cut_short(legs: Sequence[Leg], drawn: np.ndarray, width: float,
         leaving = np.concatenate(([turned_at], onward))
         if len(leaving) < 2 or not all_near(resampled(leaving[:2], _SAMPLE_M), drawn, width):
             continue
-        shortened, left = replace(before, points=kept), replace(after, points=leaving)
-        sweep = (turn.sweep_rad
-                 + wrap_angle(float(left.headings[0]) - float(after.headings[0]))
-                 - wrap_angle(float(shortened.headings[-1]) - float(before.headings[-1])))
-        start = turn.start_heading + wrap_angle(float(shortened.headings[-1])
-                                                - float(before.headings[-1]))
-        out[index - 1:index + 2] = [shortened, Turn(float(turned_at[0]), float(turned_at[1]),
-                                                    start, sweep), left]
+        shortened = replace(before, points=kept)
+        out[index - 1:index + 2] = _turned_twice(shortened, turn, before, after, leaving)
     return tuple(out)
+
+
+def _turned_twice(shortened: Polyline, turn: Turn, before: Polyline, after: Polyline,
+                  leaving: np.ndarray) -> list[Leg]:
+    """The shortened polyline, a turn onto `leaving` (a connection from where the robot turned
+    to the polyline after the cusp, then along that polyline), and `leaving`. Where the
+    connection meets that polyline at a bend sharper than `_BEND_RAD`, the connection and the
+    rest are legs of their own with a turn in place between them. The turns sweep as much, the
+    same way round, as `turn` did from `before`'s end to `after`'s start."""
+    left = replace(after, points=leaving)
+    start_shift = wrap_angle(float(shortened.headings[-1]) - float(before.headings[-1]))
+    start = turn.start_heading + start_shift
+    onto = turn.sweep_rad - start_shift + wrap_angle(float(left.headings[0])
+                                                     - float(after.headings[0]))
+    x, y = (float(v) for v in leaving[0])
+    if len(leaving) < 3:
+        return [shortened, Turn(x, y, start, onto), left]
+    bend = (wrap_angle(float(left.headings[1]) - float(after.headings[0]))
+            - wrap_angle(float(left.headings[0]) - float(after.headings[0])))
+    if abs(bend) <= _BEND_RAD:
+        return [shortened, Turn(x, y, start, onto), left]
+    bx, by = (float(v) for v in leaving[1])
+    return [shortened, Turn(x, y, start, onto), replace(after, points=leaving[:2]),
+            Turn(bx, by, start + onto, bend), replace(after, points=leaving[1:])]
 
 
 def _until(points: np.ndarray, arc: np.ndarray, length: float) -> np.ndarray:
