@@ -13,6 +13,7 @@ import json
 import os
 import shutil
 import socket
+import subprocess
 import time
 from pathlib import Path
 
@@ -60,6 +61,31 @@ def test_a_task_may_take_a_package_or_a_script():
     assert task.max_score == 11 and task.settle_s == 5.0
     assert read_task({'run': {'script': 'a.py'}, 'expected': {'shape': 'circle', 'size': 1},
                       'checks': {'shape': 1}}).entry_point == ''
+
+
+@pytest.mark.skipif(not RunGroup.available(), reason='needs root and cgroup v1 controllers')
+def test_a_run_s_processes_share_one_core_and_runs_at_once_spread_over_the_cores():
+    """A flood beside the student's node on another core drew the group's whole quota there,
+    and the node waited up to 0.46 s; on one core the flood's lower priority counts."""
+    groups = [RunGroup(f'{os.getpid()}-core-{index}', RunLimits()) for index in range(2)]
+    try:
+        cores = [(group.paths['cpuset'] / 'cpuset.cpus').read_text().strip()
+                 for group in groups]
+        ours = {str(core) for core in os.sched_getaffinity(0)}
+        assert set(cores) <= ours
+        assert len(set(cores)) == min(2, len(ours))
+        member = subprocess.Popen(['sh', '-c', 'read line'], stdin=subprocess.PIPE)
+        try:
+            (groups[0].paths['cpuset'] / 'cgroup.procs').write_text(str(member.pid))
+            status = Path(f'/proc/{member.pid}/status').read_text()
+            assert f'Cpus_allowed_list:\t{cores[0]}\n' in status
+        finally:
+            member.kill()
+            member.wait()
+    finally:
+        for group in groups:
+            group.remove()
+    assert not any(path.exists() for group in groups for path in group.paths.values())
 
 
 @pytest.fixture(scope='module')
