@@ -127,26 +127,33 @@ def test_the_fleets_chained_timing_keeps_the_turtles_apart_and_ends_sooner():
 
 
 def test_a_travel_turns_in_place_to_face_its_way_however_little():
-    """A go-to 0.3 rad off its way steers onto it under the node's corner angle (0.35 rad),
-    and so would arrive beside its end; the fleet's travels ask for the least corner angle,
-    and turn in place first, as the plan times them."""
+    """A go-to 0.3 rad off its way turns in place first. One a hair off (0.015 rad over
+    0.1 m, where the curve onto the way stays within half a millimetre of it) steers, and
+    arrives a little beside its end; the fleet's travels ask for the least corner angle, and
+    turn in place first, as the plan times them."""
     from turtle_traj.fleet.link import TRAVEL_CORNER_ANGLE
 
     start = Pose2D(2.0, 2.0, 0.0)
-    goal = {'x': 2.0 + math.cos(0.3), 'y': 2.0 + math.sin(0.3)}
 
-    def first_leg(**given):
+    def first_leg(angle, distance, **given):
+        goal = {'x': 2.0 + distance * math.cos(angle), 'y': 2.0 + distance * math.sin(angle)}
         return planner.plan('go_to', make_request(BY_NAME['go_to'], {**goal, **given}), start,
                             DEFAULT_SETTINGS).path.legs[0]
-    assert isinstance(first_leg(), Polyline)
-    turn = first_leg(corner_angle=TRAVEL_CORNER_ANGLE)
+    turn = first_leg(0.3, 1.0)
     assert isinstance(turn, Turn) and turn.sweep_rad == pytest.approx(0.3)
+    assert isinstance(first_leg(0.015, 0.1), Polyline)
+    turn = first_leg(0.015, 0.1, corner_angle=TRAVEL_CORNER_ANGLE)
+    assert isinstance(turn, Turn) and turn.sweep_rad == pytest.approx(0.015)
 
 
 def test_a_follow_path_turns_in_place_where_the_request_says():
-    """corner_angle in the request overrides the node's parameter (0.35 rad); out of range or
-    not a number, it is refused with a reason."""
-    points = [(2.0, 2.0), (3.0, 2.0), (3.0 + math.cos(0.2), 2.0 + math.sin(0.2))]
+    """corner_angle in the request overrides the node's parameter (0.35 rad) on a curve's
+    samples (bends of 0.2 rad every centimetre); out of range or not a number, it is refused
+    with a reason."""
+    points = [(2.0 + 0.01 * index, 2.0) for index in range(2)]
+    for bend in (0.2, 0.4):
+        points.append((points[-1][0] + 0.01 * math.cos(bend),
+                       points[-1][1] + 0.01 * math.sin(bend)))
     start = Pose2D(2.0, 2.0, 0.0)
 
     def turns(**given):
@@ -154,7 +161,7 @@ def test_a_follow_path_turns_in_place_where_the_request_says():
             'points': points, **given}), start, DEFAULT_SETTINGS).path
         return [leg.sweep_rad for leg in path.legs if isinstance(leg, Turn)]
     assert turns() == []
-    assert turns(corner_angle=0.1) == [pytest.approx(0.2)]
+    assert turns(corner_angle=0.1) == [pytest.approx(0.2), pytest.approx(0.2)]
     for bad in (math.nan, 0.001, 4.0):
         with pytest.raises(PlanError, match='corner_angle'):
             turns(corner_angle=bad)

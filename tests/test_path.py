@@ -17,8 +17,14 @@ CORNER = 0.35  # rad
     (0.0, [(0, 0), (0, 1)], 'TC', [math.pi / 2]),
     # a square corner in the middle splits the line
     (0.0, [(0, 0), (1, 0), (1, -1)], 'CTC', [-math.pi / 2]),
-    # a gentle bend below the corner angle stays one curve
-    (0.0, [(0, 0), (1, 0), (2, 0.2)], 'C', []),
+    # a gentle bend between short segments samples a curve: one curve
+    (0.0, [(0, 0), (0.01, 0), (0.02, 0.002)], 'C', []),
+    # the same bend between long ones is a corner (its curve would pass 25 mm inside)
+    (0.0, [(0, 0), (1, 0), (2, 0.2)], 'CTC', [math.atan2(0.2, 1.0)]),
+    # so is a start facing a long segment a little off (the curve onto it: 10 mm)
+    (0.1, [(0, 0), (2, 0)], 'TC', [-0.1]),
+    # but not one off by a hair
+    (1e-4, [(0, 0), (2, 0)], 'C', []),
     # repeated points are dropped, not turned at
     (0.0, [(0, 0), (1, 0), (1, 0), (2, 0)], 'C', []),
 ])

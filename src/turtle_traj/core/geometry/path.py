@@ -164,13 +164,48 @@ class Path:
         return self.length / linear_speed + self.turning / angular_speed
 
 
+# A bend of a polyline is a sample of a curve where its neighbour bends the same way about as
+# sharply, or where the curve through it passes at most this far off the polyline; otherwise it
+# is a corner, turned in place however gentle (steered through, a 0.3 rad bend between 2 m
+# segments left the path by 20 mm)
+CURVE_SAMPLE_M = 0.0005
+_LIKE_CURVATURE = 2.0  # a neighbour's curvature within this factor is "about as sharp"
+
+
+def corners(start_heading: float, points: np.ndarray, corner_angle_rad: float) -> np.ndarray:
+    """Whether to turn in place before each segment of the polyline through `points` (no
+    repeated points), starting at `start_heading`: where its direction changes by more than
+    `corner_angle_rad`, or by a bend that samples no curve (see `CURVE_SAMPLE_M`)."""
+    steps = np.diff(points, axis=0)
+    if not len(steps):
+        return np.zeros(0, dtype=bool)
+    lengths = np.hypot(steps[:, 0], steps[:, 1])
+    directions = np.arctan2(steps[:, 1], steps[:, 0])
+    change = wrap_angles(np.diff(np.concatenate(([start_heading], directions))))
+    span = np.concatenate(([0.0], lengths[:-1])) + lengths
+    curvature = change / np.maximum(0.5 * span, 1e-12)
+    alike = np.zeros(len(change), dtype=bool)
+    for shift in (1, -1):  # the bend before, then the bend after
+        neighbour = np.roll(curvature, shift)
+        ratio = np.divide(neighbour, curvature, out=np.zeros_like(curvature),
+                          where=curvature != 0.0)
+        like = (ratio >= 1.0 / _LIKE_CURVATURE) & (ratio <= _LIKE_CURVATURE)
+        like[0 if shift == 1 else -1] = False  # no bend before the first, none after the last
+        alike |= like
+    sagitta = span * np.abs(change) / 16.0  # an arc's, through the bend between the segments
+    # from the start, a curve leaving along the robot's heading that meets the first segment
+    # at its end (a parabola): it passes a quarter of the segment's length times the bend off
+    sagitta[0] = lengths[0] * abs(change[0]) / 4.0
+    return (np.abs(change) > corner_angle_rad) | ((sagitta > CURVE_SAMPLE_M) & ~alike)
+
+
 def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: float,
                        reverse: bool = False, pen: bool = True) -> list[Leg]:
-    """Split a polyline into curves at corners sharper than `corner_angle_rad`.
+    """Split a polyline into curves at its corners (`corners`).
 
-    The turtle starts at `start`; a turn in place (shortest direction) is inserted wherever the
-    direction of travel changes by more than the corner angle, including before the first
-    segment. Zero-length segments are dropped. `pen` marks the polylines (see `Polyline`).
+    The turtle starts at `start`; a turn in place (shortest direction) is inserted at every
+    corner, including before the first segment. Zero-length segments are dropped. `pen` marks
+    the polylines (see `Polyline`).
     """
     points = np.asarray(points, dtype=float)
     keep = np.concatenate(([True], np.hypot(*np.diff(points, axis=0).T) > 1e-9))
@@ -178,10 +213,11 @@ def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: f
     legs: list[Leg] = []
     heading = start.theta + (math.pi if reverse else 0.0)
     current: list[np.ndarray] = [points[0]]
-    for a, b in zip(points[:-1], points[1:], strict=True):
+    turned = corners(heading, points, corner_angle_rad)
+    for a, b, corner in zip(points[:-1], points[1:], turned, strict=True):
         direction = math.atan2(b[1] - a[1], b[0] - a[0])
         change = shortest_angular_distance(heading, direction)
-        if abs(change) > corner_angle_rad:
+        if corner:
             if len(current) > 1:
                 legs.append(Polyline(np.array(current), reverse=reverse, pen=pen))
             facing = heading - (math.pi if reverse else 0.0)
