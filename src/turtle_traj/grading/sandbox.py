@@ -36,7 +36,12 @@ HIDDEN = ('/root', '/home')  # empty and read-only, besides the grader's own fol
 SCRATCH = ('/tmp', '/var/tmp', '/dev/shm', '/run')  # empty and the run's own
 ROOM_NICE = -10  # the room's simulator steps in real time: it goes first (when root)
 ROOM_REAL_TIME_PRIORITY = 10  # then real-time, below the kernel's interrupt threads (50)
-_CPU_PERIOD_US = 10_000  # short: a throttled run waits at most this long
+# A throttled run waits at most this long. The kernel hands a group's quota to a core a slice
+# at a time (`sched_cfs_bandwidth_slice_us`, 5 ms): with a quota of one slice (0.25 of 20 ms),
+# the flooding sample's flood drew it all on its core and left the student's node on the other
+# throttled, its commands standing for up to 0.46 s beside a busy suite; a quota of two slices
+# leaves one for the node
+_CPU_PERIOD_US = 40_000
 _REMOVE_S = 10.0
 ROOM_GROUPS = Path('/tmp/run-groups')  # where the room sees the student's control groups
 
@@ -135,11 +140,11 @@ def student_command(argv: Sequence[str], work: Path, hidden: Iterable[Path],
 
 
 class RunGroup:
-    """A run's control groups (cgroup v1's pids, memory, cpu and cpuset controllers): how many
-    tasks, how much memory and how much CPU the student's processes have together, on one core.
-    Made by the grader, which must be root; `remove` kills whatever is left in them."""
+    """A run's control groups (cgroup v1's pids, memory and cpu controllers): how many tasks,
+    how much memory and how much CPU the student's processes have together. Made by the
+    grader, which must be root; `remove` kills whatever is left in them."""
 
-    CONTROLLERS = ('pids', 'memory', 'cpu', 'cpuset')
+    CONTROLLERS = ('pids', 'memory', 'cpu')
 
     def __init__(self, name: str, limits: RunLimits) -> None:
         # At the top of each hierarchy: a run weighs one ordinary process (cpu.shares 1024)
@@ -161,13 +166,6 @@ class RunGroup:
             (self.paths['cpu'] / 'cpu.cfs_period_us').write_text(str(_CPU_PERIOD_US))
             (self.paths['cpu'] / 'cpu.cfs_quota_us').write_text(
                 str(round(limits.cpu_share * _CPU_PERIOD_US)))
-            # on one core: a core draws the quota 5 ms at a time (the kernel's bandwidth
-            # slice), so a flood on one core took all of it and left the student's node on the
-            # other throttled for up to 0.46 s; on one core, its lower priority counts
-            cpuset = CGROUP_ROOT / 'cpuset'
-            (self.paths['cpuset'] / 'cpuset.mems').write_text(
-                (cpuset / 'cpuset.effective_mems').read_text())
-            (self.paths['cpuset'] / 'cpuset.cpus').write_text(str(_least_pinned_core(cpuset)))
         except OSError as error:
             self.remove()
             raise SandboxUnavailable(f'cannot make a control group ({error})') from None
@@ -211,18 +209,6 @@ class RunGroup:
                     break
                 except OSError:  # busy: its processes are still dying
                     time.sleep(0.02)
-
-
-def _least_pinned_core(cpuset: Path) -> int:
-    """The core of ours with the fewest runs' groups already pinned to it (the lowest of
-    those): concurrent runs spread over the cores."""
-    pinned = {core: 0 for core in sorted(os.sched_getaffinity(0))}
-    for group in cpuset.glob(f'{GROUP_PREFIX}*'):
-        with contextlib.suppress(OSError, ValueError):
-            core = int((group / 'cpuset.cpus').read_text().strip() or -1)
-            if core in pinned:
-                pinned[core] += 1
-    return min(pinned, key=lambda core: (pinned[core], core))
 
 
 def simulator_first(root_pid: int) -> bool:
