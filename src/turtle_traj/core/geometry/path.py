@@ -164,11 +164,13 @@ class Path:
         return self.length / linear_speed + self.turning / angular_speed
 
 
-# A bend of a polyline is a sample of a curve where its neighbour bends the same way about as
-# sharply, or where the curve through it passes at most this far off the polyline; otherwise it
+# A bend of a polyline is a sample of a curve where the curve through it passes at most
+# `CURVE_SAMPLE_M` off the polyline, or at most `SAMPLED_CURVE_M` where a neighbour bends the
+# same way about as sharply (a sampled curve's chords: the demo's sine, 0.47 mm); otherwise it
 # is a corner, turned in place however gentle (steered through, a 0.3 rad bend between 2 m
 # segments left the path by 20 mm)
 CURVE_SAMPLE_M = 0.0005
+SAMPLED_CURVE_M = 0.002
 _LIKE_CURVATURE = 2.0  # a neighbour's curvature within this factor is "about as sharp"
 
 
@@ -196,7 +198,8 @@ def corners(start_heading: float, points: np.ndarray, corner_angle_rad: float) -
     # from the start, a curve leaving along the robot's heading that meets the first segment
     # at its end (a parabola): it passes a quarter of the segment's length times the bend off
     sagitta[0] = lengths[0] * abs(change[0]) / 4.0
-    return (np.abs(change) > corner_angle_rad) | ((sagitta > CURVE_SAMPLE_M) & ~alike)
+    return ((np.abs(change) > corner_angle_rad) | (sagitta > SAMPLED_CURVE_M)
+            | ((sagitta > CURVE_SAMPLE_M) & ~alike))
 
 
 def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: float,
