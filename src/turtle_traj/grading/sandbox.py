@@ -39,9 +39,9 @@ ROOM_REAL_TIME_PRIORITY = 10  # then real-time, below the kernel's interrupt thr
 # A throttled run waits at most this long. The kernel hands a group's quota to a core a slice
 # at a time (`sched_cfs_bandwidth_slice_us`, 5 ms): with a quota of one slice (0.25 of 20 ms),
 # the flooding sample's flood drew it all on its core and left the student's node on the other
-# throttled, its commands standing for up to 0.46 s beside a busy suite. The quota is two
-# slices now (`RunLimits.cpu_share` of this)
-_CPU_PERIOD_US = 20_000
+# throttled, its commands standing for up to 0.46 s beside a busy suite; a quota of two slices
+# leaves one for the node
+_CPU_PERIOD_US = 40_000
 _REMOVE_S = 10.0
 ROOM_GROUPS = Path('/tmp/run-groups')  # where the room sees the student's control groups
 
@@ -60,7 +60,7 @@ class RunLimits:
     tasks: int = 256  # processes and threads together (a ROS node has about 20 threads)
     file_mb: int = 16  # the largest file it may write (its log included)
     open_files: int = 256
-    cpu_share: float = 0.5  # of a core, all its processes together (see `RunGroup`)
+    cpu_share: float = 0.25  # of a core, all its processes together (a ROS node takes ~0.05)
 
 
 def bubblewrap() -> str:
@@ -160,10 +160,9 @@ class RunGroup:
             (self.paths['pids'] / 'pids.max').write_text(str(limits.tasks))
             (self.paths['memory'] / 'memory.limit_in_bytes').write_text(
                 str(limits.memory_mb << 20))
-            # half a core: a fork bomb's hundreds of processes, or a flood, cannot take the CPU
-            # that the simulators and the other runs need (two hogs of a core each cost other
-            # simulators 15-21 steps). A quarter throttled ordinary programs too: an open-loop
-            # square's run in 19-27 of its periods beside two busy loops, some while it drove
+            # a share of a core: a fork bomb's hundreds of processes, or a flood, cannot take
+            # the CPU that the simulators and the other runs need (two hogs of a core each cost
+            # other simulators 15-21 steps)
             (self.paths['cpu'] / 'cpu.cfs_period_us').write_text(str(_CPU_PERIOD_US))
             (self.paths['cpu'] / 'cpu.cfs_quota_us').write_text(
                 str(round(limits.cpu_share * _CPU_PERIOD_US)))
