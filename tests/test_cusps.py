@@ -108,3 +108,20 @@ def test_a_cut_is_at_most_half_of_the_shorter_leg():
     _, moved, left = cusps_cut_short((first, turn, short), drawn, 0.2, MAX_ROUNDED_RAD)
     assert moved.x == pytest.approx(1.95)
     assert left.length == pytest.approx(0.05)
+
+
+def test_every_cusp_of_a_path_is_cut_however_many_legs_the_first_became():
+    """A 175 degree cusp becomes five legs (turned twice across its chord); a cusp after it,
+    the path's last, is cut short too."""
+    first, turn, second = _doubling_back(175.0)
+    back = math.radians(5.0)  # the second leg's direction is 175 degrees
+    end = second.points[-1]
+    third = Polyline(np.array([end, end + 2.0 * np.array([math.cos(back), -math.sin(back)])]))
+    legs = (first, turn, second, Turn(float(end[0]), float(end[1]), math.pi - back, math.pi),
+            third)
+    drawn = np.concatenate([first.points, second.points, third.points])
+    cut = cusps_cut_short(legs, drawn, 0.2, MAX_ROUNDED_RAD)
+    turns = [leg for leg in cut if isinstance(leg, Turn)]
+    assert len(cut) == 7 and len(turns) == 3
+    assert math.dist((turns[-1].x, turns[-1].y), end) == pytest.approx(0.2, abs=1e-9)
+    _check_cut(cut, drawn, 0.2, math.radians(175.0) + math.pi)

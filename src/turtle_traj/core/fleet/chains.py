@@ -60,8 +60,8 @@ def chain(timing: Timing, turtle: int, starts: Sequence[Pose2D], clearance: floa
     route, begun = timing.routes[turtle], timing.starts_s[turtle]
     others = _Others(timing, starts, turtle)
     chained: list[Move] = []
-    run: list[Move] = []  # the moves of the chain being made, and that chain as one move
-    whole: Move | None = None
+    run: list[Move] = []  # the moves of the chain being made
+    whole: Move | None = None  # that chain as one move
     since, facing = 0.0, starts[turtle].theta
     for index, move in enumerate(route):
         if run and abs(begun[index] - begun[index - 1] - route[index - 1].duration_s) < 1e-9:

@@ -29,7 +29,8 @@ def cusps_cut_short(legs: Sequence[Leg], drawn: np.ndarray, width: float,
     its point as far past the cusp; a cusp is left as it is where that connection would stray
     farther than `width` from the path as drawn (the polyline through `drawn`)."""
     out = list(legs)
-    for index in range(1, len(out) - 1):
+    index = 0
+    while (index := index + 1) < len(out) - 1:  # `out` grows as cusps are turned twice
         before, turn, after = out[index - 1], out[index], out[index + 1]
         if not (isinstance(turn, Turn) and isinstance(before, Polyline)
                 and isinstance(after, Polyline) and abs(turn.sweep_rad) > sharpest_rounded
@@ -47,8 +48,9 @@ def cusps_cut_short(legs: Sequence[Leg], drawn: np.ndarray, width: float,
         leaving = np.concatenate(([turned_at], onward))
         if len(leaving) < 2 or not all_near(resampled(leaving[:2], _SAMPLE_M), drawn, width):
             continue
-        shortened = replace(before, points=kept)
-        out[index - 1:index + 2] = _turned_twice(shortened, turn, before, after, leaving)
+        cut_legs = _turned_twice(replace(before, points=kept), turn, before, after, leaving)
+        out[index - 1:index + 2] = cut_legs
+        index += len(cut_legs) - 3  # past the turns made here
     return tuple(out)
 
 

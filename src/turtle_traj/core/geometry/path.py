@@ -13,7 +13,7 @@ from functools import cached_property
 
 import numpy as np
 
-from turtle_traj.core.geometry.angles import shortest_angular_distance, wrap_angle, wrap_angles
+from turtle_traj.core.geometry.angles import wrap_angle, wrap_angles
 from turtle_traj.core.geometry.projection import PolylineSegments
 
 
@@ -168,22 +168,26 @@ class Path:
 # `CURVE_SAMPLE_M` off the polyline, or at most `SAMPLED_CURVE_M` where a neighbour bends the
 # same way about as sharply (a sampled curve's chords: the demo's sine, 0.47 mm); otherwise it
 # is a corner, turned in place however gentle (steered through, a 0.3 rad bend between 2 m
-# segments left the path by 20 mm)
+# segments leaves the path by 20 mm)
 CURVE_SAMPLE_M = 0.0005
 SAMPLED_CURVE_M = 0.002
 _LIKE_CURVATURE = 2.0  # a neighbour's curvature within this factor is "about as sharp"
 
 
-def corners(start_heading: float, points: np.ndarray, corner_angle_rad: float) -> np.ndarray:
-    """Whether to turn in place before each segment of the polyline through `points` (no
-    repeated points), starting at `start_heading`: where its direction changes by more than
-    `corner_angle_rad`, or by a bend that samples no curve (see `CURVE_SAMPLE_M`)."""
+def _bends(start_heading: float, points: np.ndarray
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The polyline through `points` (no repeated points, at least two) from `start_heading`:
+    its segments' lengths, their directions, and the change of direction before each."""
     steps = np.diff(points, axis=0)
-    if not len(steps):
-        return np.zeros(0, dtype=bool)
-    lengths = np.hypot(steps[:, 0], steps[:, 1])
     directions = np.arctan2(steps[:, 1], steps[:, 0])
     change = wrap_angles(np.diff(np.concatenate(([start_heading], directions))))
+    return np.hypot(steps[:, 0], steps[:, 1]), directions, change
+
+
+def _turned_in_place(lengths: np.ndarray, change: np.ndarray,
+                     corner_angle_rad: float) -> np.ndarray:
+    """Whether to turn in place before each segment (`_bends`): where the direction changes by
+    more than `corner_angle_rad`, or by a bend that samples no curve (see `CURVE_SAMPLE_M`)."""
     span = np.concatenate(([0.0], lengths[:-1])) + lengths
     curvature = change / np.maximum(0.5 * span, 1e-12)
     alike = np.zeros(len(change), dtype=bool)
@@ -204,7 +208,7 @@ def corners(start_heading: float, points: np.ndarray, corner_angle_rad: float) -
 
 def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: float,
                        reverse: bool = False, pen: bool = True) -> list[Leg]:
-    """Split a polyline into curves at its corners (`corners`).
+    """Split a polyline into curves at its corners (`_turned_in_place`).
 
     The turtle starts at `start`; a turn in place (shortest direction) is inserted at every
     corner, including before the first segment. Zero-length segments are dropped. `pen` marks
@@ -214,20 +218,20 @@ def legs_from_polyline(start: Pose2D, points: np.ndarray, *, corner_angle_rad: f
     keep = np.concatenate(([True], np.hypot(*np.diff(points, axis=0).T) > 1e-9))
     points = points[keep]
     legs: list[Leg] = []
-    heading = start.theta + (math.pi if reverse else 0.0)
     current: list[np.ndarray] = [points[0]]
-    turned = corners(heading, points, corner_angle_rad)
-    for a, b, corner in zip(points[:-1], points[1:], turned, strict=True):
-        direction = math.atan2(b[1] - a[1], b[0] - a[0])
-        change = shortest_angular_distance(heading, direction)
-        if corner:
-            if len(current) > 1:
-                legs.append(Polyline(np.array(current), reverse=reverse, pen=pen))
-            facing = heading - (math.pi if reverse else 0.0)
-            legs.append(Turn(float(a[0]), float(a[1]), wrap_angle(facing), change))
-            current = [a]
-        current.append(b)
-        heading = direction
+    if len(points) > 1:
+        heading = start.theta + (math.pi if reverse else 0.0)
+        lengths, directions, change = _bends(heading, points)
+        facing = np.concatenate(([heading], directions[:-1])) - (math.pi if reverse else 0.0)
+        turned = _turned_in_place(lengths, change, corner_angle_rad)
+        for index, (a, b) in enumerate(zip(points[:-1], points[1:], strict=True)):
+            if turned[index]:
+                if len(current) > 1:
+                    legs.append(Polyline(np.array(current), reverse=reverse, pen=pen))
+                legs.append(Turn(float(a[0]), float(a[1]), wrap_angle(float(facing[index])),
+                                 float(change[index])))
+                current = [a]
+            current.append(b)
     if len(current) > 1:
         legs.append(Polyline(np.array(current), reverse=reverse, pen=pen))
     return legs
