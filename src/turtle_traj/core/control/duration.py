@@ -4,11 +4,10 @@ Each leg at its own limits: a turn in place speeds up and brakes at the angular 
 limit (a trapezoid, or a triangle when short); a curve on a base with acceleration limits takes
 its time-optimal profile's time (`SpeedProfile.duration_s`, planned with the request); a straight
 line there speeds up at `max_linear_accel` and brakes at the braking limit; without limits a
-rounded curve takes its profile's time (each segment at the speed its curvature allows at the
-whole turn rate), and an exact one goes at most as fast as the follower's own cap
-(`CURVATURE_SHARE * angular_speed / k`). The kinematic bound (`Path.lower_bound_s`: length
-over top speed, turns over top turn rate) ignores all of these: on a base it said 26.4 s for a
-text that took 77 s.
+curve takes each segment at the speed its curvature allows at the whole turn rate (a rounded
+curve's profile plans so, and an exact curve's follower drives so). The kinematic bound
+(`Path.lower_bound_s`: length over top speed, turns over top turn rate) ignores all of these:
+on a base it said 26.4 s for a text that took 77 s.
 """
 
 from __future__ import annotations
@@ -18,7 +17,7 @@ import math
 import numpy as np
 
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.profile import CURVATURE_SHARE, SpeedProfile
+from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.path import Path, Polyline, Turn
 
 
@@ -39,8 +38,7 @@ def ramp_s(distance: float, top: float, speeding_up: float, braking: float) -> f
 
 def _curve_s(polyline: Polyline, config: ControlConfig) -> float:
     """A curve without acceleration limits: each segment at the speed its curvature allows."""
-    cap = CURVATURE_SHARE * config.angular_speed / np.maximum(np.abs(polyline.curvatures),
-                                                               1e-9)
+    cap = config.angular_speed / np.maximum(np.abs(polyline.curvatures), 1e-9)
     return float(np.sum(polyline.segment_lengths / np.minimum(config.linear_speed, cap)))
 
 

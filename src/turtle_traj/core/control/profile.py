@@ -27,10 +27,6 @@ ACCEL_SHARE = 1.0
 ANGULAR_ACCEL_SHARE = 0.9
 PLANNING_SHARES = (ANGULAR_SHARE, ACCEL_SHARE, ANGULAR_ACCEL_SHARE)
 FULL_LIMITS = (1.0, 1.0, 1.0)  # the time-optimal bound itself
-# Without acceleration limits (turtlesim), the share of the top turn rate an exact path's curve
-# is driven at (the follower's cap v <= share * omega / |k|); a rounded path's profile takes it
-# all (`curvature_bound`)
-CURVATURE_SHARE = 0.8
 _GRID_STEP_M = 0.02  # profile resolution along the path
 _STRAIGHT_M = 0.2  # a segment this long is a straight stretch, not a chord of a curve
 _GRID_POINTS = (50, 2000)

@@ -1,12 +1,14 @@
 """A leg's tracker: an in-place turn, or a polyline followed continuously. Pure Python.
 
 Each steers from the pose predicted for the moment its command takes effect (`robot_model`),
-so the latency between pose and command is accounted for, not guessed. Curves are tracked with
-curvature feed-forward plus a heading set-point that steers back onto the path
-(`-atan(cross_track_gain * error)`); the speed is capped by the curvature, by a braking profile
-towards the end of the polyline and, near the end, by the predicted remaining distance per
-control period, so the turtle stops on the end point. A turtle facing more than
-`turn_first_angle` away from the path turns in place first.
+so the latency between pose and command is accounted for, not guessed. The speed along a curve
+is capped by its curvature at the top turn rate, by a braking profile towards the end of the
+polyline and, near the end, by the predicted remaining distance per control period, so the
+turtle stops on the end point. A turtle facing more than `turn_first_angle` away from the path
+turns in place first. Without acceleration limits (turtlesim) each command's step lands on the
+smooth curve through the vertices (`curve_step`); with them, curves are tracked with curvature
+feed-forward plus a heading set-point that steers back onto the path
+(`-atan(cross_track_gain * error)`).
 
 On a base with acceleration limits (`Limits.limited`) braking follows the limits, curves
 follow their time-optimal speed profile (`profile`), and a leg ends only once a stop is within
@@ -20,11 +22,13 @@ from typing import Protocol
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig, Limits
+from turtle_traj.core.control.curve_step import step_onto_curve
 from turtle_traj.core.control.dynamics import can_stop, stopping_speed
 from turtle_traj.core.control.prediction import Prediction
-from turtle_traj.core.control.profile import CURVATURE_SHARE, SpeedProfile, profile_for
+from turtle_traj.core.control.profile import SpeedProfile, profile_for
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
+from turtle_traj.core.geometry.sampled_curve import SampledCurve
 
 _WINDOW_BEHIND = 3  # segments searched behind the last match
 _WINDOW_AHEAD = 15  # and ahead of it: far enough to keep up, too short to skip a lap
@@ -145,6 +149,7 @@ class PolylineTracker:
         self._profile = profile  # with acceleration limits: None on a straight line
         self.landed = False  # the one landing command is sent (`_lands`)
         self._segments = polyline.segments
+        self._curve: SampledCurve | None = None  # the curve the steps land on (`curve_step`)
 
     def _candidates(self) -> list[int] | range:
         """The segments searched: a window around the last match (wrapping on a loop)."""
@@ -206,25 +211,25 @@ class PolylineTracker:
         pose = predicted
 
         facing = pose.theta
-        path_heading = float(polyline.headings[self.segment])
-        # With limits, steer to the curve's tangent, which turns along each chord, not at its
-        # ends. A base that changes its turn rate gradually beat against its angular
-        # acceleration limit at every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside
-        # it), and started a circle from rest turning at half its rate (0.6 mm outside it);
-        # turtlesim turns at once, and its chords are aimed at with the lead below
-        curvature = float((polyline.tangent_curvatures if limits.limited
-                           else polyline.curvatures)[self.segment])
-        if limits.limited:
-            path_heading += curvature * float(polyline.segment_lengths[self.segment]) * (
-                fraction - 0.5)
+        # Steer to the curve's tangent, which turns along each chord, not at its ends. A base
+        # that changes its turn rate gradually beat against its angular acceleration limit at
+        # every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside it), and started a
+        # circle from rest turning at half its rate (0.6 mm outside it)
+        curvature = float(polyline.tangent_curvatures[self.segment])
+        path_heading = float(polyline.headings[self.segment]) + curvature * float(
+            polyline.segment_lengths[self.segment]) * (fraction - 0.5)
         heading_error = wrap_angle(path_heading - facing)
 
         speed = self._speed(fraction, remaining, curvature, prediction, limits, landing,
                             limits.linear_braking or gains.deceleration)
         if abs(heading_error) > gains.turn_first_angle:
             speed = 0.0
-        else:
-            speed *= math.cos(heading_error)
+        elif not limits.limited and speed > 0.0:  # commands take effect at once: step onto it
+            if self._curve is None:
+                self._curve = SampledCurve(polyline)
+            return step_onto_curve(self._curve, pose, self._arc(fraction), speed, limits,
+                                   prediction.turns_first)
+        speed *= math.cos(heading_error)
         # turtlesim turns first and then moves along the new heading, so on an arc the motion
         # leads the heading by the turn of one period: aim half a chord behind the tangent.
         lead = (abs(speed) * curvature * limits.period_s / 2.0 if prediction.turns_first
@@ -253,8 +258,8 @@ class PolylineTracker:
             speed = min(speed, profiled)
         elif isinstance(self._profile, SpeedProfile):  # a rounded path's, at the full turn rate
             speed = min(speed, self._profile.speed_at(self._arc(fraction)))
-        elif abs(curvature) > 1e-9:
-            speed = min(speed, CURVATURE_SHARE * limits.angular_speed / abs(curvature))
+        elif abs(curvature) > 1e-9:  # an exact path's curve, at the top turn rate
+            speed = min(speed, limits.angular_speed / abs(curvature))
         if remaining != math.inf:
             overrun = prediction.overrun_when(limits.limited)[0]
             speed = min(speed, _braking_speed(max(abs(remaining) - overrun, 0.0),

@@ -1,9 +1,10 @@
 """The node's exact follower, as a `Controller` like any other. Pure Python.
 
 It drives one stroke between two corners (`turns_at_corners`: the node turns in place at each,
-so corners are exact) with `trackers.PolylineTracker`: curvature feed-forward, a heading
-set-point that steers back onto the path, speed capped by the curvature, the base's speed
-profile and a braking that lands on the end point. It steers from the state the model of the
+so corners are exact) with `trackers.PolylineTracker`: speed capped by the curvature, the
+base's speed profile and a braking that lands on the end point; on turtlesim each step lands on
+the curve (`curve_step`), on a base with inertia curvature feed-forward and a heading set-point
+steer back onto the path. It steers from the state the model of the
 robot predicts, and allows for its uncertainty as the model answers it to every controller
 (`State.robot`: `late_steps`, `overrun`, `braking_overrun`, `standing`). It asks only for
 what the base can reach in one period (`dynamics.within_reach`), so the node clamps none of its
@@ -29,7 +30,9 @@ class ExactFollower:
 
     turns_at_corners = True
     heading_gain = Tunable(8.0, 'Turn rate per radian of heading error', '1/s', 0.1, 50.0)
-    cross_track_gain = Tunable(2.5, 'How hard curves pull back onto the path', '1/m', 0.0, 50.0)
+    cross_track_gain = Tunable(2.5, 'How hard curves pull back onto the path, on a base with '
+                               'acceleration limits (on turtlesim each step lands on the curve)',
+                               '1/m', 0.0, 50.0)
     deceleration = Tunable(20.0, 'Braking towards the end of a curve, on a base without '
                            'acceleration limits (with them, max_linear_decel or '
                            'max_linear_accel brakes)', 'm/s^2', 0.1, 100.0)
