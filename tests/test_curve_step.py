@@ -118,7 +118,7 @@ def test_a_step_takes_back_its_share_of_the_offset_as_far_as_the_turn_rate_allow
     assert math.hypot(landed.x, landed.y) - RADIUS < 0.002 - 0.0001
 
 
-def test_a_step_beyond_the_turn_rate_is_shortened_and_one_that_cannot_be_turns_in_place():
+def test_a_step_beyond_the_turn_rate_is_shortened_and_one_that_cannot_be_turns_its_fastest():
     curve = SampledCurve(Polyline(CIRCLE))
     pose, arc = _on_circle_at(0.5)
     too_fast = 2.0 * LIMITS.angular_speed * RADIUS  # twice what the turn rate allows
@@ -127,8 +127,9 @@ def test_a_step_beyond_the_turn_rate_is_shortened_and_one_that_cannot_be_turns_i
     assert 0.0 < command.linear < too_fast
     landed = _turn_then_move(pose, command.linear, command.angular, LIMITS.period_s)
     assert _off_circle((landed.x, landed.y), RADIUS) < 1e-5
-    # facing 0.3 rad away from the curve: no step reaches it within one period's turn
+    # facing 0.3 rad to the right of the curve: no step reaches it within one period's turn,
+    # so it turns left at the top rate, slowed as it faces away
     askew = Pose2D(pose.x, pose.y, pose.theta - 0.3)
     command = step_onto_curve(curve, askew, arc, 0.4, LIMITS)
-    assert command.linear == 0.0
-    assert command.angular == pytest.approx(LIMITS.angular_speed)
+    assert command.angular == LIMITS.angular_speed
+    assert command.linear == pytest.approx(0.4 * math.cos(0.3), rel=0.01)

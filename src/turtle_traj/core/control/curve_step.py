@@ -7,7 +7,8 @@ that drives arcs turns twice as far, its arc's chord leaving at half the turn. E
 back half of the robot's offset from the curve (as much of it as the top turn rate leaves), so
 a command that acts for two periods, as a late one may, lands it on the curve rather than
 beyond it. Where the turn a step alongside the curve needs exceeds the top turn rate, the step
-is shortened; where no step is short enough, the robot turns in place towards the point ahead.
+is shortened; where no step is short enough (the robot faces away from the curve), it turns
+towards it at the top rate, slowed by the cosine of the angle it faces away.
 """
 
 from __future__ import annotations
@@ -21,8 +22,8 @@ from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.sampled_curve import SampledCurve
 
 CORRECTION = 0.5  # the share of the offset from the curve one step takes back
-_SHORTER = 0.9  # each try's step, of the one before
-_TRIES = 40  # down to 1.5% of the first step
+_SHORTEST = 0.01  # the shortest step tried, of the one the speed allows
+_HALVINGS = 10  # the longest step within the top turn rate, to 0.1% of the one allowed
 
 
 def _aim(pose: Pose2D, x: float, y: float, turns_first: bool) -> tuple[float, float]:
@@ -50,17 +51,25 @@ def step_onto_curve(curve: SampledCurve, pose: Pose2D, arc: float, speed: float,
     nearest_x, nearest_y = curve.point_at(arc)
     offset_x, offset_y = pose.x - nearest_x, pose.y - nearest_y
     most = limits.angular_speed * period
-    first_turn = 0.0
-    for attempt in range(_TRIES):
-        ahead_x, ahead_y = curve.point_at(arc + speed * _SHORTER ** attempt * period)
-        # the step alongside the curve must be within the top turn rate; the correction
-        # back onto it takes what is left
-        alongside, _ = _aim(pose, ahead_x + offset_x, ahead_y + offset_y, turns_first)
-        if attempt == 0:
-            first_turn = alongside
-        if abs(alongside) <= most:
-            turn, distance = _aim(pose, ahead_x + (1.0 - CORRECTION) * offset_x,
-                                  ahead_y + (1.0 - CORRECTION) * offset_y, turns_first)
-            return Command(min(distance / period, speed), max(-most, min(most, turn)) / period)
-    return Command(0.0, math.copysign(min(abs(first_turn) / period, limits.angular_speed),
-                                      first_turn))
+
+    def alongside(step: float) -> float:
+        """The turn of a step of this length alongside the curve, keeping the offset."""
+        ahead_x, ahead_y = curve.point_at(arc + step)
+        return _aim(pose, ahead_x + offset_x, ahead_y + offset_y, turns_first)[0]
+
+    step = speed * period
+    first_turn = alongside(step)
+    if abs(first_turn) > most:  # the longest step within the top turn rate, if any
+        shortest = step * _SHORTEST
+        if abs(alongside(shortest)) > most:  # turning at the top rate, slower as it faces away
+            return Command(speed * max(math.cos(first_turn), 0.0),
+                           math.copysign(limits.angular_speed, first_turn))
+        low, high = shortest, step
+        for _ in range(_HALVINGS):
+            middle = 0.5 * (low + high)
+            low, high = (middle, high) if abs(alongside(middle)) <= most else (low, middle)
+        step = low
+    ahead_x, ahead_y = curve.point_at(arc + step)
+    turn, distance = _aim(pose, ahead_x + (1.0 - CORRECTION) * offset_x,
+                          ahead_y + (1.0 - CORRECTION) * offset_y, turns_first)
+    return Command(min(distance / period, speed), max(-most, min(most, turn)) / period)

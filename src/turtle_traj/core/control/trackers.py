@@ -224,7 +224,7 @@ class PolylineTracker:
                             limits.linear_braking or gains.deceleration)
         if abs(heading_error) > gains.turn_first_angle:
             speed = 0.0
-        elif not limits.limited and speed > 0.0:  # commands take effect at once: step onto it
+        elif self._steps_onto_curve(limits) and speed > 0.0:
             if self._curve is None:
                 self._curve = SampledCurve(polyline)
             return step_onto_curve(self._curve, pose, self._arc(fraction), speed, limits,
@@ -267,6 +267,12 @@ class PolylineTracker:
                                               prediction, limits.limited, landing))
             speed = math.copysign(speed, remaining)
         return speed
+
+    def _steps_onto_curve(self, limits: Limits) -> bool:
+        """An exact path's curve on a robot that takes each command at once lands each step on
+        the curve (`curve_step`). A rounded path's profile takes the whole turn rate and leaves
+        the steering the tolerance's reserve, which the heading set-point keeps within."""
+        return not limits.limited and not isinstance(self._profile, SpeedProfile)
 
     def _arc(self, fraction: float) -> float:
         """How far along the polyline `fraction` of the current segment is, metres."""
