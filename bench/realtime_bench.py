@@ -42,8 +42,8 @@ KINDS = {
     'go_to': ['go-to', '8', '3'],
     'sine': ['draw', 'sine'],
 }
-ELAPSED = re.compile(r'elapsed ([0-9.]+) s, path [0-9.]+ m, max deviation ([0-9.]+) m, '
-                     r'final error ([0-9.]+) m')
+ELAPSED = re.compile(r'elapsed ([0-9.]+) s, path [0-9.]+ m(?: \([0-9.]+ m driven\))?, '
+                     r'max deviation ([0-9.]+) m, final error ([0-9.]+) m')
 BURST = [sys.executable, '-c', 'import numpy, rclpy; sum(range(2000000))']
 # the node's plan line: path length and turns in place, from which the kinematic bound is
 # computed here (length over top speed, turns over top turn rate), the same for every commit
