@@ -22,6 +22,9 @@ from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.sampled_curve import SampledCurve
 
 CORRECTION = 0.5  # the share of the offset from the curve one step takes back
+# a turn this much over the top one is clamped to it: its step lands at most 1% of a period's
+# top turn times the step off the curve (5 um at turtlesim's 1 m/s and 2 rad/s)
+_OVER_TOP = 1.01
 _SHORTEST = 0.01  # the shortest step tried, of the one the speed allows
 _HALVINGS = 10  # the longest step within the top turn rate, to 0.1% of the one allowed
 
@@ -52,24 +55,44 @@ def step_onto_curve(curve: SampledCurve, pose: Pose2D, arc: float, speed: float,
     offset_x, offset_y = pose.x - nearest_x, pose.y - nearest_y
     most = limits.angular_speed * period
 
-    def alongside(step: float) -> float:
-        """The turn of a step of this length alongside the curve, keeping the offset."""
-        ahead_x, ahead_y = curve.point_at(arc + step)
-        return _aim(pose, ahead_x + offset_x, ahead_y + offset_y, turns_first)[0]
+    def alongside(step: float) -> tuple[float, tuple[float, float]]:
+        """The turn of a step of this length alongside the curve, keeping the offset, and the
+        curve's point it is alongside."""
+        ahead = curve.point_at(arc + step)
+        return _aim(pose, ahead[0] + offset_x, ahead[1] + offset_y, turns_first)[0], ahead
 
     step = speed * period
-    first_turn = alongside(step)
-    if abs(first_turn) > most:  # the longest step within the top turn rate, if any
-        shortest = step * _SHORTEST
-        if abs(alongside(shortest)) > most:  # turning at the top rate, slower as it faces away
+    first_turn, ahead = alongside(step)
+    if abs(first_turn) > most * _OVER_TOP:  # the longest step within the top turn, if any
+        step, ahead = _longest_step(alongside, step, first_turn, most)
+        if step == 0.0:  # turning at the top rate, slower as it faces away
             return Command(speed * max(math.cos(first_turn), 0.0),
                            math.copysign(limits.angular_speed, first_turn))
-        low, high = shortest, step
-        for _ in range(_HALVINGS):
-            middle = 0.5 * (low + high)
-            low, high = (middle, high) if abs(alongside(middle)) <= most else (low, middle)
-        step = low
-    ahead_x, ahead_y = curve.point_at(arc + step)
-    turn, distance = _aim(pose, ahead_x + (1.0 - CORRECTION) * offset_x,
-                          ahead_y + (1.0 - CORRECTION) * offset_y, turns_first)
+    turn, distance = _aim(pose, ahead[0] - CORRECTION * offset_x + offset_x,
+                          ahead[1] - CORRECTION * offset_y + offset_y, turns_first)
     return Command(min(distance / period, speed), max(-most, min(most, turn)) / period)
+
+
+def _longest_step(alongside, step: float, turn: float,
+                  most: float) -> tuple[float, tuple[float, float]]:
+    """The longest step shorter than `step` whose turn alongside the curve is at most `most`,
+    and its point on the curve; 0 where none is. The turn grows about as the step does, so the
+    step scaled down to the top turn is tried first (on a curve driven at the top turn rate it
+    is the one); else the step is halved towards it."""
+    scaled = step * most / abs(turn) * (1.0 - 1e-6)
+    scaled_turn, ahead = alongside(scaled)
+    if abs(scaled_turn) <= most:
+        return scaled, ahead
+    low = step * _SHORTEST
+    low_turn, low_ahead = alongside(low)
+    if abs(low_turn) > most:
+        return 0.0, low_ahead
+    high = scaled
+    for _ in range(_HALVINGS):
+        middle = 0.5 * (low + high)
+        middle_turn, middle_ahead = alongside(middle)
+        if abs(middle_turn) <= most:
+            low, low_ahead = middle, middle_ahead
+        else:
+            high = middle
+    return low, low_ahead

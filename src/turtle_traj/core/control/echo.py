@@ -9,6 +9,8 @@ echo is unlike any other remembered, and the echo names the command in effect on
 
 from __future__ import annotations
 
+import struct
+
 import numpy as np
 
 from turtle_traj.core.control.commands import STOP, Command
@@ -20,9 +22,32 @@ HISTORY = 32  # commands remembered: far more than any latency we can steer thro
 ALIKE = 1e-5
 
 
+_FLOAT32 = struct.Struct('<f')
+_BITS = struct.Struct('<I')
+_SIGN = 0x80000000
+_LARGEST = 3.4028234663852886e38  # float32's; beyond, a value is not moved
+
+
+def _float32(value: float) -> float:
+    """`value` rounded to float32, as a Python float (numpy's `float32` costs 10 times more)."""
+    if abs(value) > _LARGEST:
+        return float(np.float32(value))
+    return _FLOAT32.unpack(_FLOAT32.pack(value))[0]
+
+
+def _rank(value: float) -> int:
+    """A float32 value's place among all float32 values: the next one up is one more."""
+    bits = _BITS.unpack(_FLOAT32.pack(value))[0]
+    return bits if bits < _SIGN else -(bits & ~_SIGN)
+
+
+def _at_rank(rank: int) -> float:
+    return _FLOAT32.unpack(_BITS.pack(rank if rank >= 0 else -rank | _SIGN))[0]
+
+
 def as_echoed(command: Command) -> Echo:
     """The (linear_velocity, angular_velocity) a turtlesim pose reports for `command`."""
-    return float(np.float32(abs(command.linear))), float(np.float32(command.angular))
+    return _float32(abs(command.linear)), _float32(command.angular)
 
 
 def _with(command: Command, on_linear: bool, value: float) -> Command:
@@ -34,22 +59,26 @@ def distinct(command: Command, taken: set[Echo], previous: Command) -> Command:
     """`command` moved by the fewest float32 steps that give it an echo not in `taken`: its
     speed (its turn rate, when it has no speed), towards `previous`, then on towards zero. So
     it keeps within any limit of speed it was within, and its change from `previous` grows by a
-    few float32 steps at most. A stop stays a stop; so does a command that runs out of steps."""
+    few float32 steps at most. A stop stays a stop; so does a command that runs out of steps.
+    The steps are counted on float32's ranks (`_rank`), as integers."""
     if command == STOP or as_echoed(command) not in taken:
         return command
     on_linear = command.linear != 0.0
     exact = command.linear if on_linear else command.angular
     last = previous.linear if on_linear else previous.angular
-    value, towards = np.float32(exact), np.float32(last)
-    if abs(float(value) - last) > abs(exact - last):  # rounded away from the previous one
-        value = np.nextafter(value, towards)
+    if max(abs(exact), abs(last)) > _LARGEST:
+        return command
+    rank, towards = _rank(exact), _rank(last)
+    if abs(_at_rank(rank) - last) > abs(exact - last):  # rounded away from the previous one
+        rank += (towards > rank) - (towards < rank)
+    linear_echo, angular_echo = as_echoed(command)
     for _ in range(HISTORY + 1):
-        candidate = _with(command, on_linear, float(value))
-        if as_echoed(candidate) not in taken:
-            return candidate
-        towards = np.float32(0.0) if value == towards else towards
-        value = np.nextafter(value, towards)
-        if value == 0.0:
+        value = _at_rank(rank)  # a float32 already: its echo is itself
+        if ((abs(value), angular_echo) if on_linear else (linear_echo, value)) not in taken:
+            return _with(command, on_linear, value)
+        towards = 0 if rank == towards else towards
+        rank += (towards > rank) - (towards < rank)
+        if rank == 0:
             break
     return command
 

@@ -211,13 +211,19 @@ class PolylineTracker:
         pose = predicted
 
         facing = pose.theta
-        # Steer to the curve's tangent, which turns along each chord, not at its ends. A base
-        # that changes its turn rate gradually beat against its angular acceleration limit at
-        # every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside it), and started a
-        # circle from rest turning at half its rate (0.6 mm outside it)
-        curvature = float(polyline.tangent_curvatures[self.segment])
-        path_heading = float(polyline.headings[self.segment]) + curvature * float(
-            polyline.segment_lengths[self.segment]) * (fraction - 0.5)
+        # Steer to the curve's tangent where the steps do not land on the curve themselves
+        # (`_steps_onto_curve`) and the base has limits: the tangent turns along each chord,
+        # not at its ends. A base that changes its turn rate gradually beat against its angular
+        # acceleration limit at every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside
+        # it), and started a circle from rest turning at half its rate (0.6 mm outside it);
+        # turtlesim turns at once, and a rounded path's chords are aimed at with the lead below
+        smooth = limits.limited or self._steps_onto_curve(limits)
+        curvature = float((polyline.tangent_curvatures if smooth
+                           else polyline.curvatures)[self.segment])
+        path_heading = float(polyline.headings[self.segment])
+        if smooth:
+            path_heading += curvature * float(polyline.segment_lengths[self.segment]) * (
+                fraction - 0.5)
         heading_error = wrap_angle(path_heading - facing)
 
         speed = self._speed(fraction, remaining, curvature, prediction, limits, landing,

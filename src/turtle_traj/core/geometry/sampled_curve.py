@@ -14,6 +14,9 @@ that meets its first curve cannot spend, so the few lines are evaluated here.
 
 from __future__ import annotations
 
+import bisect
+import math
+
 import numpy as np
 
 from turtle_traj.core.geometry.angles import wrap_angles
@@ -22,10 +25,12 @@ from turtle_traj.core.geometry.path import Polyline
 
 class SampledCurve:
     """Points along the smooth curve through `polyline`'s vertices, by arc length along its
-    chords (an endless loop's arc wraps round)."""
+    chords (an endless loop's arc wraps round). Each chord's constants are plain floats, as
+    `projection.PolylineSegments` keeps them: a control period asks for two points."""
 
     def __init__(self, polyline: Polyline) -> None:
-        self.polyline = polyline
+        self.length = polyline.length
+        self.repeat = polyline.repeat
         headings = polyline.headings
         bends = wrap_angles(np.diff(headings))
         inner = headings[:-1] + bends / 2.0
@@ -35,27 +40,28 @@ class SampledCurve:
         else:
             first, last = float(headings[0]), float(headings[-1])
         tangents = np.concatenate(([first], inner, [last]))
-        self._directions = np.column_stack((np.cos(tangents), np.sin(tangents)))
+        points = polyline.points
+        self._starts = polyline.cumulative_length[:-1].tolist()
+        self._chords = [
+            (x0, y0, x1, y1, chord, math.cos(leave), math.sin(leave), math.cos(arrive),
+             math.sin(arrive))
+            for (x0, y0), (x1, y1), chord, leave, arrive in zip(
+                points[:-1].tolist(), points[1:].tolist(), polyline.segment_lengths.tolist(),
+                tangents[:-1].tolist(), tangents[1:].tolist(), strict=True)]
 
     def point_at(self, arc: float) -> tuple[float, float]:
         """The curve's point `arc` metres along the chords from the first vertex (clamped to the
         ends of an open curve)."""
-        polyline = self.polyline
-        length = polyline.length
-        arc = arc % max(length, 1e-12) if polyline.repeat else min(max(arc, 0.0), length)
-        cumulative = polyline.cumulative_length
-        index = min(max(int(np.searchsorted(cumulative, arc, side='right')) - 1, 0),
-                    len(polyline.points) - 2)
-        chord = float(polyline.segment_lengths[index])
-        t = (arc - float(cumulative[index])) / chord if chord > 1e-12 else 0.0
-        start, end = polyline.points[index], polyline.points[index + 1]
-        leaving, arriving = self._directions[index], self._directions[index + 1]
-        # the cubic Hermite basis
-        t2, t3 = t * t, t * t * t
-        at_start, at_end = 2.0 * t3 - 3.0 * t2 + 1.0, 3.0 * t2 - 2.0 * t3
+        length = self.length
+        arc = arc % max(length, 1e-12) if self.repeat else min(max(arc, 0.0), length)
+        index = min(max(bisect.bisect_right(self._starts, arc) - 1, 0), len(self._chords) - 1)
+        x0, y0, x1, y1, chord, leave_x, leave_y, arrive_x, arrive_y = self._chords[index]
+        t = (arc - self._starts[index]) / chord if chord > 1e-12 else 0.0
+        # the cubic Hermite basis: the chord's ends, and the tangents there over its length
+        t2 = t * t
+        t3 = t2 * t
+        at_end = 3.0 * t2 - 2.0 * t3
+        at_start = 1.0 - at_end
         along_start, along_end = (t3 - 2.0 * t2 + t) * chord, (t3 - t2) * chord
-        x = (at_start * start[0] + at_end * end[0] + along_start * leaving[0]
-             + along_end * arriving[0])
-        y = (at_start * start[1] + at_end * end[1] + along_start * leaving[1]
-             + along_end * arriving[1])
-        return float(x), float(y)
+        return (at_start * x0 + at_end * x1 + along_start * leave_x + along_end * arrive_x,
+                at_start * y0 + at_end * y1 + along_start * leave_y + along_end * arrive_y)
