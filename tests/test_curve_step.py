@@ -2,12 +2,13 @@
 checked against circles computed here."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from turtle_traj.core.control.config import Limits
-from turtle_traj.core.control.curve_step import CORRECTION, step_onto_curve
+from turtle_traj.core.control.curve_step import CORRECTION, CORRECTION_M, step_onto_curve
 from turtle_traj.core.geometry.path import Polyline, Pose2D
 from turtle_traj.core.geometry.sampled_curve import SampledCurve
 
@@ -104,18 +105,33 @@ def test_a_step_lands_on_the_curve_a_step_further_along(turns_first, move):
 
 def test_a_step_takes_back_its_share_of_the_offset_as_far_as_the_turn_rate_allows():
     curve = SampledCurve(Polyline(CIRCLE))
-    pose, arc = _on_circle_at(0.5, outward=0.0001)
-    command = step_onto_curve(curve, pose, arc, 0.4, LIMITS)
-    landed = _turn_then_move(pose, command.linear, command.angular, LIMITS.period_s)
-    assert math.hypot(landed.x, landed.y) - RADIUS == pytest.approx(
-        (1.0 - CORRECTION) * 0.0001, abs=2e-6)
-    # 2 mm off: turning at the top rate, still moving, and closer
-    pose, arc = _on_circle_at(0.5, outward=0.002)
+    for speed in (0.4, 4.0):  # steps of 6.4 mm and 64 mm: a share in proportion, at most half
+        share = CORRECTION * min(1.0, speed * LIMITS.period_s / CORRECTION_M)
+        pose, arc = _on_circle_at(0.5, outward=0.0001)
+        command = step_onto_curve(curve, pose, arc, speed, replace(LIMITS, angular_speed=50.0))
+        landed = _turn_then_move(pose, command.linear, command.angular, LIMITS.period_s)
+        assert math.hypot(landed.x, landed.y) - RADIUS == pytest.approx(
+            (1.0 - share) * 0.0001, abs=2e-6)
+    # 10 mm off: turning at the top rate, still moving, and closer
+    pose, arc = _on_circle_at(0.5, outward=0.01)
     command = step_onto_curve(curve, pose, arc, 0.4, LIMITS)
     assert command.angular == pytest.approx(LIMITS.angular_speed)
     assert command.linear == pytest.approx(0.4)  # slanting back no faster
     landed = _turn_then_move(pose, command.linear, command.angular, LIMITS.period_s)
-    assert math.hypot(landed.x, landed.y) - RADIUS < 0.002 - 0.0001
+    assert math.hypot(landed.x, landed.y) - RADIUS < 0.01 - 0.0001
+
+
+def test_a_short_step_onto_a_stroke_s_end_keeps_the_stroke_s_heading():
+    """Braking onto the end of a straight stroke 0.1 mm beside it, the last 2.6 mm: the step
+    ends on the stroke's end and its heading within 0.002 rad of the stroke's (half the offset
+    taken back in that step turned it 0.019 rad away)."""
+    line = SampledCurve(Polyline(np.array([(0.0, 0.0), (1.0, 0.0)])))
+    pose = Pose2D(1.0 - 0.0026, 0.0001, 0.0)
+    command = step_onto_curve(line, pose, 1.0 - 0.0026, 0.0026 / LIMITS.period_s, LIMITS)
+    landed = _turn_then_move(pose, command.linear, command.angular, LIMITS.period_s)
+    assert abs(landed.theta) < 0.002
+    assert landed.x == pytest.approx(1.0, abs=1e-5)
+    assert 0.0 < landed.y < 0.0001
 
 
 def test_a_step_beyond_the_turn_rate_is_shortened_and_one_that_cannot_be_turns_its_fastest():

@@ -6,7 +6,7 @@ from functools import partial
 from types import SimpleNamespace
 
 import numpy as np
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from turtle_traj.core.control.controllers.catalogue import Chosen
@@ -117,10 +117,15 @@ gains = st.fixed_dictionaries({'heading_gain': st.floats(0.1, 50.0),
 @SETTINGS
 @given(st.sampled_from([*SHAPES, 'go_to']), starts,
        st.lists(poses_anywhere, min_size=1, max_size=20), configs, gains)
+@example('square', Pose2D(6.876953125, 5.66015625, -4.14453125),
+         [Pose2D(5.23046875, 5.203125, 0.0)], replace(DEFAULT_SETTINGS.control, angular_speed=1.0),
+         {'heading_gain': 1.0, 'cross_track_gain': 0.0})
 def test_the_exact_follower_is_never_clamped(kind, start, poses, config, tuning):
     """It asks only for what the limits allow, from wherever the robot is: the walker, which
     clamps every controller's command to the limits and the reach of the one before, finds
-    nothing to change in any of its commands."""
+    nothing to change in any of its commands, and it never claims a stroke's end from a pose
+    far beside it (the example: 1.6 m beside the first side's end, level with it along the
+    side, which it took for the end)."""
     request = {'go_to': SimpleNamespace(x=5.0, y=5.0, use_theta=True, theta=1.0, tolerance=0.0,
                                         linear_speed=0.0)}.get(
         kind, shape(sides=5, size=0.5, turns=1.0))

@@ -39,6 +39,10 @@ from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.path import Polyline, Pose2D
 
+# How near a stroke's end, along it and straight, a controller's None counts as arrived where
+# the stroke's tolerance is smaller (the node's goal checker, as Nav2's xy_goal_tolerance).
+ARRIVED_M = 0.05
+
 
 @dataclass(frozen=True)
 class Stroke:

@@ -3,11 +3,13 @@
 Without acceleration limits (turtlesim) the follower picks, each period, the command whose step
 ends on the smooth curve through the path's vertices (`SampledCurve`), a step further along it.
 Turtlesim turns first and then moves straight, so the turn aims the step at that point; a robot
-that drives arcs turns twice as far, its arc's chord leaving at half the turn. Each step takes
-back half of the robot's offset from the curve (as much of it as the top turn rate leaves), so
-a command that acts for two periods, as a late one may, lands it on the curve rather than
-beyond it. Where the turn a step alongside the curve needs exceeds the top turn rate, the step
-is shortened; where no step is short enough (the robot faces away from the curve), it turns
+that drives arcs turns twice as far, its arc's chord leaving at half the turn. A step also takes
+back a share of the robot's offset from the curve, in proportion to its length and at most half
+(`CORRECTION` per `CORRECTION_M`, as much as the top turn rate leaves): a command that acts for
+two periods, as a late one may, still lands short of the curve rather than beyond it, and a
+short step (braking onto a stroke's end) does not turn the robot away from the curve's heading.
+Where the turn a step alongside the curve needs exceeds the top turn rate, the step is
+shortened; where no step is short enough (the robot faces away from the curve), it turns
 towards it at the top rate, slowed by the cosine of the angle it faces away.
 """
 
@@ -21,7 +23,12 @@ from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.sampled_curve import SampledCurve
 
-CORRECTION = 0.5  # the share of the offset from the curve one step takes back
+# The share of the offset from the curve a step of CORRECTION_M or more takes back; a shorter
+# one takes back less, in proportion (a 2.6 mm step braking onto a stroke's end that took back
+# half of a 0.1 mm offset turned the robot 0.019 rad off the curve's heading, and the stroke
+# ended so)
+CORRECTION = 0.5
+CORRECTION_M = 0.05
 # a turn this much over the top one is clamped to it: its step lands at most 1% of a period's
 # top turn times the step off the curve (5 um at turtlesim's 1 m/s and 2 rad/s)
 _OVER_TOP = 1.01
@@ -68,8 +75,9 @@ def step_onto_curve(curve: SampledCurve, pose: Pose2D, arc: float, speed: float,
         if step == 0.0:  # turning at the top rate, slower as it faces away
             return Command(speed * max(math.cos(first_turn), 0.0),
                            math.copysign(limits.angular_speed, first_turn))
-    turn, distance = _aim(pose, ahead[0] - CORRECTION * offset_x + offset_x,
-                          ahead[1] - CORRECTION * offset_y + offset_y, turns_first)
+    share = CORRECTION * min(1.0, step / CORRECTION_M)
+    turn, distance = _aim(pose, ahead[0] + (1.0 - share) * offset_x,
+                          ahead[1] + (1.0 - share) * offset_y, turns_first)
     return Command(min(distance / period, speed), max(-most, min(most, turn)) / period)
 
 

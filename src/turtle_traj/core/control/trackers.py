@@ -22,6 +22,7 @@ from typing import Protocol
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig, Limits
+from turtle_traj.core.control.controller import ARRIVED_M
 from turtle_traj.core.control.curve_step import step_onto_curve
 from turtle_traj.core.control.dynamics import can_stop, stopping_speed
 from turtle_traj.core.control.prediction import Prediction
@@ -177,12 +178,17 @@ class PolylineTracker:
                              (1.0 - fraction) * polyline.segment_lengths[segment])
 
     def _arrived(self, pose: Pose2D, segment: int, remaining: float) -> bool:
+        """At the end: along the polyline within the tolerance and, straight, as near as the
+        walker accepts (`ARRIVED_M`: a pose far beside the end is not there), or straight
+        within the tolerance on the last segment."""
         if self.polyline.repeat:
             return False
         end = self.polyline.points[-1]
-        return abs(remaining) <= self.end_tolerance or (
-            segment == len(self.polyline.points) - 2
-            and math.hypot(end[0] - pose.x, end[1] - pose.y) <= self.end_tolerance)
+        straight = math.hypot(end[0] - pose.x, end[1] - pose.y)
+        return ((abs(remaining) <= self.end_tolerance
+                 and straight <= max(self.end_tolerance, ARRIVED_M))
+                or (segment == len(self.polyline.points) - 2
+                    and straight <= self.end_tolerance))
 
     def locate(self, pose: Pose2D) -> tuple[int, float]:
         """The segment nearest `pose`, near the last one, and the fraction along it."""

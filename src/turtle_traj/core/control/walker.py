@@ -28,7 +28,7 @@ import numpy as np
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.controller import Controller, State, Stroke
+from turtle_traj.core.control.controller import ARRIVED_M, Controller, State, Stroke
 from turtle_traj.core.control.dynamics import within_reach
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
@@ -44,9 +44,6 @@ LATE_ANSWERS = 3
 # A corner sharper than this (a path that doubles back on itself) ends a stroke: no
 # look-ahead controller follows a reversal; the node turns there in place.
 MAX_CORNER_RAD = math.radians(160.0)
-# How near a stroke's end, along it and straight, a controller's None counts as arrived where
-# the stroke's tolerance is smaller (the node's goal checker, as Nav2's xy_goal_tolerance).
-ARRIVED_M = 0.05
 
 
 class ControllerFault(Exception):
