@@ -16,6 +16,7 @@ towards it at the top rate, slowed by the cosine of the angle it faces away.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import Limits
@@ -81,8 +82,8 @@ def step_onto_curve(curve: SampledCurve, pose: Pose2D, arc: float, speed: float,
     return Command(min(distance / period, speed), max(-most, min(most, turn)) / period)
 
 
-def _longest_step(alongside, step: float, turn: float,
-                  most: float) -> tuple[float, tuple[float, float]]:
+def _longest_step(alongside: Callable[[float], tuple[float, tuple[float, float]]], step: float,
+                  turn: float, most: float) -> tuple[float, tuple[float, float]]:
     """The longest step shorter than `step` whose turn alongside the curve is at most `most`,
     and its point on the curve; 0 where none is. The turn grows about as the step does, so the
     step scaled down to the top turn is tried first (on a curve driven at the top turn rate it

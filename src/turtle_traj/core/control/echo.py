@@ -10,6 +10,7 @@ echo is unlike any other remembered, and the echo names the command in effect on
 from __future__ import annotations
 
 import struct
+from collections.abc import Callable
 
 import numpy as np
 
@@ -72,15 +73,24 @@ def distinct(command: Command, taken: set[Echo], previous: Command) -> Command:
     if abs(_at_rank(rank) - last) > abs(exact - last):  # rounded away from the previous one
         rank += (towards > rank) - (towards < rank)
     linear_echo, angular_echo = as_echoed(command)
+    echo = ((lambda value: (abs(value), angular_echo)) if on_linear
+            else (lambda value: (linear_echo, value)))  # of a float32, itself
+    value = _first_free(rank, towards, lambda value: echo(value) not in taken)
+    return command if value is None else _with(command, on_linear, value)
+
+
+def _first_free(rank: int, towards: int, free: Callable[[float], bool]) -> float | None:
+    """The first float32 value from `rank` on, a rank at a time towards `towards` and then on
+    towards zero, that is `free`; None within `HISTORY` + 1 steps or at zero."""
     for _ in range(HISTORY + 1):
-        value = _at_rank(rank)  # a float32 already: its echo is itself
-        if ((abs(value), angular_echo) if on_linear else (linear_echo, value)) not in taken:
-            return _with(command, on_linear, value)
+        value = _at_rank(rank)
+        if free(value):
+            return value
         towards = 0 if rank == towards else towards
         rank += (towards > rank) - (towards < rank)
         if rank == 0:
             break
-    return command
+    return None
 
 
 def alike(command: Command, other: Command) -> bool:

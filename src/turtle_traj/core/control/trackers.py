@@ -217,19 +217,7 @@ class PolylineTracker:
         pose = predicted
 
         facing = pose.theta
-        # Steer to the curve's tangent where the steps do not land on the curve themselves
-        # (`_steps_onto_curve`) and the base has limits: the tangent turns along each chord,
-        # not at its ends. A base that changes its turn rate gradually beat against its angular
-        # acceleration limit at every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside
-        # it), and started a circle from rest turning at half its rate (0.6 mm outside it);
-        # turtlesim turns at once, and a rounded path's chords are aimed at with the lead below
-        smooth = limits.limited or self._steps_onto_curve(limits)
-        curvature = float((polyline.tangent_curvatures if smooth
-                           else polyline.curvatures)[self.segment])
-        path_heading = float(polyline.headings[self.segment])
-        if smooth:
-            path_heading += curvature * float(polyline.segment_lengths[self.segment]) * (
-                fraction - 0.5)
+        curvature, path_heading = self._heading_at(fraction, limits)
         heading_error = wrap_angle(path_heading - facing)
 
         speed = self._speed(fraction, remaining, curvature, prediction, limits, landing,
@@ -237,10 +225,8 @@ class PolylineTracker:
         if abs(heading_error) > gains.turn_first_angle:
             speed = 0.0
         elif self._steps_onto_curve(limits) and speed > 0.0:
-            if self._curve is None:
-                self._curve = SampledCurve(polyline)
-            return step_onto_curve(self._curve, pose, self._arc(fraction), speed, limits,
-                                   prediction.turns_first)
+            return step_onto_curve(self._sampled_curve(), pose, self._arc(fraction), speed,
+                                   limits, prediction.turns_first)
         speed *= math.cos(heading_error)
         # turtlesim turns first and then moves along the new heading, so on an arc the motion
         # leads the heading by the turn of one period: aim half a chord behind the tangent.
@@ -279,6 +265,28 @@ class PolylineTracker:
                                               prediction, limits.limited, landing))
             speed = math.copysign(speed, remaining)
         return speed
+
+    def _heading_at(self, fraction: float, limits: Limits) -> tuple[float, float]:
+        """The curvature and the heading to steer to, `fraction` along the current segment.
+
+        The curve's tangent, which turns along each chord, not at its ends, is the heading on a
+        base with limits and where the steps land on the smooth curve (`curve_step`). A base
+        that changes its turn rate gradually beat against its angular acceleration limit at
+        every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside it), and started a circle
+        from rest turning at half its rate (0.6 mm outside it); on turtlesim a rounded path's
+        chords are aimed at, with the lead `update` adds."""
+        polyline, segment = self.polyline, self.segment
+        if not (limits.limited or self._steps_onto_curve(limits)):
+            return float(polyline.curvatures[segment]), float(polyline.headings[segment])
+        curvature = float(polyline.tangent_curvatures[segment])
+        return curvature, float(polyline.headings[segment]) + curvature * float(
+            polyline.segment_lengths[segment]) * (fraction - 0.5)
+
+    def _sampled_curve(self) -> SampledCurve:
+        """The smooth curve through the polyline's vertices, made on first use."""
+        if self._curve is None:
+            self._curve = SampledCurve(self.polyline)
+        return self._curve
 
     def _steps_onto_curve(self, limits: Limits) -> bool:
         """An exact path's curve on a robot that takes each command at once lands each step on

@@ -4,8 +4,8 @@ It drives one stroke between two corners (`turns_at_corners`: the node turns in 
 so corners are exact) with `trackers.PolylineTracker`: speed capped by the curvature, the
 base's speed profile and a braking that lands on the end point; on turtlesim each step lands on
 the curve (`curve_step`), on a base with inertia curvature feed-forward and a heading set-point
-steer back onto the path. It steers from the state the model of the
-robot predicts, and allows for its uncertainty as the model answers it to every controller
+steer back onto the path. It steers from the state the model of the robot predicts, and
+allows for its uncertainty as the model answers it to every controller
 (`State.robot`: `late_steps`, `overrun`, `braking_overrun`, `standing`). It asks only for
 what the base can reach in one period (`dynamics.within_reach`), so the node clamps none of its
 commands.
