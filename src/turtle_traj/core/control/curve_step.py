@@ -25,10 +25,10 @@ from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.geometry.sampled_curve import SampledCurve
 
 # The share of the offset from the curve a step of CORRECTION_M or more takes back; a shorter
-# one takes back less, in proportion (a 2.6 mm step braking onto a stroke's end that took back
-# half of a 0.1 mm offset turned the robot 0.019 rad off the curve's heading, and the stroke
-# ended so; at 5 cm the rose ended 0.3 mm beside its end, with the offset its tight petals
-# leave still there)
+# one takes back less, in proportion. A 2.6 mm step braking onto a stroke's end that took back
+# half of a 0.1 mm offset would turn the robot 0.019 rad off the curve's heading, which the
+# stroke would end with; over a longer CORRECTION_M (5 cm) the offset a rose's tight petals
+# leave is still 0.3 mm at its end
 CORRECTION = 0.5
 CORRECTION_M = 0.03
 # a turn this much over the top one is clamped to it: its step lands at most 1% of a period's
