@@ -123,8 +123,8 @@ def test_a_step_takes_back_its_share_of_the_offset_as_far_as_the_turn_rate_allow
 
 def test_a_short_step_onto_a_stroke_s_end_keeps_the_stroke_s_heading():
     """Braking onto the end of a straight stroke 0.1 mm beside it, the last 2.6 mm: the step
-    ends on the stroke's end and its heading within 0.002 rad of the stroke's (half the offset
-    taken back in that step turned it 0.019 rad away)."""
+    ends on the stroke's end and its heading within 0.002 rad of the stroke's (taking back half
+    the offset in that one step would turn it 0.019 rad away)."""
     line = SampledCurve(Polyline(np.array([(0.0, 0.0), (1.0, 0.0)])))
     pose = Pose2D(1.0 - 0.0026, 0.0001, 0.0)
     command = step_onto_curve(line, pose, 1.0 - 0.0026, 0.0026 / LIMITS.period_s, LIMITS)

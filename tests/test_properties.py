@@ -125,7 +125,7 @@ def test_the_exact_follower_is_never_clamped(kind, start, poses, config, tuning)
     clamps every controller's command to the limits and the reach of the one before, finds
     nothing to change in any of its commands, and it never claims a stroke's end from a pose
     far beside it (the example: 1.6 m beside the first side's end, level with it along the
-    side, which it took for the end)."""
+    side)."""
     request = {'go_to': SimpleNamespace(x=5.0, y=5.0, use_theta=True, theta=1.0, tolerance=0.0,
                                         linear_speed=0.0)}.get(
         kind, shape(sides=5, size=0.5, turns=1.0))

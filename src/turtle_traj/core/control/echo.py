@@ -62,7 +62,8 @@ def distinct(command: Command, taken: set[Echo], previous: Command) -> Command:
     it keeps within any limit of speed it was within, and its change from `previous` grows by a
     few float32 steps at most. A stop stays a stop; so does a command that runs out of steps.
     The steps are counted on float32's ranks (`_rank`), as integers."""
-    if command == STOP or as_echoed(command) not in taken:
+    echoed = as_echoed(command)
+    if command == STOP or echoed not in taken:
         return command
     on_linear = command.linear != 0.0
     exact = command.linear if on_linear else command.angular
@@ -72,7 +73,7 @@ def distinct(command: Command, taken: set[Echo], previous: Command) -> Command:
     rank, towards = _rank(exact), _rank(last)
     if abs(_at_rank(rank) - last) > abs(exact - last):  # rounded away from the previous one
         rank += (towards > rank) - (towards < rank)
-    linear_echo, angular_echo = as_echoed(command)
+    linear_echo, angular_echo = echoed
     echo = ((lambda value: (abs(value), angular_echo)) if on_linear
             else (lambda value: (linear_echo, value)))  # of a float32, itself
     value = _first_free(rank, towards, lambda value: echo(value) not in taken)

@@ -270,11 +270,11 @@ class PolylineTracker:
         """The curvature and the heading to steer to, `fraction` along the current segment.
 
         The curve's tangent, which turns along each chord, not at its ends, is the heading on a
-        base with limits and where the steps land on the smooth curve (`curve_step`). A base
-        that changes its turn rate gradually beat against its angular acceleration limit at
-        every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm outside it), and started a circle
-        from rest turning at half its rate (0.6 mm outside it); on turtlesim a rounded path's
-        chords are aimed at, with the lead `update` adds."""
+        base with limits and where the steps land on the smooth curve (`curve_step`): steered to
+        the chords' headings, a base that changes its turn rate gradually beats against its
+        angular acceleration limit at every vertex (a 0.5 m circle: a 7-period cycle, 1.2 mm
+        outside it) and starts a circle from rest turning at half its rate (0.6 mm outside it).
+        On turtlesim a rounded path's chords are aimed at, with the lead `update` adds."""
         polyline, segment = self.polyline, self.segment
         if not (limits.limited or self._steps_onto_curve(limits)):
             return float(polyline.curvatures[segment]), float(polyline.headings[segment])
