@@ -27,9 +27,13 @@ from turtle_traj.grading import sandbox
 from turtle_traj.grading.grader import ROOM_GRACE_S, grade_class
 from turtle_traj.grading.reports import exit_status, write_reports
 from turtle_traj.grading.sandbox import RunGroup, RunLimits, student_command
+from turtle_traj.rosutils.priority import NICE
 
 LAB = Path(__file__).resolve().parents[1] / 'src' / 'turtle_traj' / 'labs' / 'square'
 SOCKET_PORT = 47815  # where samples/hostile_socket knocks
+# Linux's sched_prio_to_weight for nice -10 to 0 (kernel/sched/core.c)
+_NICE_WEIGHTS = {-10: 9548, -9: 7620, -8: 6100, -7: 4904, -6: 3906, -5: 3121, -4: 2501,
+                 -3: 1991, -2: 1586, -1: 1277, 0: 1024}
 
 
 def test_the_students_sandbox_hides_the_grader_and_binds_only_its_work(tmp_path):
@@ -63,19 +67,22 @@ def test_a_task_may_take_a_package_or_a_script():
 
 
 @pytest.mark.skipif(not RunGroup.available(), reason='needs root and cgroup v1 controllers')
-def test_a_run_s_cpu_quota_is_at_least_two_of_the_kernel_s_slices():
-    """A core draws a group's quota a slice at a time: with one slice of quota, a flood on one
-    core took all of it, and the student's node on the other waited up to 0.46 s."""
+def test_a_run_s_cpu_quota_holds_four_of_the_kernel_s_slices_at_a_control_program_s_weight():
+    """A core draws a group's quota a slice at a time: with two slices of quota, a flood on one
+    core took them and the student's node on the other stalled mid-side. Within its quota a
+    run weighs what a program at our control programs' nice does (the kernel's weight table)."""
     group = RunGroup(f'{os.getpid()}-quota', RunLimits())
     try:
         quota = int((group.paths['cpu'] / 'cpu.cfs_quota_us').read_text())
         period = int((group.paths['cpu'] / 'cpu.cfs_period_us').read_text())
+        weight = int((group.paths['cpu'] / 'cpu.shares').read_text())
     finally:
         group.remove()
     slice_us = int(Path('/proc/sys/kernel/sched_cfs_bandwidth_slice_us').read_text())
     assert quota == pytest.approx(RunLimits().cpu_share * period, abs=1)
-    assert quota >= 2 * slice_us
-    assert period <= 50_000  # a throttled run still waits no longer than 3 simulator steps
+    assert quota >= 4 * slice_us
+    assert period - quota <= 60_000  # a throttled run waits at most this long
+    assert weight == _NICE_WEIGHTS[NICE]
 
 
 @pytest.fixture(scope='module')

@@ -36,12 +36,17 @@ HIDDEN = ('/root', '/home')  # empty and read-only, besides the grader's own fol
 SCRATCH = ('/tmp', '/var/tmp', '/dev/shm', '/run')  # empty and the run's own
 ROOM_NICE = -10  # the room's simulator steps in real time: it goes first (when root)
 ROOM_REAL_TIME_PRIORITY = 10  # then real-time, below the kernel's interrupt threads (50)
-# A throttled run waits at most this long. The kernel hands a group's quota to a core a slice
-# at a time (`sched_cfs_bandwidth_slice_us`, 5 ms): with a quota of one slice (0.25 of 20 ms),
-# the flooding sample's flood drew it all on its core and left the student's node on the other
-# throttled, its commands standing for up to 0.46 s beside a busy suite; a quota of two slices
-# leaves one for the node
-_CPU_PERIOD_US = 40_000
+# The quota's period. The kernel hands a group's quota to a core a slice at a time
+# (`sched_cfs_bandwidth_slice_us`, 5 ms), and a process's nice counts only on its own core: a
+# flood on one core draws slices the student's node on the other then waits for. With a
+# quarter of 80 ms the pool holds four slices; with two (a quarter of 40 ms), the flooding
+# sample's node stalled mid-side beside a busy suite (3 of 11, 3 times in 11 gradings)
+_CPU_PERIOD_US = 80_000
+# A run's weight against the machine's other work, within its quota: the kernel's weight for
+# nice -10, what our own control programs run at (`rosutils.priority.NICE`). At an ordinary
+# process's 1024, beside two busy loops and a test suite's nice -10 programs, an open-loop
+# sample's side ran 15 steps long and the flooding sample's turns wavered
+RUN_CPU_WEIGHT = 9548
 _REMOVE_S = 10.0
 ROOM_GROUPS = Path('/tmp/run-groups')  # where the room sees the student's control groups
 
@@ -147,11 +152,10 @@ class RunGroup:
     CONTROLLERS = ('pids', 'memory', 'cpu')
 
     def __init__(self, name: str, limits: RunLimits) -> None:
-        # At the top of each hierarchy: a run weighs one ordinary process (cpu.shares 1024)
-        # against the machine's other work, as the student's program run by hand would. Under
-        # one parent, all runs share one weight (a square's turn can last 1.76 s instead of
-        # 1 s beside a busy test suite); a parent weighing 64 processes makes the machine's
-        # other programs wait up to 0.38 s beside two classes graded at once.
+        # At the top of each hierarchy: each run has a weight of its own (`RUN_CPU_WEIGHT`)
+        # and its own quota. Under one parent, all runs share one weight (a square's turn can
+        # last 1.76 s instead of 1 s beside a busy test suite); a parent weighing 64 processes
+        # makes the machine's other programs wait up to 0.38 s beside two classes graded at once.
         self.paths = {controller: CGROUP_ROOT / controller / f'{GROUP_PREFIX}{name}'
                       for controller in self.CONTROLLERS}
         try:
@@ -163,6 +167,7 @@ class RunGroup:
             # a share of a core: a fork bomb's hundreds of processes, or a flood, cannot take
             # the CPU that the simulators and the other runs need (two hogs of a core each cost
             # other simulators 15-21 steps)
+            (self.paths['cpu'] / 'cpu.shares').write_text(str(RUN_CPU_WEIGHT))
             (self.paths['cpu'] / 'cpu.cfs_period_us').write_text(str(_CPU_PERIOD_US))
             (self.paths['cpu'] / 'cpu.cfs_quota_us').write_text(
                 str(round(limits.cpu_share * _CPU_PERIOD_US)))
