@@ -40,7 +40,7 @@ ROOM_REAL_TIME_PRIORITY = 10  # then real-time, below the kernel's interrupt thr
 # (`sched_cfs_bandwidth_slice_us`, 5 ms), and a process's nice counts only on its own core: a
 # flood on one core draws slices the student's node on the other then waits for. With a
 # quarter of 80 ms the pool holds four slices; with two (a quarter of 40 ms), the flooding
-# sample's node stalled mid-side beside a busy suite (3 of 11, 3 times in 11 gradings)
+# sample's node stalled mid-side beside a busy suite (it scored 3, 3 and 7 of 11 in 11 gradings)
 _CPU_PERIOD_US = 80_000
 # A run's weight against the machine's other work, within its quota: the kernel's weight for
 # nice -10, what our own control programs run at (`rosutils.priority.NICE`). At an ordinary
