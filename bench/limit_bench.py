@@ -1,15 +1,16 @@
 """The minimum-time limit (`core.planning.min_time`) on the DWPP paper's paths, at the
 tolerances of issue 76's table, beside the reference's times there and ours.
 
-    .venv/bin/python bench/limit_bench.py [--nodes 120] [--twice] [--plot PNG]
-                                          [--through-ros SCALE]
+    .venv/bin/python bench/limit_bench.py [--nodes 120] [--most-nodes 480] [--twice]
+                                          [--plot PNG] [--through-ros SCALE]
 
 The base with inertia of the paper (0.5 m/s, 1 rad/s, 0.5 m/s^2, 1 rad/s^2): three 3 m legs
 turning 45, 90 and 135 degrees, and one period of a sine (1 m over 6 m), from facing its first
 leg and from facing along x. For each:
-- the limit: its time, its largest distance from the path (integrated between the nodes), and
-  the CPU time of its solves; with `--twice`, the limit again with twice the nodes (how much
-  the discretisation still moves it);
+- the limit: its time, its largest distance from the path (integrated between the nodes), its
+  nodes (doubled from `--nodes` while its motion left the tube between them) and the CPU time
+  of its solves; with `--twice`, the limit again with twice those nodes (how much the
+  discretisation still moves it);
 - the reference DWPP's time at its maximum error (written from the paper; issue 76's figures,
   measured in a plain simulation of the same model);
 - the CPU time of our plan (`plan s`, tube planning, as the node plans the request);
@@ -121,6 +122,9 @@ def plot(drawn: list[tuple], where: str) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--nodes', type=int, default=120)
+    parser.add_argument('--most-nodes', type=int, default=480,
+                        help="solved again with twice the nodes, up to these, while the limit's "
+                             'motion leaves the tube between its nodes')
     parser.add_argument('--twice', action='store_true',
                         help='also solve with twice the nodes')
     parser.add_argument('--plot', metavar='PNG',
@@ -129,17 +133,17 @@ def main() -> None:
                         help='also drive ours through ROS, two programs, at SCALE x real time')
     options = parser.parse_args()
     print(f'{"":60} {"ours, tube":^31}  {"ours, minimum_time":^23}')
-    print(f'{"path":26} {"tol mm":>6} {"limit s":>8} {"err mm":>7} {"solve s":>8} '
+    print(f'{"path":26} {"tol mm":>6} {"limit s":>8} {"err mm":>7} {"nodes":>5} {"solve s":>8} '
           f'{"2x nodes":>9} {"ref s":>6} {"plan s":>7}'
           + f' {"time s":>7} {"err mm":>7} {"/limit":>7}' * 2)
     drawn, limits = [], {}
     for name, points, heading, tolerance, reference in CASES:
         limit = minimum_time(points, tolerance, PAPER, start_heading=heading,
-                             nodes=options.nodes)
+                             nodes=options.nodes, most_nodes=options.most_nodes)
         finer = f'{"-":>9}'
         if options.twice:
             finer_s = minimum_time(points, tolerance, PAPER, start_heading=heading,
-                                   nodes=2 * options.nodes).time_s
+                                   nodes=2 * len(limit.times) - 2).time_s
             finer = f'{finer_s:9.2f}'
         planning_s(points, heading, tolerance)  # TOPP-RA and SciPy loaded
         columns = f' {planning_s(points, heading, tolerance):7.2f}'
@@ -151,7 +155,7 @@ def main() -> None:
         limits[name] = limit.time_s
         flag = '' if limit.solved else '  (not converged)'
         print(f'{name:26} {tolerance * 1e3:6.0f} {limit.time_s:8.2f} '
-              f'{limit.max_error_m * 1e3:7.1f} {limit.solve_s:8.1f} {finer} {_shown(reference)}'
+              f'{limit.max_error_m * 1e3:7.1f} {len(limit.times) - 1:5d} {limit.solve_s:8.1f} {finer} {_shown(reference)}'
               f'{columns}{flag}')
     straight = 9.0 / PAPER.linear_speed + PAPER.linear_speed / PAPER.linear_accel
     print(f'a straight 9 m from rest to rest at these limits: {straight:.2f} s')

@@ -114,3 +114,22 @@ def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube(c
         drawn = shapely.LineString(points)
         assert shapely.distance(drawn, shapely.points(plan.path.points())).max() <= tolerance
     assert corner_limits[tolerance].time_s <= plans['minimum_time'] <= plans['tube']
+
+
+def test_a_limit_that_cuts_across_the_tube_between_nodes_is_solved_again_with_more():
+    """With few nodes the limit's motion leaves the tube between them, and is faster than a
+    motion that keeps within it may be. Asked to, it is solved again from itself with twice the
+    nodes: then it strays less (measured here with shapely from its motion) and takes longer."""
+    tolerance = CORNER_TOLERANCES_M[0]
+    coarse = minimum_time(CORNER, tolerance, PAPER, nodes=15)
+    refined = minimum_time(CORNER, tolerance, PAPER, nodes=15, most_nodes=30)
+    drawn = shapely.LineString(CORNER)
+
+    def stray_m(limit) -> float:
+        return float(shapely.distance(drawn, shapely.points(limit.motion)).max()) - tolerance
+
+    assert coarse.solved and refined.solved
+    assert stray_m(coarse) > 0.005 * tolerance  # the coarse one cuts across
+    assert len(refined.times) == 31
+    assert stray_m(refined) < 0.5 * stray_m(coarse)
+    assert refined.time_s > coarse.time_s

@@ -21,7 +21,8 @@ from turtle_traj.core.planning import planner
 from turtle_traj.core.planning.min_time import minimum_time
 
 LARGEST_TOLERANCE_M = PARAMETER['corner_tolerance'].high
-LIMIT_NODES = 60  # the limit's intervals here (bench/limit_bench.py solves with more)
+LIMIT_NODES = 60  # the limit's intervals, at first
+LIMIT_MOST_NODES = 480  # and at most, doubled while its motion leaves the tube between nodes
 
 
 @dataclass(frozen=True)
@@ -69,7 +70,8 @@ def limit_s(course: Course, tolerance_m: float) -> float | None:
     plan = planner.plan(course.trajectory, course.request, course.start, course.settings)
     limits = plan.control(course.settings.control).limits
     limit = minimum_time(plan.drawn_points(), tolerance_m, limits,
-                         start_heading=course.start.theta, nodes=LIMIT_NODES)
+                         start_heading=course.start.theta, nodes=LIMIT_NODES,
+                         most_nodes=LIMIT_MOST_NODES)
     return limit.time_s if limit.solved else None
 
 

@@ -18,10 +18,13 @@ Each interval has a duration of its own, so time goes where it is needed. The pr
 convex. It is solved twice: first with few long intervals from two starts (`exact_drive`: the
 path with its corners rounded tight, or swinging out across the tube), which finds how to take
 the corners; then with `nodes` shorter intervals from the better of the two, which holds the
-motion to the tube more densely.
+motion to the tube more densely; and, where asked, again with twice the nodes while its motion
+still leaves the tube between them.
 
 What it omits: between nodes the motion is only integrated, not held to the tube (the error
-between nodes is measured afterwards, `max_error_m`); the robot's control period and the
+between nodes is measured afterwards, `max_error_m`: a motion that cuts across the tube's edge
+between nodes is faster than any that keeps within it, so the finer solves); the robot's
+control period and the
 transport's delay. Without inertia and at tolerance zero it solves nothing: the limit is the
 path at the speed its curvature allows (`exact_drive`). With inertia, a tolerance of zero is
 `EXACT_M`.
@@ -48,6 +51,7 @@ _RK4_STEPS = 4  # per interval; the tube is checked at each
 _SHORTEST_STEP_S = 1e-3
 _UNBOUNDED = 1e3  # an acceleration not limited (0), finite for the solver
 _DENSE = 20  # samples per interval where the error is measured
+STRAY_SHARE = 0.005  # of the tube's width, how far a limit's motion may leave it between nodes
 
 
 @dataclass(frozen=True)
@@ -68,10 +72,14 @@ class MinimumTime:
 
 
 def minimum_time(points: np.ndarray, tolerance_m: float, limits: Limits, *,
-                 start_heading: float | None = None, nodes: int = 200) -> MinimumTime:
+                 start_heading: float | None = None, nodes: int = 200,
+                 most_nodes: int | None = None) -> MinimumTime:
     """The fastest motion along the polyline `points` (m) within `tolerance_m` of it (see the
     module) under `limits` (an acceleration of 0: none; the control period is not used).
-    `start_heading` defaults to the first segment's direction."""
+    `start_heading` defaults to the first segment's direction. Up to `most_nodes`, a motion
+    that leaves the tube between its nodes by more than `STRAY_SHARE` of it is solved again
+    from itself with twice the nodes: one that cuts across the tube's edge is no limit, and
+    its time is too short."""
     points = np.asarray(points, dtype=float)
     points = points[np.concatenate(([True], np.diff(Polyline(points).cumulative_length) > 1e-9))]
     heading0 = (math.atan2(*(points[1] - points[0])[::-1]) if start_heading is None
@@ -85,11 +93,24 @@ def minimum_time(points: np.ndarray, tolerance_m: float, limits: Limits, *,
                                          limits))
               for swing in SEEDS]
     best, spent = min(scouts, key=lambda scout: (not scout[0].solved, scout[0].time_s))
-    final, _ = _Problem(points, width, limits, heading0, nodes,
-                        2.0 * best.time_s / nodes).solve(spent)
+    final, timeline = _Problem(points, width, limits, heading0, nodes,
+                               2.0 * best.time_s / nodes).solve(spent)
     if not final.solved and best.solved:
-        final = best
-    return replace(final, solve_s=sum(scout.solve_s for scout, _ in scouts) + final.solve_s)
+        final, timeline = best, spent
+    solve_s = sum(scout.solve_s for scout, _ in scouts) + final.solve_s
+    while (final.solved and final.max_error_m > (1.0 + STRAY_SHARE) * width
+           and 2 * nodes <= (most_nodes or nodes)):
+        nodes *= 2
+        problem = _Problem(points, width, limits, heading0, nodes, 2.0 * final.time_s / nodes)
+        for seed in (timeline, spent):  # from the last answer; else as the first was found
+            finer, finer_timeline = problem.solve(seed)
+            solve_s += finer.solve_s
+            if finer.solved:
+                break
+        if not finer.solved:
+            break
+        final, timeline = finer, finer_timeline
+    return replace(final, solve_s=solve_s)
 
 
 def _on_the_path(points: np.ndarray, limits: Limits, heading0: float) -> MinimumTime:
