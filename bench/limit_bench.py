@@ -155,7 +155,8 @@ def main() -> None:
         limits[name] = limit.time_s
         flag = '' if limit.solved else '  (not converged)'
         print(f'{name:26} {tolerance * 1e3:6.0f} {limit.time_s:8.2f} '
-              f'{limit.max_error_m * 1e3:7.1f} {len(limit.times) - 1:5d} {limit.solve_s:8.1f} {finer} {_shown(reference)}'
+              f'{limit.max_error_m * 1e3:7.1f} {len(limit.times) - 1:5d} {limit.solve_s:8.1f} '
+              f'{finer} {_shown(reference)}'
               f'{columns}{flag}')
     straight = 9.0 / PAPER.linear_speed + PAPER.linear_speed / PAPER.linear_accel
     print(f'a straight 9 m from rest to rest at these limits: {straight:.2f} s')

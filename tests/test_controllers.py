@@ -23,7 +23,7 @@ from turtle_traj.core.control.controller import (
     Stroke,
     interface_problem,
 )
-from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.controllers.catalogue import ControllerChoice
 from turtle_traj.core.control.controllers.dwpp import Dwpp
 from turtle_traj.core.control.controllers.exact import ExactFollower
 from turtle_traj.core.control.controllers.pure_pursuit import PurePursuit
@@ -177,7 +177,7 @@ def test_an_end_claimed_at_a_closed_strokes_start_is_a_controller_fault(kind, si
 def test_an_end_claimed_half_way_is_a_fault_and_the_figures_say_how_far_it_got():
     start = Pose2D(3.0, 3.0, 0.0)
     plan = planner.plan('square', shape(size=2.0), start, DEFAULT_SETTINGS)
-    run = drive(plan, start, DEFAULT_SETTINGS, controller=Chosen('half', StopsHalfWay))
+    run = drive(plan, start, DEFAULT_SETTINGS, controller=ControllerChoice('half', StopsHalfWay))
     outcome = run.run.outcome(run.poses[-1], run.elapsed_s)
     assert not outcome.success and outcome.reason is Ending.CONTROLLER_FAULT
     claimed = re.search(r"controller 'half' claimed the end after ([0-9.]+) m of 8.00 m",
@@ -194,8 +194,8 @@ def test_an_end_claimed_half_way_is_a_fault_and_the_figures_say_how_far_it_got()
 def test_a_lap_of_an_endless_circle_claimed_at_its_start_is_a_fault():
     start = Pose2D(5.5, 3.0, 0.0)
     plan = planner.plan('circle', shape(size=1.0, forever=True), start, DEFAULT_SETTINGS)
-    run = drive(plan, start, DEFAULT_SETTINGS, controller=Chosen('lap', StopsNearTheLastPoint),
-                max_s=5.0)
+    run = drive(plan, start, DEFAULT_SETTINGS,
+                controller=ControllerChoice('lap', StopsNearTheLastPoint), max_s=5.0)
     assert run.run.reason is Ending.CONTROLLER_FAULT
     assert "controller 'lap' claimed the end after 0.00 m of" in run.run.ending[1]
 
@@ -272,7 +272,7 @@ TIMER = ProcessAnswerTimer()  # the node's: answers later than the period end th
 def test_a_misbehaving_controller_ends_the_run_saying_what_it_did(controller, said):
     points, start, plan = _step_course(90)
     run = drive(plan, start, PAPER, inertia=PAPER_INERTIA,
-                controller=Chosen('bad', controller, TIMER))
+                controller=ControllerChoice('bad', controller, TIMER))
     success, message = run.run.ending
     assert not success
     assert message.startswith('follow_path aborted: ') and said in message
@@ -296,7 +296,7 @@ def test_another_threads_garbage_collection_does_not_excuse_a_slow_controller():
     try:
         points, start, plan = _step_course(90)
         run = drive(plan, start, PAPER, inertia=PAPER_INERTIA,
-                    controller=Chosen('bad', _Slow, TIMER))
+                    controller=ControllerChoice('bad', _Slow, TIMER))
     finally:
         stop.set()
         collector.join()
@@ -333,14 +333,14 @@ def test_a_cpu_wait_as_the_answer_is_timed_is_not_taken_off_the_controllers_time
     monkeypatch.setattr(answer_timer, 'not_the_controllers_s', busy_machine)
     points, start, plan = _step_course(90)
     run = drive(plan, start, PAPER, inertia=PAPER_INERTIA,
-                controller=Chosen('bad', _Slow, TIMER))
+                controller=ControllerChoice('bad', _Slow, TIMER))
     assert _reported_late_s(run.run.ending[1]) >= 0.05
 
 
 def test_commands_beyond_the_limits_are_clamped_and_counted():
     points, start, plan = _step_course(45)
     run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, max_s=5.0,
-                controller=Chosen('reckless', _Reckless))
+                controller=ControllerChoice('reckless', _Reckless))
     follower = run.run.follower
     assert follower.commands > 100 and follower.clamped == follower.commands
     assert _outside_the_limits(run.commands, PAPER.control) == []
@@ -349,7 +349,7 @@ def test_commands_beyond_the_limits_are_clamped_and_counted():
 def test_an_untimed_choice_lets_a_slow_controller_finish():
     points, start, plan = _step_course(45)
     run = drive(plan, start, PAPER, inertia=PAPER_INERTIA, max_s=0.5,
-                controller=Chosen('slow', _Slow))
+                controller=ControllerChoice('slow', _Slow))
     assert run.run.ending == (False, 'follow_path still running after 0.5 s')
     assert len(run.commands) == int(0.5 / STEP_S)  # one every step, none refused
 
@@ -358,7 +358,7 @@ def test_an_untimed_choice_lets_a_slow_controller_finish():
 
 def test_the_shipped_controllers_are_offered_by_name():
     assert names()[:3] == ['exact', 'dwpp', 'pure_pursuit']
-    assert resolve('exact') is ExactFollower and choose('exact') == Chosen()
+    assert resolve('exact') is ExactFollower and choose('exact') == ControllerChoice()
     assert resolve('dwpp') is Dwpp and resolve('pure_pursuit') is PurePursuit
     assert resolve('turtle_traj.core.control.controllers.dwpp:Dwpp') is Dwpp
 
@@ -414,13 +414,14 @@ def test_a_controller_is_handed_what_the_model_of_the_robot_knows():
 def test_the_exact_follower_is_tuned_as_any_controller():
     """Its gains are `Tunable`s served under its prefix, as every controller's, and the values
     in effect are set as each stroke starts."""
-    assert [spec.name for spec in Chosen().tunables] == [
+    assert [spec.name for spec in ControllerChoice().tunables] == [
         'heading_gain', 'cross_track_gain', 'deceleration', 'turn_first_angle']
-    assert Chosen().prefix == 'exact'
+    assert ControllerChoice().prefix == 'exact'
     start = Pose2D(2.0, 5.0, 0.0)
     plan = planner.plan('move', make_request(BY_NAME['move'], {'distance': 2.0}), start,
                         DEFAULT_SETTINGS)
-    tuned = replace(Chosen(), tuning=lambda: {'heading_gain': 3.0, 'cross_track_gain': 7.0})
+    tuned = replace(ControllerChoice(),
+                    tuning=lambda: {'heading_gain': 3.0, 'cross_track_gain': 7.0})
     walker = tuned.driver(plan, manage_pen=False)
     walker.update(start, DEFAULT_SETTINGS.control)
     assert (walker.controller.heading_gain, walker.controller.cross_track_gain) == (3.0, 7.0)
@@ -473,7 +474,7 @@ def test_a_controller_installed_as_an_entry_point_is_offered_by_its_name(tmp_pat
     monkeypatch.syspath_prepend(str(tmp_path))
     assert 'theirs' in names()
     assert resolve('theirs') is Installed
-    assert choose('theirs') == Chosen('theirs', Installed)
+    assert choose('theirs') == ControllerChoice('theirs', Installed)
 
 
 @pytest.mark.parametrize('radius', [0.5, 1.0])

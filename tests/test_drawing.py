@@ -11,7 +11,7 @@ import svgelements
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.controllers.catalogue import ControllerChoice
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.geometry import drawing, svg, text
 from turtle_traj.core.geometry.path import Polyline, Pose2D, Turn
@@ -197,7 +197,8 @@ def test_hello_ros_needs_less_pen_up_travel_once_ordered():
 def test_the_follower_waits_for_the_pen_before_each_curve():
     path = drawing.drawing_path(Pose2D(1.0, 1.0, 0.0), [np.array([(2.0, 1.0), (3.0, 1.0)])],
                                 corner_angle_rad=0.1)
-    follower = Chosen().driver(Plan('drawing', path), manage_pen=True)  # the exact follower
+    # the exact follower
+    follower = ControllerChoice().driver(Plan('drawing', path), manage_pen=True)
     config = DEFAULT_SETTINGS.control
     first = follower.update(Pose2D(1.0, 1.0, 0.0), config)
     assert (first.linear, first.angular) == (0.0, 0.0) and follower.pen_wanted is False
@@ -210,7 +211,7 @@ def test_the_follower_waits_for_the_pen_before_each_curve():
     assert (command.linear, command.angular) == (0.0, 0.0) and follower.pen_wanted is True
     follower.pen_down = True
     assert follower.update(at_stroke, config).linear > 0.0
-    plain = Chosen().driver(Plan('drawing', path), manage_pen=False)  # drives at once
+    plain = ControllerChoice().driver(Plan('drawing', path), manage_pen=False)  # drives at once
     assert plain.update(Pose2D(1.0, 1.0, 0.0), config).linear > 0.0
 
 

@@ -277,7 +277,7 @@ def test_pieces_beside_a_turtle_that_stands_still_are_left_undrawn_and_named():
     from types import SimpleNamespace
 
     from turtle_traj.core.fleet.run import FleetRun
-    from turtle_traj.fleet.under_way import _verdict
+    from turtle_traj.fleet.in_progress import _verdict
 
     pieces = pieces_in(_text_plan().path, CONFIG)
     first = pieces[0].polyline.points[0]

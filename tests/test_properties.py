@@ -9,7 +9,7 @@ import numpy as np
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.controllers.catalogue import ControllerChoice
 from turtle_traj.core.geometry import shapes
 from turtle_traj.core.geometry.angles import shortest_angular_distance, wrap_angle
 from turtle_traj.core.geometry.path import Pose2D
@@ -134,7 +134,7 @@ def test_the_exact_follower_is_never_clamped(kind, start, poses, config, tuning)
     except PlanError:
         return
     # the exact follower, tuned
-    follower = replace(Chosen(), tuning=lambda: tuning).driver(plan, manage_pen=False)
+    follower = replace(ControllerChoice(), tuning=lambda: tuning).driver(plan, manage_pen=False)
     for pose in poses:
         follower.update(pose, config)
     assert follower.clamped == 0, f'{follower.clamped} of {follower.commands} clamped'

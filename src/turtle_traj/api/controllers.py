@@ -18,7 +18,7 @@ from importlib.metadata import entry_points
 from turtle_traj.core.control.controller import interface_problem
 from turtle_traj.core.control.controllers.catalogue import (
     SHIPPED,
-    Chosen,
+    ControllerChoice,
     ControllerFactory,
 )
 
@@ -59,12 +59,12 @@ def from_plugin_name(plugin: str) -> str:
                             'your own as package.module:Class')
 
 
-def choose(name: str) -> Chosen:
+def choose(name: str) -> ControllerChoice:
     """The controller a name stands for, untimed.
 
     :raises UnknownController: with the reason.
     """
-    return Chosen(name, resolve(name))
+    return ControllerChoice(name, resolve(name))
 
 
 @functools.lru_cache(maxsize=64)

@@ -38,8 +38,8 @@ from turtle_traj.core.parameters.table import PARAMETERS
 from turtle_traj.core.planning.planner import PlanError, plan
 from turtle_traj.core.turtlesim_contract import PenStyle
 from turtle_traj.fleet.checks import colors, colors_problem, names_problem, too_close
+from turtle_traj.fleet.in_progress import DrawingInProgress, progress, refusal, report
 from turtle_traj.fleet.link import MoveEnd, TurtleLink, node_of
-from turtle_traj.fleet.under_way import UnderWay, progress, refusal, report
 from turtle_traj.node.waiting import completion, result_within, wait_until
 from turtle_traj.rosutils.offload import Offloader
 
@@ -76,7 +76,7 @@ class FleetCoordinator(Node):
         self.add_on_set_parameters_callback(colors_problem)
         self._links: dict[str, TurtleLink] = {}
         self._planner = Offloader(self, 'fleet_plan')
-        self._drawing: UnderWay | None = None
+        self._drawing: DrawingInProgress | None = None
         self._anchor: Anchor | None = None  # where the last drawing started
         self._claimed = False  # a goal is being prepared or drawn
         group = ReentrantCallbackGroup()
@@ -128,7 +128,8 @@ class FleetCoordinator(Node):
         finally:
             self._drawing, self._claimed = None, False
 
-    async def _prepare(self, goal_handle: ServerGoalHandle, received_s: float) -> UnderWay:
+    async def _prepare(self, goal_handle: ServerGoalHandle,
+                       received_s: float) -> DrawingInProgress:
         """The drawing planned and shared out, its turtles ready; Refused if it cannot be."""
         goal = goal_handle.request
         names, clearance = self._asked(goal)
@@ -175,9 +176,10 @@ class FleetCoordinator(Node):
             link.on_pose = self._measure
         if goal_handle.is_cancel_requested:
             raise Refused('cancelled before it started', Ending.CANCELLED)
-        return UnderWay(run, drawers, self._pens(planned.pen or settings.pen, len(drawers)),
-                        config.linear_speed, goal_handle, received_s, left_out, starts, anchor,
-                        self._now_s())
+        return DrawingInProgress(run, drawers,
+                                 self._pens(planned.pen or settings.pen, len(drawers)),
+                                 config.linear_speed, goal_handle, received_s, left_out, starts,
+                                 anchor, self._now_s())
 
     def _pens(self, pen: PenStyle, count: int) -> list[PenStyle]:
         """Each turtle's pen: the drawing's, or in `turtle_colors` (one colour per turtle, in
@@ -273,7 +275,7 @@ class FleetCoordinator(Node):
             drawing.ended_s = self._now_s()  # now: the awaiting handler may resume a step later
             drawing.finished.set_result(True)
 
-    def _dispatch(self, drawing: UnderWay) -> None:
+    def _dispatch(self, drawing: DrawingInProgress) -> None:
         """Start every move the schedule allows now."""
         run = drawing.run
         if run.replan_due and drawing.failure is None:
@@ -298,12 +300,12 @@ class FleetCoordinator(Node):
                 self._lose(drawing, index, end.why)
         self._dispatch(drawing)
 
-    def _lose(self, drawing: UnderWay, index: int, why: str) -> None:
+    def _lose(self, drawing: DrawingInProgress, index: int, why: str) -> None:
         """`index` serves no more: it is put out of the others' way once none drives."""
         drawing.run.lose(index, why)
         drawing.to_carry.add(index)
 
-    def _carry_lost(self, drawing: UnderWay) -> None:
+    def _carry_lost(self, drawing: DrawingInProgress) -> None:
         """Lost turtles still in the arena are put out of the way (no turtle that serves
         drives now: none can come near them as they go)."""
         run = drawing.run
@@ -318,7 +320,7 @@ class FleetCoordinator(Node):
             drawing.carrying.add(index)
             link.carry(drawing.homes[index], lambda index=index: drawing.carrying.discard(index))
 
-    def _replan(self, drawing: UnderWay) -> None:
+    def _replan(self, drawing: DrawingInProgress) -> None:
         run = drawing.run
         poses = {index: drawing.links[index].pose for index in run.serving}
         standing = self._lost_standing(drawing)
@@ -327,7 +329,7 @@ class FleetCoordinator(Node):
         except (Deadlock, ValueError) as error:
             drawing.failure = (f'the drawing cannot be finished: {error}', Ending.NO_PROGRESS)
 
-    def _lost_standing(self, drawing: UnderWay) -> list[Pose2D]:
+    def _lost_standing(self, drawing: DrawingInProgress) -> list[Pose2D]:
         """Where the lost turtles still in the arena stand (where they were put)."""
         return [drawing.homes[index] for index, link in enumerate(drawing.links)
                 if index not in drawing.run.serving and link.present()]

@@ -15,7 +15,7 @@ from functools import partial
 from rclpy.node import Node
 
 from turtle_traj.api.controllers import choose
-from turtle_traj.core.control.controllers.catalogue import SHIPPED, Chosen
+from turtle_traj.core.control.controllers.catalogue import SHIPPED, ControllerChoice
 from turtle_traj.node.answer_timer import ProcessAnswerTimer
 from turtle_traj.node.parameters import descriptor
 
@@ -29,7 +29,7 @@ class ControllerTuning:
         for name in dict.fromkeys([*SHIPPED, configured]):
             self.choose(name)
 
-    def choose(self, name: str) -> Chosen:
+    def choose(self, name: str) -> ControllerChoice:
         """The controller `name` stands for, its answers timed, reading its tuning from the
         node's parameters (declared now if they are not yet).
 
@@ -43,7 +43,7 @@ class ControllerTuning:
         return replace(chosen, timer=ProcessAnswerTimer(),
                        tuning=partial(self._values, chosen) if chosen.tunables else None)
 
-    def _values(self, chosen: Chosen) -> dict[str, float]:
+    def _values(self, chosen: ControllerChoice) -> dict[str, float]:
         node, prefix = self._node, chosen.prefix
         return {spec.name: node.get_parameter(f'{prefix}.{spec.name}').value
                 for spec in chosen.tunables}

@@ -35,7 +35,7 @@ from rclpy.node import Node
 from turtle_traj_interfaces.srv import FollowPath as FollowPathRequest
 
 from turtle_traj.api.controllers import UnknownController
-from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.controllers.catalogue import ControllerChoice
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.goal_check import GoalChecker, checker_for
 from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
@@ -145,7 +145,7 @@ class Nav2FollowPath:
         return self._end(goal_handle, ERROR_CODES.get(outcome.reason, Result.UNKNOWN),
                          outcome.message)
 
-    async def _start(self, request, controller: Chosen | None,
+    async def _start(self, request, controller: ControllerChoice | None,
                      replacing: RunSupervisor | None):
         try:
             return await self._runs.start_run(BY_NAME['follow_path'], request,
@@ -173,7 +173,7 @@ class Nav2FollowPath:
         return checker.miss(pose, (command.linear, command.angular), (end.x, end.y),
                             _final_heading(path))
 
-    def _checked(self, goal: FollowPath.Goal) -> tuple[Chosen | None, object]:
+    def _checked(self, goal: FollowPath.Goal) -> tuple[ControllerChoice | None, object]:
         """The goal's controller and the request it makes; GoalFailed if it cannot run."""
         points = _points(goal.path)
         self._check_frames(goal.path)

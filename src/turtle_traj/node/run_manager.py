@@ -22,7 +22,7 @@ from rclpy.task import Future
 from std_msgs.msg import Header
 
 from turtle_traj.core.control.commands import STOP, Command
-from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.controllers.catalogue import ControllerChoice
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.observers import ODOMETRY_BASE, TURTLESIM
@@ -116,7 +116,7 @@ class RunManager:
         """The simulator's set_pen is found (drawings need it)."""
         return self._pen.ready
 
-    def choose_controller(self, name: str) -> Chosen:
+    def choose_controller(self, name: str) -> ControllerChoice:
         """The controller `name` stands for, tuned by the node's parameters.
 
         :raises UnknownController: with the reason.
@@ -271,7 +271,8 @@ class RunManager:
         self._state_lock.warning(message)
         return outcomes.RunRefused(message, reason)
 
-    async def start_run(self, kind: TrajectoryKind, request, *, controller: Chosen | None = None,
+    async def start_run(self, kind: TrajectoryKind, request, *,
+                        controller: ControllerChoice | None = None,
                         replacing: RunSupervisor | None = None) -> tuple[RunSupervisor, Future]:
         """Plan `request` and drive it (with `controller`, or the node's): the run, and the
         future of its Outcome.
@@ -311,7 +312,7 @@ class RunManager:
 
     @serialized
     def _start_planned(self, kind: TrajectoryKind, planning: Planning, plan: Plan | None,
-                       controller: Chosen,
+                       controller: ControllerChoice,
                        replacing: RunSupervisor | None) -> tuple[RunSupervisor, Future]:
         if plan is None:  # its future was cancelled: stopped or aborted
             raise self.refuse(f'{kind.name} {planning.ended}', planning.reason)

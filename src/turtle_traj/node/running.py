@@ -8,7 +8,7 @@ from typing import Any, Protocol
 from rclpy.task import Future
 
 from turtle_traj.core.control.commands import Command
-from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.controllers.catalogue import ControllerChoice
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.supervisor import RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
@@ -31,7 +31,7 @@ class RunningNode(Protocol):
 
     def now_s(self) -> float: ...
 
-    def choose_controller(self, name: str) -> Chosen: ...
+    def choose_controller(self, name: str) -> ControllerChoice: ...
 
     def refusal(self, replacing: RunSupervisor | None = None) -> RunRefused | None: ...
 
@@ -44,7 +44,7 @@ class RunningNode(Protocol):
     def frame_id(self) -> str: ...
 
     async def start_run(self, kind: TrajectoryKind, request: Any, *,
-                        controller: Chosen | None = None,
+                        controller: ControllerChoice | None = None,
                         replacing: RunSupervisor | None = None
                         ) -> tuple[RunSupervisor, Future]: ...
 

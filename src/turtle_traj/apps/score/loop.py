@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from turtle_traj.core.control.commands import Command
-from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.controllers.catalogue import ControllerChoice
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.plan import Plan
@@ -42,7 +42,7 @@ class Drive:
 
 
 def drive(plan: Plan, start: Pose2D, settings: Settings, *, inertia: Inertia | None = None,
-          controller: Chosen | None = None, disturb=None,
+          controller: ControllerChoice | None = None, disturb=None,
           max_s: float = 600.0) -> Drive:
     """Drive `plan` from `start` until its run ends (or `max_s` of simulated time).
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import ControlConfig
-from turtle_traj.core.control.controllers.catalogue import Chosen
+from turtle_traj.core.control.controllers.catalogue import ControllerChoice
 from turtle_traj.core.control.echo import alike
 from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.observers import TURTLESIM, Robot
@@ -49,17 +49,17 @@ class ControlLoop:
         self.pose = None
 
     def start(self, plan: Plan, *, arena: Arena, now_s: float,
-              controller: Chosen | None = None) -> RunSupervisor:
+              controller: ControllerChoice | None = None) -> RunSupervisor:
         """Begin driving `plan` from the last pose observed (with `controller`, a name and a
         class, instead of the exact follower). A controller that cannot be made ends the run at
         once, the exact follower's walker standing in."""
         if self.pose is None:
             raise RuntimeError('no pose observed yet')
-        chosen, manage_pen = controller or Chosen(), plan.pen is not None
+        chosen, manage_pen = controller or ControllerChoice(), plan.pen is not None
         try:
             walker, fault = chosen.driver(plan, manage_pen=manage_pen), None
         except Exception as error:  # the controller's constructor
-            walker, fault = Chosen().driver(plan, manage_pen=manage_pen), error
+            walker, fault = ControllerChoice().driver(plan, manage_pen=manage_pen), error
         self.run = RunSupervisor(plan, walker, start=self.pose, arena=arena, started_s=now_s)
         if fault is not None:
             self.run.end(False, f"{plan.trajectory} aborted: controller '{chosen.name}' could "

@@ -3,7 +3,7 @@
 `Robot` describes a robot for the model of it (`robot_model.RobotModel`): how its step moves
 it, when it counts as at rest, and the observer its poses need. Each observer says, from a
 pose, which of the commands sent is in effect, and how many steps after it was sent it began
-to act (`Seen`):
+to act (`PoseReading`):
 
 * `EchoObserver`, turtlesim's: the pose echoes the velocities of the command in effect
   (`echo`). The command whose echo matches is in effect; commands act in order, so among equal
@@ -51,7 +51,7 @@ class CommandLog(Protocol):
 
 
 @dataclass(frozen=True)
-class Seen:
+class PoseReading:
     """What a pose tells: the command in effect, and a latency when the pose shows one."""
 
     in_effect: int | None = None  # the number of the command in effect
@@ -69,7 +69,7 @@ class Observer(Protocol):
     def distinct(self, command: Command, model: CommandLog, last_sent: Command) -> Command:
         """`command` as it is to be sent, so that the poses can name it."""
 
-    def see(self, model: CommandLog, echo: Echo, pose: Pose2D | None) -> Seen | None:
+    def see(self, model: CommandLog, echo: Echo, pose: Pose2D | None) -> PoseReading | None:
         """What the pose with velocity `echo` tells (None: nothing new)."""
 
 
@@ -84,7 +84,7 @@ class EchoObserver:
     def distinct(self, command: Command, model: CommandLog, last_sent: Command) -> Command:
         return distinct(command, {sent.echo for sent in model.remembered}, last_sent)
 
-    def see(self, model: CommandLog, echo: Echo, pose: Pose2D | None) -> Seen | None:
+    def see(self, model: CommandLog, echo: Echo, pose: Pose2D | None) -> PoseReading | None:
         # among equal echoes, the one a step on from the last (the latency's floor is the
         # earliest a command may act: as a guess it would skip a moving command still on its
         # way between two stops, and the prediction would miss its step)
@@ -95,13 +95,14 @@ class EchoObserver:
         if not matches:  # someone else's command (a stale one, the 1 s timeout): a step on
             if model.in_effect is None:
                 return None
-            return Seen(min(expected, model.count - 1))
+            return PoseReading(min(expected, model.count - 1))
         in_effect = min(matches, key=lambda number: abs(number - expected))
         if in_effect < model.first:  # none of ours was taken yet
             return None
         if in_effect == model.in_effect or len(matches) > 1:  # nothing of the latency
-            return Seen(in_effect)
-        return Seen(in_effect, model.poses - model.remembered[in_effect - model.first].stamp)
+            return PoseReading(in_effect)
+        sent = model.remembered[in_effect - model.first]
+        return PoseReading(in_effect, model.poses - sent.stamp)
 
 
 def _matches(model: CommandLog, echo: Echo) -> list[int]:
@@ -126,7 +127,7 @@ class DelayFitObserver:
     def distinct(self, command: Command, model: CommandLog, last_sent: Command) -> Command:
         return command
 
-    def see(self, model: CommandLog, echo: Echo, pose: Pose2D | None) -> Seen | None:
+    def see(self, model: CommandLog, echo: Echo, pose: Pose2D | None) -> PoseReading | None:
         if pose is not None:
             self._fit.add(model.poses, pose)
         latency = None
@@ -134,7 +135,7 @@ class DelayFitObserver:
         if remembered:
             lowest = min(sent.poses + 1 - math.floor(sent.stamp) for sent in remembered)
             latency = self._fit.best([(sent.stamp, sent.command) for sent in remembered], lowest)
-        return Seen(latency=latency, due=True)
+        return PoseReading(latency=latency, due=True)
 
 
 @dataclass(frozen=True)

@@ -58,7 +58,7 @@ from collections import deque
 
 from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, STOP, Command
 from turtle_traj.core.control.echo import HISTORY, STANDING, as_echoed
-from turtle_traj.core.control.observers import TURTLESIM, Robot, Seen, Sent
+from turtle_traj.core.control.observers import TURTLESIM, PoseReading, Robot, Sent
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile, WindowQuantile
 from turtle_traj.core.geometry.angles import wrap_angle
@@ -152,7 +152,7 @@ class RobotModel:
         (and so how many are in flight), and when it shows, how late that one acted."""
         self.poses += 1
         self._echo = (linear_echo, angular_echo)
-        seen: Seen | None = self._observer.see(self, self._echo, pose)
+        seen: PoseReading | None = self._observer.see(self, self._echo, pose)
         if seen is None:
             return
         if seen.latency is not None:

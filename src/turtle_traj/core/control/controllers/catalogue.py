@@ -1,5 +1,5 @@
-"""A controller chosen for a run (`Chosen`): a `Controller` class, driven by the plan walker,
-with what times its answers and reads its tuning. Pure Python: finding a controller by name
+"""A controller chosen for a run (`ControllerChoice`): a `Controller` class, driven by the plan
+walker, with what times its answers and reads its tuning. Pure Python: finding a controller by name
 (entry points, imports) is `turtle_traj.api.controllers`'s job.
 
 `exact` is the node's own follower (`exact.ExactFollower`); `dwpp` and `pure_pursuit` are
@@ -27,7 +27,7 @@ TuningSource = Callable[[], Mapping[str, float]]  # the tuning's values now, by 
 
 
 @dataclass(frozen=True)
-class Chosen:
+class ControllerChoice:
     """A controller chosen by name: a new one is made for every run."""
 
     name: str = EXACT

@@ -18,7 +18,7 @@ from turtle_traj.node.outcomes import ending_message
 
 
 @dataclass
-class UnderWay:
+class DrawingInProgress:
     """The drawing under way: its run, its turtles and how to report it."""
 
     run: FleetRun
@@ -40,7 +40,7 @@ class UnderWay:
     failure: tuple[str, Ending] | None = None
 
 
-def progress(drawing: UnderWay, now_s: float) -> FleetDraw.Feedback:
+def progress(drawing: DrawingInProgress, now_s: float) -> FleetDraw.Feedback:
     """The feedback: progress overall and per turtle, and the closest two turtles so far."""
     run = drawing.run
     return FleetDraw.Feedback(
@@ -50,7 +50,7 @@ def progress(drawing: UnderWay, now_s: float) -> FleetDraw.Feedback:
         state=[_state(run, index) for index in range(len(drawing.links))])
 
 
-def report(drawing: UnderWay, now_s: float) -> FleetDraw.Result:
+def report(drawing: DrawingInProgress, now_s: float) -> FleetDraw.Result:
     """The result, with the goal's end status set (succeeded, cancelled or aborted)."""
     run, goal = drawing.run, drawing.goal
     success, reason, what = _verdict(drawing)
@@ -76,7 +76,7 @@ def report(drawing: UnderWay, now_s: float) -> FleetDraw.Result:
     return result
 
 
-def _verdict(drawing: UnderWay) -> tuple[bool, Ending, str]:
+def _verdict(drawing: DrawingInProgress) -> tuple[bool, Ending, str]:
     run = drawing.run
     if drawing.failure is not None:
         return False, drawing.failure[1], drawing.failure[0]
