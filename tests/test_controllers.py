@@ -317,6 +317,20 @@ def test_the_cpu_wait_is_read_afresh_from_the_file_kept_open():
         assert before <= kept <= fresh()
 
 
+def test_the_cpu_wait_is_read_without_letting_go_of_pythons_lock():
+    """The CPU wait is read by a foreign call that keeps Python's lock (ctypes' PyDLL flag):
+    `os.pread` lets go of it, and taking it back waited up to 25 ms on a busy machine beside
+    a spinning thread, inside the controller's timed answer (`bench/gil_timer_bench.py`).
+    Which thread holds the lock at a release is up to the scheduler, so this is checked on
+    the call, not timed."""
+    import ctypes
+
+    from turtle_traj.node import answer_timer
+
+    assert answer_timer._PREAD is not None
+    assert answer_timer._PREAD._flags_ & ctypes._FUNCFLAG_PYTHONAPI
+
+
 def test_a_cpu_wait_as_the_answer_is_timed_is_not_taken_off_the_controllers_time(monkeypatch):
     """The slow controller's 50 ms still read as 50 ms when the thread waits 30 ms for a CPU
     as its answer is timed, inside the excuse's own reading (a loaded full run reported a 1 s

@@ -1,10 +1,18 @@
 """How long a controller took to answer, less what the machine is to blame for: the node's
 `walker.AnswerTimer`. A controller is not late because its thread waited for a CPU (Linux's
 schedstat; nothing elsewhere) or collected garbage.
+
+The schedstat file is read by libc's `pread` through `ctypes.PyDLL`, which keeps Python's lock
+(the GIL) through the call: `os.pread` lets go of it, and the thread then waits to take it back
+inside the timed span. Where another thread of the process spins (rclpy 7.1.6's
+MultiThreadedExecutor yields again and again without waiting) on a busy machine, that wait was
+8 to 25 ms of a 16 ms period (`bench/gil_timer_bench.py`), and three such answers in a row ended
+a run as the controller's fault.
 """
 
 from __future__ import annotations
 
+import ctypes
 import gc
 import os
 import threading
@@ -29,10 +37,27 @@ def _on_collection(phase: str, _info: dict) -> None:
 gc.callbacks.append(_on_collection)
 
 
+def _gil_keeping_pread():
+    """libc's pread, called with the GIL kept (None where there is no such libc). Its size and
+    offset are passed made already (`_SIZE`, `_OFFSET`): converting arguments by `argtypes`
+    doubled a read's cost."""
+    try:
+        pread = ctypes.PyDLL(None).pread
+    except (OSError, AttributeError):
+        return None
+    pread.restype = ctypes.c_ssize_t
+    return pread
+
+
+_PREAD = _gil_keeping_pread()
+_READ_BYTES = 128
+_SIZE, _OFFSET = ctypes.c_size_t(_READ_BYTES), ctypes.c_long(0)
+
+
 def _waited_s() -> float:
     """This thread's time so far waiting for a CPU (0 where Linux's schedstat is missing). The
-    file stays open, one per thread, and is read again from its start: twice a control period,
-    a read costs 1.3 us where opening it costs 13 us."""
+    file stays open, one per thread, and is read again from its start, the GIL kept (see the
+    module): twice a control period, a read costs 2 to 3 us where opening it costs 13 us."""
     schedstat = getattr(_collecting, 'schedstat', None)
     if schedstat is None:
         try:
@@ -40,9 +65,14 @@ def _waited_s() -> float:
         except OSError:
             schedstat = -1
         _collecting.schedstat = schedstat
+        _collecting.buffer = ctypes.create_string_buffer(_READ_BYTES)
+    if schedstat < 0 or _PREAD is None:
+        return 0.0
+    buffer = _collecting.buffer
+    count = _PREAD(schedstat, buffer, _SIZE, _OFFSET)
     try:
-        return int(os.pread(schedstat, 128, 0).split()[1]) * 1e-9
-    except (OSError, IndexError, ValueError):
+        return int(buffer.raw[:max(count, 0)].split()[1]) * 1e-9
+    except (IndexError, ValueError):
         return 0.0
 
 
