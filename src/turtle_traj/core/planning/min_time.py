@@ -22,12 +22,11 @@ motion to the tube more densely; and, where asked, again with twice the nodes wh
 still leaves the tube between them.
 
 What it omits: between nodes the motion is only integrated, not held to the tube (the error
-between nodes is measured afterwards, `max_error_m`: a motion that cuts across the tube's edge
-between nodes is faster than any that keeps within it, so the finer solves); the robot's
-control period and the
-transport's delay. Without inertia and at tolerance zero it solves nothing: the limit is the
-path at the speed its curvature allows (`exact_drive`). With inertia, a tolerance of zero is
-`EXACT_M`.
+between nodes is measured afterwards, `max_error_m`; a motion that cuts across the tube's edge
+between nodes is faster than any that keeps within it, hence the finer solves); the robot's
+control period and the transport's delay. Without inertia and at tolerance zero it solves
+nothing: the limit is the path at the speed its curvature allows (`exact_drive`). With inertia,
+a tolerance of zero is `EXACT_M`.
 """
 
 from __future__ import annotations
