@@ -173,6 +173,31 @@ def test_refining_with_the_waits_counted_ends_the_svg_sooner_and_keeps_the_clear
     assert closest_approach(_tracks(moves, starts, refined.timing, step_s=0.02)) >= 0.6 - 1e-9
 
 
+def test_a_stroke_that_ends_a_part_late_goes_to_a_turtle_that_waits_idle_beside_it():
+    """Turtle 1 has two strokes, the second 4 m away beside turtle 2, which has none: moving
+    cuts cannot help (turtle 2's empty part sits before turtle 1's, so a cut gives it the
+    first stroke, far from it). The refinement gives it the far stroke: it draws that, turtle
+    1 the near one, and the drawing ends sooner than turtle 1 drawing both (without waits:
+    each travels there, turns and draws)."""
+    from turtle_traj.core.fleet.moves import Share
+    from turtle_traj.core.fleet.refine import refine
+    from turtle_traj.core.fleet.sharing import Sharing, _timed
+
+    near = Polyline(np.array([[2.0, 2.0], [3.0, 2.0]]))
+    far = Polyline(np.array([[2.0, 6.0], [3.0, 6.0]]))
+    pieces = [Piece(polyline, 1.0 / CONFIG.linear_speed) for polyline in (near, far)]
+    starts = [Pose2D(2.0, 1.0, 0.0), Pose2D(1.0, 6.0, 0.0)]
+    both = _timed(Sharing((Share((0, 1), 0.0), Share((), 0.0)), 0.0), pieces, starts, CONFIG,
+                  0.6, (), None, None)
+    refined = refine(both, pieces, starts, CONFIG, 0.6)
+    assert [share.pieces for share in refined.shares] == [(0,), (1,)]
+    # sooner by at least the way between the strokes, less turtle 2's way to the far one
+    between = travel_s(pieces[0].ends(False)[1], pieces[1].ends(False)[0], CONFIG)
+    approach = travel_s(starts[1], pieces[1].ends(False)[0], CONFIG)
+    assert between - approach > 1.0
+    assert refined.timing.makespan_s <= both.timing.makespan_s - (between - approach)
+
+
 def test_a_turtle_that_drew_parks_clear_of_the_drawing_near_where_it_ended():
     """The demo's SVG covers most of the arena: a turtle that ends on it parks at the spot
     nearest its end that keeps the clearance from every piece and from the spots taken before;

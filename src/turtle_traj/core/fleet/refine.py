@@ -5,7 +5,10 @@ that keep the turtles apart depend on where the cuts fall and on which way each 
 part, so the split is then refined by steepest descent: each round tries every cut next to the
 parts of the turtles that park last (`FOCUS_TURTLES`) moved by a few pieces either way, and each
 of those parts drawn the other way round, judges each by `simulate` (the times the turtles have
-parked, waits and steps aside included), and keeps the best until none is better.
+parked, waits and steps aside included), and keeps the best; where none is better, it tries
+giving the last or first piece or two of those parts to a turtle that has nothing to draw
+(`_given_away`: among many turtles, a stroke that ends a part late may be drawn sooner by one
+that waits idle nearby), until nothing is better.
 Better compares those times from the latest (the drawing's end) down: a change that lets the
 second-last finish sooner without delaying the last is kept, so the search crosses the
 plateaus where only the last one counts.
@@ -13,6 +16,8 @@ plateaus where only the last one counts.
 
 from __future__ import annotations
 
+import itertools
+import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 
@@ -20,7 +25,7 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.fleet.chains import chained
 from turtle_traj.core.fleet.moves import Share, routes
 from turtle_traj.core.fleet.parking import Parking
-from turtle_traj.core.fleet.pieces import Piece
+from turtle_traj.core.fleet.pieces import Piece, travel_s
 from turtle_traj.core.fleet.sharing import Sharing, candidates
 from turtle_traj.core.fleet.timing import Deadlock, StepAside, Timing, simulate
 from turtle_traj.core.geometry.path import Pose2D
@@ -28,6 +33,11 @@ from turtle_traj.core.geometry.path import Pose2D
 SHIFTS = (1, 2, 4, 8)  # pieces a cut is moved by, either way
 MAX_ROUNDS = 40
 FOCUS_TURTLES = 2  # each round changes the parts of the turtles that park last, this many
+NEAREST_IDLE = 2  # a part's end is offered to this many of the turtles with none, the nearest
+GIVEN = (1, 2)  # pieces at a part's end offered so (each more offered costs more to judge)
+
+
+
 
 
 @dataclass(frozen=True)
@@ -66,16 +76,20 @@ def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
     for _ in range(MAX_ROUNDS):
         assert best.timing is not None
         latest = sorted(range(len(starts)), key=lambda turtle: -best.timing.ends_s[turtle])
-        focus = set(latest[:FOCUS_TURTLES])
+        focus = latest[:FOCUS_TURTLES]
         found = [(judgement, neighbour)
-                 for neighbour in _neighbours(parts, len(pieces), focus)
+                 for neighbour in _neighbours(parts, len(pieces), set(focus))
                  if (judgement := judged(neighbour)) is not None]
-        if not found:
+        better = min(found, key=lambda pair: pair[0][0], default=None)
+        if better is None or better[0][0] >= best_key:
+            # else pieces given to a turtle that waits idle
+            found = [(judgement, neighbour) for neighbour in _given_away(
+                parts, focus, pieces, starts, config, max(best.timing.ends_s))
+                if (judgement := judged(neighbour)) is not None]
+            better = min(found, key=lambda pair: pair[0][0], default=None)
+        if better is None or better[0][0] >= best_key:
             break
-        (key, candidate), neighbour = min(found, key=lambda pair: pair[0][0])
-        if key >= best_key:
-            break
-        best_key, best, parts = key, candidate, neighbour
+        (best_key, best), parts = better
     return best
 
 
@@ -125,6 +139,47 @@ def _neighbours(parts: list[_Part], count: int, focus: set[int]) -> Iterator[lis
     for index, part in enumerate(parts):
         if part.stop > part.first and part.turtle in focus:
             yield [*parts[:index], replace(part, reverse=not part.reverse), *parts[index + 1:]]
+
+
+def _given_away(parts: list[_Part], focus: Sequence[int], pieces: Sequence[Piece],
+                starts: Sequence[Pose2D], config: ControlConfig,
+                latest_s: float) -> Iterator[list[_Part]]:
+    """The part of each turtle in `focus` (in its order) with the last or the first of its
+    pieces (each of GIVEN, fewer than it has) given to one of the NEAREST_IDLE
+    turtles without pieces nearest them, drawn from its end nearer that turtle, where the
+    turtle could get there and draw them before `latest_s` (the drawing's end now) without
+    waiting: among many turtles, a piece that ends a part late may be drawn sooner by one that
+    waits idle."""
+    idle = [part for part in parts if part.stop == part.first]
+    if not idle:
+        return
+    for turtle in focus:
+        part = next(each for each in parts if each.turtle == turtle)
+        size = part.stop - part.first
+        if size < 2:
+            continue
+        for count, at_end in itertools.product([c for c in GIVEN if c < size], (True, False)):
+            first, stop = ((part.stop - count, part.stop) if at_end
+                           else (part.first, part.first + count))
+            ends = [pieces[first].ends(False)[0], pieces[stop - 1].ends(False)[1]]
+            nearest = sorted(idle, key=lambda other: min(
+                math.dist((starts[other.turtle].x, starts[other.turtle].y), (end.x, end.y))
+                for end in ends))[:NEAREST_IDLE]
+            kept = (replace(part, stop=first) if at_end else replace(part, first=stop))
+            for other in nearest:
+                start = starts[other.turtle]
+                # drawn from its end nearer the turtle
+                reverse = (math.dist((start.x, start.y), (ends[1].x, ends[1].y))
+                           < math.dist((start.x, start.y), (ends[0].x, ends[0].y)))
+                begin = pieces[stop - 1].ends(True)[0] if reverse else ends[0]
+                if (travel_s(start, begin, config)
+                        + sum(piece.time_s for piece in pieces[first:stop]) >= latest_s):
+                    continue
+                given = _Part(other.turtle, first, stop, reverse)
+                rest = [each for each in parts if each is not other]
+                at = rest.index(part)
+                yield [*rest[:at], *((kept, given) if at_end else (given, kept)),
+                       *rest[at + 1:]]
 
 
 def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
