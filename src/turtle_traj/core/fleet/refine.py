@@ -5,10 +5,10 @@ that keep the turtles apart depend on where the cuts fall and on which way each 
 part, so the split is then refined by steepest descent: each round tries every cut next to the
 parts of the turtles that park last (`FOCUS_TURTLES`) moved by a few pieces either way, and each
 of those parts drawn the other way round, judges each by `simulate` (the times the turtles have
-parked, waits and steps aside included), and keeps the best; where none is better, it tries
-giving the last or first piece or two of those parts to a turtle that has nothing to draw
-(`_given_away`: among many turtles, a stroke that ends a part late may be drawn sooner by one
-that waits idle nearby), until nothing is better.
+parked, waits and steps aside included), and keeps the best; where none is better, it may
+try giving the last or first piece or two of the part that ends last to a turtle that has
+nothing to draw (`_given_away`: among many turtles, a stroke that ends a part late may be drawn
+sooner by one that waits idle nearby), until nothing is better.
 Better compares those times from the latest (the drawing's end) down: a change that lets the
 second-last finish sooner without delaying the last is kept, so the search crosses the
 plateaus where only the last one counts.
@@ -51,9 +51,10 @@ class _Part:
 def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
            config: ControlConfig, clearance: float, standing: Sequence[Pose2D] = (),
            parking: Parking | None = None, aside: StepAside | None = None,
-           made: dict | None = None) -> Sharing:
+           made: dict | None = None, give_away: bool = True) -> Sharing:
     """`sharing` (judged with `clearance`: its `timing` set) improved while a neighbour ends
-    the drawing sooner; `standing`, `parking`, `aside` and `made` as for `candidates`."""
+    the drawing sooner, pieces given to turtles with none too where `give_away`; `standing`,
+    `parking`, `aside` and `made` as for `candidates`."""
     assert sharing.timing is not None
 
     def judged(parts: list[_Part]) -> tuple[tuple[float, ...], Sharing] | None:
@@ -81,10 +82,10 @@ def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
                  for neighbour in _neighbours(parts, len(pieces), set(focus))
                  if (judgement := judged(neighbour)) is not None]
         better = min(found, key=lambda pair: pair[0][0], default=None)
-        if better is None or better[0][0] >= best_key:
+        if give_away and (better is None or better[0][0] >= best_key):
             # else pieces given to a turtle that waits idle
             found = [(judgement, neighbour) for neighbour in _given_away(
-                parts, focus, pieces, starts, config, max(best.timing.ends_s))
+                parts, latest[0], pieces, starts, config, max(best.timing.ends_s))
                 if (judgement := judged(neighbour)) is not None]
             better = min(found, key=lambda pair: pair[0][0], default=None)
         if better is None or better[0][0] >= best_key:
@@ -141,68 +142,70 @@ def _neighbours(parts: list[_Part], count: int, focus: set[int]) -> Iterator[lis
             yield [*parts[:index], replace(part, reverse=not part.reverse), *parts[index + 1:]]
 
 
-def _given_away(parts: list[_Part], focus: Sequence[int], pieces: Sequence[Piece],
+def _given_away(parts: list[_Part], turtle: int, pieces: Sequence[Piece],
                 starts: Sequence[Pose2D], config: ControlConfig,
                 latest_s: float) -> Iterator[list[_Part]]:
-    """The part of each turtle in `focus` (in its order) with the last or the first of its
-    pieces (each of GIVEN, fewer than it has) given to one of the NEAREST_IDLE
-    turtles without pieces nearest them, drawn from its end nearer that turtle, where the
-    turtle could get there and draw them before `latest_s` (the drawing's end now) without
-    waiting: among many turtles, a piece that ends a part late may be drawn sooner by one that
-    waits idle."""
+    """`turtle`'s part with its last or first pieces (each of GIVEN, fewer than it has) given
+    to one of the NEAREST_IDLE turtles without pieces nearest them, drawn from its end nearer
+    that turtle, where the turtle could get there and draw them before `latest_s` (the
+    drawing's end now) without waiting: among many turtles, a stroke that ends a part late may
+    be drawn sooner by one that waits idle."""
     idle = [part for part in parts if part.stop == part.first]
-    if not idle:
-        return
-    for turtle in focus:
-        part = next(each for each in parts if each.turtle == turtle)
-        size = part.stop - part.first
-        if size < 2:
-            continue
-        for count, at_end in itertools.product([c for c in GIVEN if c < size], (True, False)):
-            first, stop = ((part.stop - count, part.stop) if at_end
-                           else (part.first, part.first + count))
-            ends = [pieces[first].ends(False)[0], pieces[stop - 1].ends(False)[1]]
-            nearest = sorted(idle, key=lambda other: min(
-                math.dist((starts[other.turtle].x, starts[other.turtle].y), (end.x, end.y))
-                for end in ends))[:NEAREST_IDLE]
-            kept = (replace(part, stop=first) if at_end else replace(part, first=stop))
-            for other in nearest:
-                start = starts[other.turtle]
-                # drawn from its end nearer the turtle
-                reverse = (math.dist((start.x, start.y), (ends[1].x, ends[1].y))
-                           < math.dist((start.x, start.y), (ends[0].x, ends[0].y)))
-                begin = pieces[stop - 1].ends(True)[0] if reverse else ends[0]
-                if (travel_s(start, begin, config)
-                        + sum(piece.time_s for piece in pieces[first:stop]) >= latest_s):
-                    continue
-                given = _Part(other.turtle, first, stop, reverse)
-                rest = [each for each in parts if each is not other]
-                at = rest.index(part)
-                yield [*rest[:at], *((kept, given) if at_end else (given, kept)),
-                       *rest[at + 1:]]
+    part = next(each for each in parts if each.turtle == turtle)
+    size = part.stop - part.first
+    for count, at_end in itertools.product([c for c in GIVEN if c < size], (True, False)):
+        first, stop = ((part.stop - count, part.stop) if at_end
+                       else (part.first, part.first + count))
+        ends = [pieces[first].ends(False)[0], pieces[stop - 1].ends(False)[1]]
+        nearest = sorted(idle, key=lambda other: min(
+            math.dist((starts[other.turtle].x, starts[other.turtle].y), (end.x, end.y))
+            for end in ends))[:NEAREST_IDLE]
+        kept = replace(part, stop=first) if at_end else replace(part, first=stop)
+        for other in nearest:
+            start = starts[other.turtle]
+            # drawn from its end nearer the turtle
+            reverse = (math.dist((start.x, start.y), (ends[1].x, ends[1].y))
+                       < math.dist((start.x, start.y), (ends[0].x, ends[0].y)))
+            begin = pieces[stop - 1].ends(True)[0] if reverse else ends[0]
+            if (travel_s(start, begin, config)
+                    + sum(piece.time_s for piece in pieces[first:stop]) >= latest_s):
+                continue
+            rest = [each for each in parts if each is not other]
+            at = rest.index(part)
+            given = _Part(other.turtle, first, stop, reverse)
+            yield [*rest[:at], *((kept, given) if at_end else (given, kept)), *rest[at + 1:]]
 
 
 def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: ControlConfig,
                 clearance: float, standing: Sequence[Pose2D] = (),
                 parking: Parking | None = None, aside: StepAside | None = None) -> Sharing:
     """The pieces shared out among turtles at `starts`, kept `clearance` apart (`candidates`):
-    each of the `REFINED_CANDIDATES` best refined with the waits counted, its back-to-back
-    moves chained into one request where that changes nothing for the others (`chains`), and
-    the one that ends soonest.
+    each of the `REFINED_CANDIDATES` best refined with the waits counted (cuts and directions),
+    the best of them refined on with pieces given to turtles that have none (which costs the
+    most to judge, so once), each with its back-to-back moves chained into one request where
+    that changes nothing for the others (`chains`), and the one that ends soonest.
 
     :raises Deadlock: every sharing tried would deadlock.
     """
     made: dict = {}  # the moves, made once for every sharing judged
     found = candidates(pieces, starts, config, clearance, standing, parking, aside, made)
     everyone = [*starts, *standing]
-    refined = []
-    for sharing in found[:REFINED_CANDIDATES]:
+
+    def refined(sharing: Sharing, give_away: bool) -> Sharing:
         better = refine(sharing, pieces, starts, config, clearance, standing, parking, aside,
-                        made)
+                        made, give_away)
         assert better.timing is not None
-        refined.append(replace(better, timing=chained(better.timing, everyone, clearance,
-                                                      config, aside, len(standing))))
-    return min(refined, key=lambda sharing: _finishes(sharing.timing))
+        return better
+
+    def with_chains(sharing: Sharing) -> Sharing:
+        assert sharing.timing is not None
+        return replace(sharing, timing=chained(sharing.timing, everyone, clearance, config,
+                                               aside, len(standing)))
+    tried = [refined(sharing, False) for sharing in found[:REFINED_CANDIDATES]]
+    best = min(tried, key=lambda sharing: _finishes(sharing.timing))
+    given = refined(best, True)
+    return min((with_chains(sharing) for sharing in (tried if given is best else [*tried, given])),
+               key=lambda sharing: _finishes(sharing.timing))
 
 
 REFINED_CANDIDATES = 3
