@@ -38,8 +38,6 @@ GIVEN = (1, 2)  # pieces at a part's end offered so (each more offered costs mor
 
 
 
-
-
 @dataclass(frozen=True)
 class _Part:
     turtle: int
@@ -191,20 +189,15 @@ def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: Contr
     found = candidates(pieces, starts, config, clearance, standing, parking, aside, made)
     everyone = [*starts, *standing]
 
-    def refined(sharing: Sharing, give_away: bool) -> Sharing:
-        better = refine(sharing, pieces, starts, config, clearance, standing, parking, aside,
-                        made, give_away)
-        assert better.timing is not None
-        return better
-
     def with_chains(sharing: Sharing) -> Sharing:
         assert sharing.timing is not None
         return replace(sharing, timing=chained(sharing.timing, everyone, clearance, config,
                                                aside, len(standing)))
-    tried = [refined(sharing, False) for sharing in found[:REFINED_CANDIDATES]]
+    tried = [refine(sharing, pieces, starts, config, clearance, standing, parking, aside, made,
+                    give_away=False) for sharing in found[:REFINED_CANDIDATES]]
     best = min(tried, key=lambda sharing: _finishes(sharing.timing))
-    given = refined(best, True)
-    return min((with_chains(sharing) for sharing in (tried if given is best else [*tried, given])),
+    given = refine(best, pieces, starts, config, clearance, standing, parking, aside, made)
+    return min((with_chains(sharing) for sharing in [*tried, given]),
                key=lambda sharing: _finishes(sharing.timing))
 
 
