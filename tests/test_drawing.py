@@ -216,11 +216,11 @@ def test_the_follower_waits_for_the_pen_before_each_curve():
 
 
 def test_the_menu_asks_for_text_and_sends_enter_as_nothing():
-    from turtle_traj.cli.menu import CHOICES, Live, ask_field
+    from turtle_traj.cli.menu import CHOICES, NodeSnapshot, ask_field
 
     write = next(t for t in CHOICES.values() if t.name == 'text')
     field = next(f for f in write.fields if f.name == 'text')
-    live = Live({}, DEFAULT_SETTINGS, None)
+    live = NodeSnapshot({}, DEFAULT_SETTINGS, None)
     assert ask_field(write, field, {}, live, lambda _: ' Hello ROS ', print) == 'Hello ROS'
     assert ask_field(write, field, {}, live, lambda _: '', print) is None
     assert write.request_values({'text': None})['text'] == ''  # refused by the node: empty

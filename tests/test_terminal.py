@@ -84,12 +84,12 @@ def _standing(client: TrajClient) -> bool:
 
 def test_menu_enter_on_speed_keeps_the_nodes_parameter():
     from turtle_traj.api.ros_interface import make_request
-    from turtle_traj.cli.menu import CHOICES, Live, ask_field
+    from turtle_traj.cli.menu import CHOICES, NodeSnapshot, ask_field
     from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 
     square = CHOICES['1']
     speed = next(f for f in square.fields if f.name == 'linear_speed')
-    live = Live({'linear_speed': 1.7}, DEFAULT_SETTINGS, None)
+    live = NodeSnapshot({'linear_speed': 1.7}, DEFAULT_SETTINGS, None)
     prompts = []
     assert ask_field(square, speed, {}, live, lambda prompt: prompts.append(prompt) or '',
                      print) is None

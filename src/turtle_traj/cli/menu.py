@@ -35,7 +35,7 @@ class _Leave(Exception):
 
 
 @dataclass(frozen=True)
-class Live:
+class NodeSnapshot:
     """What the node says now: its parameters, the settings they make, the turtle's pose."""
 
     parameters: dict[str, object]
@@ -51,7 +51,7 @@ def _read(ask: Callable[[str], str], text: str) -> str:
 
 
 def field_range(trajectory: TrajectoryKind, item: Field, answers: dict[str, Any],
-                live: Live) -> tuple[float, float]:
+                live: NodeSnapshot) -> tuple[float, float]:
     """The values a person may enter now; a size only up to what fits from the turtle's pose."""
     low, high = item.bounds(live.settings)
     if item.fits and live.pose is not None:
@@ -62,14 +62,14 @@ def field_range(trajectory: TrajectoryKind, item: Field, answers: dict[str, Any]
     return low, high
 
 
-def _enter_keeps(item: Field, live: Live) -> str:
+def _enter_keeps(item: Field, live: NodeSnapshot) -> str:
     if item.parameter:
         value = live.parameters.get(item.parameter)
         return f"the node's {item.parameter}" + (f' = {value:g}' if value is not None else '')
     return 'none' if item.default is None else f'{item.default:g}'
 
 
-def ask_field(trajectory: TrajectoryKind, item: Field, answers: dict[str, Any], live: Live,
+def ask_field(trajectory: TrajectoryKind, item: Field, answers: dict[str, Any], live: NodeSnapshot,
               ask: Callable[[str], str], say: Callable[[str], None]) -> Any:
     """Ask until the answer is valid (parsed by the field's own parser); Enter returns None
     (the field's default)."""
@@ -101,9 +101,10 @@ def ask_field(trajectory: TrajectoryKind, item: Field, answers: dict[str, Any], 
             return value
 
 
-def _live(client: TrajClient) -> Live:
+def _live(client: TrajClient) -> NodeSnapshot:
     parameters = client.parameters()
-    return Live(parameters, settings_from_values(parameters), client.turtle_pose(parameters))
+    return NodeSnapshot(parameters, settings_from_values(parameters),
+                        client.turtle_pose(parameters))
 
 
 def _say_call(client: TrajClient, service: str, say: Callable[[str], None]) -> None:

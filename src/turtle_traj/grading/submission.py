@@ -28,7 +28,7 @@ class NotReady(Exception):
 
 
 @dataclass(frozen=True)
-class Ready:
+class PreparedSubmission:
     """How to run a prepared submission."""
 
     argv: list[str]
@@ -63,7 +63,7 @@ def copy_submission(source: Path, work: Path) -> None:
     shutil.copytree(source, work, ignore=left_out)
 
 
-def prepare(task: Task, work: Path, hidden: Iterable[Path], domain_id: int) -> Ready:
+def prepare(task: Task, work: Path, hidden: Iterable[Path], domain_id: int) -> PreparedSubmission:
     """The command that runs the submission copied into `work`: the task's entry point where a
     package.xml names its package (built first), else its script.
 
@@ -76,7 +76,7 @@ def prepare(task: Task, work: Path, hidden: Iterable[Path], domain_id: int) -> R
         script = (work / task.script).resolve() if task.script else None
         if script is None or not script.is_relative_to(work.resolve()) or not script.is_file():
             raise NotReady(f'the submission has {_wanted(task)}')
-        return Ready([sys.executable, str(script), *task.args], environment)
+        return PreparedSubmission([sys.executable, str(script), *task.args], environment)
     log = _build(work, package, hidden, environment)
     install = work / 'install' / package
     entry = install / 'lib' / package / executable
@@ -86,7 +86,7 @@ def prepare(task: Task, work: Path, hidden: Iterable[Path], domain_id: int) -> R
     site = install / 'lib' / _PYTHON_DIR / 'site-packages'
     environment |= {'PYTHONPATH': str(site),
                     'AMENT_PREFIX_PATH': f'{install}:{environment["AMENT_PREFIX_PATH"]}'}
-    return Ready([str(entry), *task.args], environment, log)
+    return PreparedSubmission([str(entry), *task.args], environment, log)
 
 
 def _build(work: Path, package: str, hidden: Iterable[Path], environment: dict[str, str]) -> str:

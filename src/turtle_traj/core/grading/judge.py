@@ -6,7 +6,7 @@ turtle never moved): its points, and a sentence a student can act on ("side 3 is
 expected 2.00 ± 0.10 m"; "the turtle never stopped: still turning at 1.57 rad/s after 30.0 s").
 
 The drawing is compared with the reference under the transforms the task allows
-(`Expected.allow`): the reference is placed by the centroid (position), turned by the angle
+(`ExpectedDrawing.allow`): the reference is placed by the centroid (position), turned by the angle
 that fits best (orientation, every degree, then refined), mirrored (direction) and scaled by the
 drawing's spread (scale). The shape distance is the symmetric Hausdorff distance (shapely's).
 """
@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from turtle_traj.core.grading.task import Expected, Task, reference
+from turtle_traj.core.grading.task import ExpectedDrawing, Task, reference
 from turtle_traj.core.turtlesim_contract import WORLD_SIZE_M
 
 NEVER_MOVED = 'the turtle never moved'
@@ -101,7 +101,7 @@ def judge(task: Task, record: Record, placed: Fit | None = None) -> list[Check]:
     return checks
 
 
-def fit(expected: Expected, drawn: np.ndarray) -> Fit:
+def fit(expected: ExpectedDrawing, drawn: np.ndarray) -> Fit:
     """The reference placed as the task allows so that it lies closest to `drawn`: every
     degree on both at `_COARSE` points, then the best angle refined to a tenth of a degree at
     full resolution. With `position` the reference's centre goes on the drawing's (each the
@@ -178,7 +178,7 @@ def drawn_points(record: Record) -> np.ndarray:
     return np.concatenate(strokes) if strokes else np.zeros((0, 2))
 
 
-def _shape(expected: Expected, drawn: np.ndarray, placed: Fit | None) -> tuple[bool, str]:
+def _shape(expected: ExpectedDrawing, drawn: np.ndarray, placed: Fit | None) -> tuple[bool, str]:
     if len(drawn) < 2:
         return False, 'nothing was drawn: the pen left no line'
     placed = placed or fit(expected, drawn)
@@ -188,7 +188,7 @@ def _shape(expected: Expected, drawn: np.ndarray, placed: Fit | None) -> tuple[b
                     f'{expected.tolerance:g} m)')
 
 
-def _sides(expected: Expected, drawn: np.ndarray) -> tuple[bool, str]:
+def _sides(expected: ExpectedDrawing, drawn: np.ndarray) -> tuple[bool, str]:
     if len(drawn) < 2:
         return False, 'nothing was drawn: no sides to measure'
     corners = np.asarray(shapely.LineString(drawn).simplify(
@@ -207,7 +207,7 @@ def _sides(expected: Expected, drawn: np.ndarray) -> tuple[bool, str]:
                   f'{expected.size:.2f} ± {expected.tolerance:.2f} m')
 
 
-def _closure(expected: Expected, drawn: np.ndarray) -> tuple[bool, str]:
+def _closure(expected: ExpectedDrawing, drawn: np.ndarray) -> tuple[bool, str]:
     if len(drawn) < 2:
         return False, 'nothing was drawn: nothing to close'
     gap = float(np.hypot(*(drawn[-1] - drawn[0])))
@@ -247,7 +247,7 @@ def _in_bounds(record: Record) -> tuple[bool, str]:
     return True, f'the turtle kept {clearance[worst]:.2f} m from the walls at least'
 
 
-def _goal(expected: Expected, record: Record) -> tuple[bool, str]:
+def _goal(expected: ExpectedDrawing, record: Record) -> tuple[bool, str]:
     time, x, y = record.poses[-1, :3]
     gx, gy = expected.goal
     distance = math.hypot(x - gx, y - gy)

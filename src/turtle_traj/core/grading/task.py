@@ -50,7 +50,7 @@ class TaskError(ValueError):
 
 
 @dataclass(frozen=True)
-class Expected:
+class ExpectedDrawing:
     """The drawing expected, and what may differ from the reference."""
 
     shape: str
@@ -81,7 +81,7 @@ class Task:
     args: tuple[str, ...] = ()
     time_limit_s: float = 60.0
     settle_s: float = 5.0
-    expected: Expected = field(default_factory=lambda: Expected('square', 2.0))
+    expected: ExpectedDrawing = field(default_factory=lambda: ExpectedDrawing('square', 2.0))
     points: Mapping[str, float] = field(default_factory=dict)  # check -> points
 
     @property
@@ -112,7 +112,7 @@ def read_task(data: object) -> Task:
                 tuple(str(arg) for arg in args), time_limit, settle, expected, scores)
 
 
-def _scores(points: Mapping[str, object], expected: Expected) -> dict[str, float]:
+def _scores(points: Mapping[str, object], expected: ExpectedDrawing) -> dict[str, float]:
     """Each check's points, every check one the expected drawing can be judged by."""
     unknown = sorted(set(points) - set(CHECKS))
     if unknown:
@@ -132,7 +132,7 @@ def _scores(points: Mapping[str, object], expected: Expected) -> dict[str, float
     return scores
 
 
-def _expected(values: Mapping[str, object]) -> Expected:
+def _expected(values: Mapping[str, object]) -> ExpectedDrawing:
     shape = values.get('shape', 'none')
     if shape not in SHAPES:
         raise TaskError(f"expected.shape {shape!r} is not one of {', '.join(SHAPES)}")
@@ -147,14 +147,14 @@ def _expected(values: Mapping[str, object]) -> Expected:
     common = {'tolerance': tolerance, 'allow': frozenset(allow), 'goal': goal}
     if shape in ('points', 'none'):
         points = _points(values.get('points'), 'expected.points') if shape == 'points' else ()
-        return Expected(shape, points=points, **common)
+        return ExpectedDrawing(shape, points=points, **common)
     size = _number(values.get('size'), 'expected.size', 0.01, 11.0)
     sides, turns = 4, 3.0
     if shape == 'polygon':
         sides = int(_number(values.get('sides'), 'expected.sides', 3, 12))
     if shape == 'spiral':
         turns = _number(values.get('turns', 3.0), 'expected.turns', 0.25, 20.0)
-    return Expected(shape, size, sides, turns=turns, **common)
+    return ExpectedDrawing(shape, size, sides, turns=turns, **common)
 
 
 def _points(values: object, name: str) -> tuple[tuple[float, float], ...]:
@@ -183,7 +183,7 @@ def _number(value: object, name: str, low: float, high: float) -> float:
     return float(value)
 
 
-def reference(expected: Expected, samples: int = 720) -> Sequence[tuple[float, float]]:
+def reference(expected: ExpectedDrawing, samples: int = 720) -> Sequence[tuple[float, float]]:
     """The reference drawing as points from its start (at the origin, leaving along +x,
     counter-clockwise): a polygon's vertices (closed), a circle's samples, the given points."""
     if expected.shape in ('points', 'none'):
