@@ -318,17 +318,19 @@ def test_the_cpu_wait_is_read_afresh_from_the_file_kept_open():
 
 
 def test_the_cpu_wait_is_read_without_letting_go_of_pythons_lock():
-    """The CPU wait is read by a foreign call that keeps Python's lock (ctypes' PyDLL flag):
-    `os.pread` lets go of it, and taking it back waited up to 25 ms on a busy machine beside
-    a spinning thread, inside the controller's timed answer (`bench/gil_timer_bench.py`).
+    """The CPU wait is read, and its file opened on each thread, by foreign calls that keep
+    Python's lock (ctypes' PyDLL flag): `os.pread` and `os.open` let go of it, and taking it
+    back waited up to 25 ms on a busy machine beside a spinning thread, inside the
+    controller's timed answer (`bench/gil_timer_bench.py`).
     Which thread holds the lock at a release is up to the scheduler, so this is checked on
     the call, not timed."""
     import ctypes
 
     from turtle_traj.node import answer_timer
 
-    assert answer_timer._PREAD is not None
-    assert answer_timer._PREAD._flags_ & ctypes._FUNCFLAG_PYTHONAPI
+    for call in (answer_timer._OPEN, answer_timer._PREAD):  # the file opened on each thread
+        assert call is not None
+        assert call._flags_ & ctypes._FUNCFLAG_PYTHONAPI
 
 
 def test_a_cpu_wait_as_the_answer_is_timed_is_not_taken_off_the_controllers_time(monkeypatch):

@@ -37,21 +37,26 @@ def _on_collection(phase: str, _info: dict) -> None:
 gc.callbacks.append(_on_collection)
 
 
-def _gil_keeping_pread():
-    """libc's pread, called with the GIL kept (None where there is no such libc). Its size and
-    offset are passed made already (`_SIZE`, `_OFFSET`): converting arguments by `argtypes`
-    doubled a read's cost."""
+def _gil_keeping(name: str, result: type):
+    """libc's function `name`, called with the GIL kept (None where there is no such libc)."""
     try:
-        pread = ctypes.PyDLL(None).pread
+        function = getattr(ctypes.PyDLL(None), name)
     except (OSError, AttributeError):
         return None
-    pread.restype = ctypes.c_ssize_t
-    return pread
+    function.restype = result
+    return function
 
 
-_PREAD = _gil_keeping_pread()
+# The size and offset are passed made already: converting arguments by `argtypes` doubled a
+# read's cost. The file is opened so too: each of an executor's threads opens its own on its
+# first answer, and `os.open` let go of the GIL there (three threads' first answers in a row,
+# a run aborted 0.22 s in beside a thread that held the GIL 20 ms at a time).
+_PREAD = _gil_keeping('pread', ctypes.c_ssize_t)
+_OPEN = _gil_keeping('open', ctypes.c_int)
 _READ_BYTES = 128
 _SIZE, _OFFSET = ctypes.c_size_t(_READ_BYTES), ctypes.c_long(0)
+_SCHEDSTAT = ctypes.c_char_p(b'/proc/thread-self/schedstat')
+_READ_ONLY = ctypes.c_int(os.O_RDONLY)
 
 
 def _waited_s() -> float:
@@ -60,10 +65,7 @@ def _waited_s() -> float:
     module): twice a control period, a read costs 2 to 3 us where opening it costs 13 us."""
     schedstat = getattr(_collecting, 'schedstat', None)
     if schedstat is None:
-        try:
-            schedstat = os.open('/proc/thread-self/schedstat', os.O_RDONLY)
-        except OSError:
-            schedstat = -1
+        schedstat = _OPEN(_SCHEDSTAT, _READ_ONLY) if _OPEN is not None else -1
         _collecting.schedstat = schedstat
         _collecting.buffer = ctypes.create_string_buffer(_READ_BYTES)
     if schedstat < 0 or _PREAD is None:
