@@ -38,14 +38,14 @@ ROOM_NICE = -10  # the room's simulator steps in real time: it goes first (when 
 ROOM_REAL_TIME_PRIORITY = 10  # then real-time, below the kernel's interrupt threads (50)
 # The quota's period. The kernel hands a group's quota to a core a slice at a time
 # (`sched_cfs_bandwidth_slice_us`, 5 ms), and a process's nice counts only on its own core: a
-# flood on one core draws slices the student's node on the other then waits for. With a
-# quarter of 80 ms the pool holds four slices; with two (a quarter of 40 ms), the flooding
-# sample's node stalled mid-side beside a busy suite (it scored 3, 3 and 7 of 11 in 11 gradings)
+# flood on one core draws slices the student's node on the other then waits for. A quarter of
+# 80 ms holds four slices; two (a quarter of 40 ms) are too few: the flooding sample's node
+# stalls mid-side beside a busy suite
 _CPU_PERIOD_US = 80_000
 # A run's weight against the machine's other work, within its quota: the kernel's weight for
-# nice -10, what our own control programs run at (`rosutils.priority.NICE`). At an ordinary
-# process's 1024, beside two busy loops and a test suite's nice -10 programs, an open-loop
-# sample's side ran 15 steps long and the flooding sample's turns wavered
+# nice -10, what our own control programs run at (`rosutils.priority.NICE`): at an ordinary
+# process's 1024, beside a test suite's nice -10 programs, an open-loop sample's timed sides
+# run long
 RUN_CPU_WEIGHT = 9548
 _REMOVE_S = 10.0
 ROOM_GROUPS = Path('/tmp/run-groups')  # where the room sees the student's control groups

@@ -5,9 +5,8 @@ schedstat; nothing elsewhere) or collected garbage.
 The schedstat file is read by libc's `pread` through `ctypes.PyDLL`, which keeps Python's lock
 (the GIL) through the call: `os.pread` lets go of it, and the thread then waits to take it back
 inside the timed span. Where another thread of the process spins (rclpy 7.1.6's
-MultiThreadedExecutor yields again and again without waiting) on a busy machine, that wait was
-8 to 25 ms of a 16 ms period (`bench/gil_timer_bench.py`), and three such answers in a row ended
-a run as the controller's fault.
+MultiThreadedExecutor yields again and again without waiting) on a busy machine, that wait can
+be longer than a 16 ms period (`bench/gil_timer_bench.py`), and is no CPU wait to excuse.
 """
 
 from __future__ import annotations
@@ -47,10 +46,9 @@ def _gil_keeping(name: str, result: type):
     return function
 
 
-# The size and offset are passed made already: converting arguments by `argtypes` doubled a
-# read's cost. The file is opened so too: each of an executor's threads opens its own on its
-# first answer, and `os.open` let go of the GIL there (three threads' first answers in a row,
-# a run aborted 0.22 s in beside a thread that held the GIL 20 ms at a time).
+# The size and offset are passed made already (converting arguments by `argtypes` would double
+# a read's cost). The file is opened with the GIL kept too: each of an executor's threads opens
+# its own on its first answer, inside the timed span, where `os.open` would let go of it.
 _PREAD = _gil_keeping('pread', ctypes.c_ssize_t)
 _OPEN = _gil_keeping('open', ctypes.c_int)
 _READ_BYTES = 128
@@ -62,7 +60,7 @@ _READ_ONLY = ctypes.c_int(os.O_RDONLY)
 def _waited_s() -> float:
     """This thread's time so far waiting for a CPU (0 where Linux's schedstat is missing). The
     file stays open, one per thread, and is read again from its start, the GIL kept (see the
-    module): twice a control period, a read costs 2 to 3 us where opening it costs 13 us."""
+    module): twice a control period, a read costs 2 to 4 us where opening it costs 13 us."""
     schedstat = getattr(_collecting, 'schedstat', None)
     if schedstat is None:
         schedstat = _OPEN(_SCHEDSTAT, _READ_ONLY) if _OPEN is not None else -1

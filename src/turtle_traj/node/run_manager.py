@@ -161,8 +161,7 @@ class RunManager:
         """The watchdog's beat (steady clock): the pen's answer and the poses, in time. The
         poses waiting are read first, as the control tick reads them: after this process was
         starved, its executor can run the clock's update and then this timer before the poses
-        that wait in their queue, and the node clock then shows silence that was not there
-        (the nav2-stack tutorial at x5 beside a loaded suite: "no pose on /odom for 0.85 s")."""
+        that wait in their queue, and the node clock would show a silence that was not there."""
         self._silence.beat()
         if self._pen.give_up_if_late():
             self.abort_run(f'{self._pen.service_name} did not answer within '
