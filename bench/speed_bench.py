@@ -127,20 +127,39 @@ def measure_breakdown(turtles: int = 1) -> dict:
 STEP_COST_TURTLES = (1, 5, 10, 20)
 
 
+def measure_floor(turtles: int) -> dict:
+    """The same lock-step step with the traffic alone (traffic_floor.lockstep_floor_ms)."""
+    import rclpy
+
+    from traffic_floor import lockstep_floor_ms
+
+    rclpy.init()
+    try:
+        return {'floor_ms': lockstep_floor_ms(turtles)}
+    finally:
+        rclpy.try_shutdown()
+
+
 def print_step_cost(rounds: int) -> None:
     """What a lock-step step costs this checkout with 1 to 20 turtles, each drawing a circle
-    with its own trajectory node, and where it goes (median of `rounds` fresh processes)."""
+    with its own trajectory node, and where it goes (median of `rounds` fresh processes);
+    beside it, the floor: the same step with the traffic alone (a stand-in simulator and a
+    driver node per turtle that does nothing but take its pose and send a command)."""
     print('per 16 ms lock-step step, this checkout (ms; median of fresh processes):')
     print(f'{"turtles":>7} {"step":>7} {"per turtle":>10} {"rclpy+DDS":>9} {"ours":>7} '
-          + ' '.join(f'{name:>11}' for name in OUR_CALLBACKS) + f' {"x real":>7}')
+          + ' '.join(f'{name:>11}' for name in OUR_CALLBACKS) + f' {"x real":>7}'
+          + f' {"floor":>7} {"x real":>7}')
     for turtles in STEP_COST_TURTLES:
-        runs = [_run(ROOT, f'breakdown{turtles}') for _ in range(rounds)]
+        runs = []
+        for _ in range(rounds):  # alternating, so that a busy spell falls on both
+            runs.append({**_run(ROOT, f'breakdown{turtles}'), **_run(ROOT, f'floor{turtles}')})
         figures = {key: statistics.median(run[key] for run in runs) for key in runs[0]}
         rest = figures['step_ms'] - figures['ours_ms']
         print(f'{turtles:7d} {figures["step_ms"]:7.3f} {figures["step_ms"] / turtles:10.3f} '
               f'{rest:9.3f} {figures["ours_ms"]:7.3f} '
               + ' '.join(f'{figures[f"{name}_ms"]:11.3f}' for name in OUR_CALLBACKS)
-              + f' {16.0 / figures["step_ms"]:7.2f}', flush=True)
+              + f' {16.0 / figures["step_ms"]:7.2f} {figures["floor_ms"]:7.3f}'
+              f' {16.0 / figures["floor_ms"]:7.2f}', flush=True)
 
 
 def measure_node_cpu(seconds: float) -> dict:
@@ -215,6 +234,7 @@ MEASURES = {
     'breakdown': measure_breakdown,
     **{f'breakdown{count}': (lambda count=count: measure_breakdown(count))
        for count in STEP_COST_TURTLES},
+    **{f'floor{count}': (lambda count=count: measure_floor(count)) for count in STEP_COST_TURTLES},
     'cpu': lambda: measure_node_cpu(20.0),
     'demo': measure_demo,
 }

@@ -9,14 +9,21 @@ where the turtle is must, idle. bench/sim_bench.py measures the stand-in and our
 under the same driver: the difference is what our simulator itself costs; bench/speed_bench.py
 measures the driver and the listener beside our simulator: what any trajectory node with this
 traffic costs at the least, driving and idle.
+
+`lockstep_floor_ms(turtles)` is the same traffic in lock-step, for a fleet: one program, a
+stand-in simulator stepped by our `LockstepExecutor` publishing every turtle's pose, and one
+driver node per turtle on simulated time that takes its pose and publishes cmd_vel each step.
+bench/speed_bench.py --step-cost prints it beside what a step of ours costs.
 """
 
 import sys
+import time
 
 import rclpy
 from geometry_msgs.msg import Twist
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from turtlesim.msg import Color, Pose
 
 PERIOD_S = 0.016
@@ -48,6 +55,74 @@ class Driver(Node):
         if driving:
             command = self.create_publisher(Twist, 'turtle1/cmd_vel', 1)
             self.create_timer(PERIOD_S, lambda: command.publish(Twist()))
+
+
+class StandInFleet(Node):
+    """A simulator for lock-step without physics, drawing or services: each step publishes
+    every turtle's pose and takes its last cmd_vel."""
+
+    def __init__(self, turtles: int) -> None:
+        super().__init__('turtlesim')
+        self._poses = [self.create_publisher(Pose, f'turtle{index + 1}/pose', 1)
+                       for index in range(turtles)]
+        self._speeds = [0.0] * turtles
+        for index in range(turtles):
+            self.create_subscription(Twist, f'turtle{index + 1}/cmd_vel',
+                                     lambda command, index=index: self._on_command(index,
+                                                                                   command), 1)
+        self._time_s = 0.0
+
+    def _on_command(self, index: int, command: Twist) -> None:
+        self._speeds[index] = command.linear.x
+
+    def step(self) -> None:
+        self._time_s += PERIOD_S
+        for publisher, speed in zip(self._poses, self._speeds, strict=True):
+            publisher.publish(Pose(linear_velocity=speed))
+
+    def clock_message(self):
+        from turtle_traj.rosutils.lockstep import clock_message
+        return clock_message(self._time_s)
+
+    @property
+    def time_s(self) -> float:
+        return self._time_s
+
+
+class StepDriver(Node):
+    """One turtle's driver on simulated time: its pose taken, a cmd_vel published each step."""
+
+    def __init__(self, number: int) -> None:
+        super().__init__(f'traffic_driver{number}',
+                         parameter_overrides=[Parameter('use_sim_time', value=True)])
+        self.create_subscription(Pose, f'turtle{number}/pose', lambda _pose: None, 1)
+        command = self.create_publisher(Twist, f'turtle{number}/cmd_vel', 1)
+        self.create_timer(PERIOD_S, lambda: command.publish(Twist()))
+
+
+def lockstep_floor_ms(turtles: int, steps: int = 500) -> float:
+    """Wall time per lock-step step of `turtles` turtles' traffic and nothing else, ms (in
+    this process; rclpy initialised)."""
+    from turtle_traj.rosutils.lockstep import LockstepExecutor
+
+    simulator = StandInFleet(turtles)
+    executor = LockstepExecutor(simulator)
+    nodes = [simulator, *(StepDriver(number) for number in range(1, turtles + 1))]
+    try:
+        for node in nodes:
+            executor.add_node(node)
+        while not all(publisher.get_subscription_count() for publisher in simulator._poses):
+            executor.spin_once(0.01)  # every driver matched (stepping meanwhile)
+        for _ in range(steps // 5):  # and settled
+            executor.spin_once(0.01)
+        first, began = executor.steps, time.perf_counter()
+        while executor.steps - first < steps:
+            executor.spin_once(0.01)
+        return 1e3 * (time.perf_counter() - began) / (executor.steps - first)
+    finally:
+        executor.shutdown()
+        for node in nodes:
+            node.destroy_node()
 
 
 def main() -> None:
