@@ -35,6 +35,7 @@ import numpy as np
 
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.config import Limits
+from turtle_traj.core.control.drift import Tube
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile
 from turtle_traj.core.geometry.path import Polyline, Pose2D
@@ -66,6 +67,9 @@ class Stroke:
     # once for the node and the controller (its `reverse` is the node's: the pose is turned
     # round already); None: a controller makes one from `points` if it needs one
     polyline: Polyline | None = field(default=None, repr=False, compare=False)
+    # the tolerance round the path as drawn, where the request gives one (`drift.Tube`: its
+    # `room(x, y)`, how much farther the motion may stray from there); None: exact
+    tube: Tube | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,7 @@ class Plan:
     pen: PenStyle | None = None  # a drawing's pen: the node sets it, and restores its own after
     pen_up_unordered: float = 0.0  # pen-up distance had the strokes not been reordered [m]
     drawn: np.ndarray | None = None  # the path as drawn, when its corners are rounded (N, 2)
+    tolerance: float = 0.0  # how far the motion may stray from `drawn` (0: none, exact) [m]
     # Each leg's speed profile on a base with acceleration limits (None: a turn, a straight
     # line), planned with the request; empty without limits.
     profiles: tuple[SpeedProfile | None, ...] = ()

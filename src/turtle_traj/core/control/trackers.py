@@ -5,9 +5,10 @@ so the latency between pose and command is accounted for, not guessed. The speed
 is capped by its curvature at the top turn rate, by a braking profile towards the end of the
 polyline and, near the end, by the predicted remaining distance per control period, so the
 turtle stops on the end point. A turtle facing more than `turn_first_angle` away from the path
-turns in place first. Without acceleration limits (turtlesim) each command's step lands on the
-smooth curve through the vertices (`curve_step`); with them, curves are tracked with curvature
-feed-forward plus a heading set-point that steers back onto the path
+turns in place first; on a base with acceleration limits, where a tolerance leaves room, it
+drives off slowly meanwhile (`drift`). Without acceleration limits (turtlesim) each command's
+step lands on the smooth curve through the vertices (`curve_step`); with them, curves are
+tracked with curvature feed-forward plus a heading set-point that steers back onto the path
 (`-atan(cross_track_gain * error)`).
 
 On a base with acceleration limits (`Limits.limited`) braking follows the limits, curves
@@ -24,6 +25,7 @@ from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig, Limits
 from turtle_traj.core.control.controller import ARRIVED_M
 from turtle_traj.core.control.curve_step import step_onto_curve
+from turtle_traj.core.control.drift import Tube, drift_speed
 from turtle_traj.core.control.dynamics import can_stop, stopping_speed
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.profile import SpeedProfile, profile_for
@@ -142,8 +144,9 @@ class PolylineTracker:
     """Tracks a polyline, keeping its place along it from one update to the next."""
 
     def __init__(self, polyline: Polyline, end_tolerance: float,
-                 profile: SpeedProfile | None | object = None) -> None:
+                 profile: SpeedProfile | None | object = None, tube: Tube | None = None) -> None:
         self.polyline = polyline
+        self._tube = tube  # the tolerance's room round the path as drawn; None: exact
         self.end_tolerance = end_tolerance
         self.segment = 0
         self.fraction = 0.0  # of the polyline's length, up to where the turtle is (one lap)
@@ -223,7 +226,7 @@ class PolylineTracker:
         speed = self._speed(fraction, remaining, curvature, prediction, limits, landing,
                             limits.linear_braking or gains.deceleration)
         if abs(heading_error) > gains.turn_first_angle:
-            speed = 0.0
+            speed = self._speed_while_turning(pose, speed, heading_error, limits)
         elif self._steps_onto_curve(limits) and speed > 0.0:
             return step_onto_curve(self._sampled_curve(), pose, self._arc(fraction), speed,
                                    limits, prediction.turns_first)
@@ -237,6 +240,13 @@ class PolylineTracker:
         angular = _clamp(abs(speed) * curvature + steering, limits.angular_speed)
         return Command(speed, angular)
 
+    def _speed_while_turning(self, pose: Pose2D, speed: float, heading_error: float,
+                             limits: Limits) -> float:
+        """Facing away past the turn-first angle: none (a turn in place), or on a base with
+        acceleration limits and a tolerance, as much as keeps the drift within it (`drift`)."""
+        if self._tube is None or not limits.limited or speed <= 0.0:
+            return 0.0
+        return min(speed, drift_speed(self._tube.room(pose.x, pose.y), heading_error, limits))
 
     def _speed(self, fraction: float, remaining: float, curvature: float,
                prediction: Prediction, limits: Limits, landing: bool,

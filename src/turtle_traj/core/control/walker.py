@@ -29,6 +29,7 @@ import numpy as np
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.controller import ARRIVED_M, Controller, State, Stroke
+from turtle_traj.core.control.drift import Tube
 from turtle_traj.core.control.dynamics import within_reach
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.prediction import Prediction
@@ -162,6 +163,7 @@ class PlanWalker:
         self.steps = list(plan.path.legs) if corners else strokes_of(plan.path)
         # each step's speed profile, where a step is one leg of the plan, planned with it
         self._profiles = plan.profiles if corners else ()
+        self._tube = Tube(plan.drawn_points(), plan.tolerance) if plan.tolerance > 0.0 else None
         self.step_index = 0
         self.commands = 0  # commands the controller gave
         self.clamped = 0  # of them, changed to stay within the limits
@@ -291,7 +293,7 @@ class PlanWalker:
         profile = self._profiles[self.step_index] if self._profiles else None
         self._reach = max(tolerance, ARRIVED_M)
         self._call('start', Stroke(stroke.points, self._lap, stroke.repeat, tolerance, profile,
-                                   stroke), config.limits)
+                                   stroke, self._tube), config.limits)
 
     def _check_arrival(self, stroke: Polyline, pose: Pose2D) -> None:
         """The controller answered None: accept that the stroke's end (or an endless stroke's

@@ -74,7 +74,7 @@ def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
         shares = FULL_LIMITS  # the tolerance's reserve is the steering's (profile.py)
         planned = replace(planned, path=_rounded(path, tolerance, run,
                                                  settings.defaults.minimum_time_corners),
-                          drawn=checked.points())
+                          drawn=checked.points(), tolerance=tolerance)
     if run.limited or tolerance > 0.0:  # planned here, not in the control loop
         planned = replace(planned, profiles=tuple(
             profile_for(leg, run.limits, start_speed if index == 0 else 0.0, shares)

@@ -45,7 +45,7 @@ class ExactFollower:
     def start(self, stroke: Stroke, limits: Limits) -> None:
         profile = stroke.profile if stroke.profile is not None else UNPLANNED
         polyline = stroke.polyline or Polyline(stroke.points, repeat=stroke.endless)
-        self._tracker = PolylineTracker(polyline, stroke.tolerance, profile)
+        self._tracker = PolylineTracker(polyline, stroke.tolerance, profile, stroke.tube)
 
     def command(self, state: State) -> Command | None:
         nearest = state.nearest if state.nearest is not None else self._tracker.locate(
