@@ -27,6 +27,7 @@ from rclpy.parameter import Parameter
 from turtlesim.msg import Color, Pose
 
 PERIOD_S = 0.016
+MATCH_TIMEOUT_S = 60.0  # discovery in one process: milliseconds when quiet, seconds when busy
 
 
 class StandIn(Node):
@@ -63,8 +64,8 @@ class StandInFleet(Node):
 
     def __init__(self, turtles: int) -> None:
         super().__init__('turtlesim')
-        self._poses = [self.create_publisher(Pose, f'turtle{index + 1}/pose', 1)
-                       for index in range(turtles)]
+        self.poses = [self.create_publisher(Pose, f'turtle{index + 1}/pose', 1)
+                      for index in range(turtles)]
         self._speeds = [0.0] * turtles
         for index in range(turtles):
             self.create_subscription(Twist, f'turtle{index + 1}/cmd_vel',
@@ -77,7 +78,7 @@ class StandInFleet(Node):
 
     def step(self) -> None:
         self._time_s += PERIOD_S
-        for publisher, speed in zip(self._poses, self._speeds, strict=True):
+        for publisher, speed in zip(self.poses, self._speeds, strict=True):
             publisher.publish(Pose(linear_velocity=speed))
 
     def clock_message(self):
@@ -111,7 +112,10 @@ def lockstep_floor_ms(turtles: int, steps: int = 500) -> float:
     try:
         for node in nodes:
             executor.add_node(node)
-        while not all(publisher.get_subscription_count() for publisher in simulator._poses):
+        matched_by = time.monotonic() + MATCH_TIMEOUT_S
+        while not all(publisher.get_subscription_count() for publisher in simulator.poses):
+            if time.monotonic() > matched_by:
+                raise RuntimeError(f'the drivers did not match within {MATCH_TIMEOUT_S:g} s')
             executor.spin_once(0.01)  # every driver matched (stepping meanwhile)
         for _ in range(steps // 5):  # and settled
             executor.spin_once(0.01)
