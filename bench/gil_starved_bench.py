@@ -27,6 +27,8 @@ import sys
 import time
 from pathlib import Path
 
+from load import busy_loops
+
 ROOT = Path(__file__).resolve().parents[1]
 TEST = ('tests/test_multithreaded.py', '-k', 'concurrent_draw')
 
@@ -44,25 +46,11 @@ def run_once(repo: Path, switch_s: float) -> tuple[bool, str, float]:
     return done.returncode == 0, '' if done.returncode == 0 else message, time.monotonic() - began
 
 
-def busy_loops() -> list[subprocess.Popen]:
-    """Two processes that each keep a core busy (stop them with `stop`)."""
-    return [subprocess.Popen([sys.executable, '-c', 'while True: pass']) for _ in range(2)]
-
-
-def stop(processes: list[subprocess.Popen]) -> None:
-    for process in processes:
-        process.kill()
-        process.wait()
-
-
 def run_loaded_or_not(repo: Path, switch_s: float, index: int,
                       alternate: bool) -> tuple[bool, str, float]:
     """Run `index`, with two busy loops beside it when `alternate` and `index` is odd."""
-    load = busy_loops() if alternate and index % 2 else []
-    try:
+    with busy_loops(2 if alternate and index % 2 else 0):
         return run_once(repo, switch_s)
-    finally:
-        stop(load)
 
 
 def main() -> int:

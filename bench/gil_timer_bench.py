@@ -17,11 +17,10 @@ from __future__ import annotations
 
 import argparse
 import os
-import subprocess
-import sys
 import threading
 import time
 
+from load import busy_loops
 from turtle_traj.core.turtlesim_contract import STEP_S
 from turtle_traj.node import answer_timer
 
@@ -66,9 +65,7 @@ def main() -> None:
     parser.add_argument('--spans', type=int, default=600)
     parser.add_argument('--busy', type=int, default=2, help='busy processes beside it')
     options = parser.parse_args()
-    busy = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
-            for _ in range(options.busy)]
-    try:
+    with busy_loops(options.busy):
         print(f'{options.spans} spans of {WORK_STEPS} steps beside a spinning thread and '
               f'{options.busy} busy processes')
         print(f'{"schedstat read by":22} {"median ms":>9} {"p99 ms":>7} {"max ms":>7} '
@@ -80,10 +77,6 @@ def main() -> None:
             print(f'{name:22} {spans[len(spans) // 2] * 1e3:9.3f} '
                   f'{spans[int(0.99 * len(spans))] * 1e3:7.3f} {spans[-1] * 1e3:7.3f} '
                   f'{late:10d}')
-    finally:
-        for process in busy:
-            process.kill()
-            process.wait()
 
 
 if __name__ == '__main__':

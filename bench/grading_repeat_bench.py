@@ -12,7 +12,6 @@ from __future__ import annotations
 import argparse
 import collections
 import json
-import subprocess
 import sys
 import tempfile
 import time
@@ -21,6 +20,7 @@ from pathlib import Path
 
 import yaml
 
+from load import busy_loops
 from turtle_traj.apps.grade import load_task
 from turtle_traj.grading.grader import grade_class
 
@@ -46,11 +46,9 @@ def main() -> int:
                 if (lab / 'samples' / 'expected_grades.yaml').exists()
                 for name, grade in yaml.safe_load(
                     (lab / 'samples' / 'expected_grades.yaml').read_text()).items()}
-    busy = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
-            for _ in range(options.busy)]
     grades, lost, durations = collections.defaultdict(list), [], []
     wrong: list[str] = []
-    try:
+    with busy_loops(options.busy):
         for run in range(options.runs):
             with tempfile.TemporaryDirectory() as folder:
                 started = time.monotonic()
@@ -65,9 +63,6 @@ def main() -> int:
                         wrong.append(f'run {run + 1}: {key[0]}/{key[1]} got {result.score:g} '
                                      f'({[c.message for c in result.checks if not c.passed]})')
             print(f'run {run + 1}: {durations[-1]:.0f} s', flush=True)
-    finally:
-        for process in busy:
-            process.kill()
     print(f'\n{options.runs} runs, {options.busy} busy loops beside; slowest '
           f'{max(durations):.0f} s a run')
     for key in sorted(expected):

@@ -24,6 +24,7 @@ import sys
 import time
 
 from isolation import isolate
+from load import busy_loops
 from turtle_traj.client.liveness import FEEDBACK_SILENCE_S, PROBE_TIMEOUT_S
 
 LIVENESS_S = FEEDBACK_SILENCE_S + PROBE_TIMEOUT_S  # the command line's rule for a node gone
@@ -133,14 +134,8 @@ def main() -> int:
             print(plan_s, silence)
         return 0
     sources = args.src or ['this']
-    loops = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
-             for _ in range(args.busy)]
-    try:
+    with busy_loops(args.busy):
         rows = [(src, run_one(None if src == 'this' else src, args.goals)) for src in sources]
-    finally:
-        for loop in loops:
-            loop.kill()
-            loop.wait()
     print(f'text ROS, height 0.5 m, corners 0.02 m, up --base --time-scale 20, '
           f'{args.busy} busy loop(s); client gives up after {LIVENESS_S:g} s of silence')
     print(f'{"source":40} {"plan s (median, max)":>22} {"longest silence s (median, max)":>33}')

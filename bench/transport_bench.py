@@ -24,9 +24,10 @@ import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from load import busy_loops
+
 ROOT = Path(__file__).resolve().parents[1]
 OURS = ROOT / 'src' / 'turtle_traj' / 'rosutils' / 'fastdds.xml'
-BUSY = 'while True: pass'
 _OBSERVER = '''
 import rclpy
 from turtlesim.msg import Pose
@@ -116,8 +117,7 @@ def main() -> None:
     shared.write_text(with_shared_memory(OURS))
     base = 150 + os.getpid() % 40
     record(folder / 'circle', base)
-    busy = [subprocess.Popen([sys.executable, '-c', BUSY]) for _ in range(options.busy)]
-    try:
+    with busy_loops(options.busy):
         print(f'{options.rounds} real-time replays per profile, {options.copies} at once, '
               f'{options.busy} busy loops; how late the player sent its latest command:')
         for name, profile in (('with shared memory (before)', shared),
@@ -128,10 +128,6 @@ def main() -> None:
                                        [profile] * options.rounds, domains))
             print(f'  {name:30s} median {late[len(late) // 2]:4.0f} ms, max {late[-1]:4.0f} ms,'
                   f' over 100 ms in {sum(x > 100 for x in late)} of {len(late)}', flush=True)
-    finally:
-        for process in busy:
-            process.kill()
-            process.wait()
 
 
 if __name__ == '__main__':

@@ -20,6 +20,7 @@ import math
 import numpy as np
 
 from turtle_traj.core.control.config import Limits
+from turtle_traj.core.control.duration import ramp_s
 from turtle_traj.core.geometry.projection import NearestOnPolyline
 
 
@@ -40,16 +41,9 @@ class Tube:
 
 
 def closing_time_s(heading_error: float, limits: Limits) -> float:
-    """The least time to turn through `heading_error` from rest and stop turning, s: at the
-    angular acceleration up and down again, with a stretch at the top turn rate if it is
-    reached."""
-    error, top = abs(heading_error), limits.angular_speed
-    alpha = limits.angular_accel
-    if not alpha:
-        return error / top
-    if error <= top * top / alpha:
-        return 2.0 * math.sqrt(error / alpha)
-    return error / top + top / alpha
+    """The least time to turn through `heading_error` from rest and stop turning, s."""
+    return ramp_s(abs(heading_error), limits.angular_speed, limits.angular_accel,
+                  limits.angular_accel)
 
 
 def drift_speed(room: float, heading_error: float, limits: Limits) -> float:

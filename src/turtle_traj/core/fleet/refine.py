@@ -37,7 +37,6 @@ NEAREST_IDLE = 2  # a part's end is offered to this many of the turtles with non
 GIVEN = (1, 2)  # pieces at a part's end offered so (each more offered costs more to judge)
 
 
-
 @dataclass(frozen=True)
 class _Part:
     turtle: int
@@ -49,13 +48,23 @@ class _Part:
 def refine(sharing: Sharing, pieces: Sequence[Piece], starts: Sequence[Pose2D],
            config: ControlConfig, clearance: float, standing: Sequence[Pose2D] = (),
            parking: Parking | None = None, aside: StepAside | None = None,
-           made: dict | None = None, give_away: bool = True) -> Sharing:
+           made: dict | None = None, give_away: bool = True,
+           judgements: dict | None = None) -> Sharing:
     """`sharing` (judged with `clearance`: its `timing` set) improved while a neighbour ends
     the drawing sooner, pieces given to turtles with none too where `give_away`; `standing`,
-    `parking`, `aside` and `made` as for `candidates`."""
+    `parking`, `aside` and `made` as for `candidates`. `judgements` keeps each sharing judged,
+    for later calls on the same pieces and turtles (a refinement carried on, as `share_apart`'s
+    with pieces given away, judges its first sharing and its neighbours again)."""
     assert sharing.timing is not None
+    judgements = {} if judgements is None else judgements
 
     def judged(parts: list[_Part]) -> tuple[tuple[float, ...], Sharing] | None:
+        key = (sharing.lower_bound_s, tuple(parts))
+        if key not in judgements:
+            judgements[key] = judged_afresh(parts)
+        return judgements[key]
+
+    def judged_afresh(parts: list[_Part]) -> tuple[tuple[float, ...], Sharing] | None:
         candidate = _sharing(parts, sharing.lower_bound_s, len(starts))
         moves = routes(candidate.shares, pieces, starts, config, parking, made)
         try:
@@ -193,10 +202,13 @@ def share_apart(pieces: Sequence[Piece], starts: Sequence[Pose2D], config: Contr
         assert sharing.timing is not None
         return replace(sharing, timing=chained(sharing.timing, everyone, clearance, config,
                                                aside, len(standing)))
+    judgements: dict = {}
     tried = [refine(sharing, pieces, starts, config, clearance, standing, parking, aside, made,
-                    give_away=False) for sharing in found[:REFINED_CANDIDATES]]
+                    give_away=False, judgements=judgements)
+             for sharing in found[:REFINED_CANDIDATES]]
     best = min(tried, key=lambda sharing: _finishes(sharing.timing))
-    given = refine(best, pieces, starts, config, clearance, standing, parking, aside, made)
+    given = refine(best, pieces, starts, config, clearance, standing, parking, aside, made,
+                   judgements=judgements)
     return min((with_chains(sharing) for sharing in [*tried, given]),
                key=lambda sharing: _finishes(sharing.timing))
 
