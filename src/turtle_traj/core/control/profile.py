@@ -59,13 +59,27 @@ class SpeedProfile:
     """Top speed by arc length along one polyline that starts and ends at rest.
 
     :param duration_s: the time of the profile TOPP-RA computed (its time-optimal bound under
-        the shares of the limits planned with).
+        the shares of the limits planned with), or of the motion planned in time.
+    :param times: for a motion planned in time (`Polyline.speeds`), the instant it passes each
+        point of `arc`, s: its clock, which the follower keeps to (`timed_tracker`); else None.
     """
 
-    def __init__(self, arc: np.ndarray, speed: np.ndarray, duration_s: float) -> None:
+    def __init__(self, arc: np.ndarray, speed: np.ndarray, duration_s: float,
+                 times: np.ndarray | None = None) -> None:
         self.arc = arc
         self.speed = speed
         self.duration_s = duration_s
+        self.times = times
+
+    @classmethod
+    def timed(cls, polyline: Polyline) -> SpeedProfile:
+        """The profile of a polyline planned in time: its own speeds, each segment at a
+        constant acceleration (it takes twice its length over the sum of its end speeds)."""
+        assert polyline.speeds is not None
+        speeds = np.maximum(np.asarray(polyline.speeds, dtype=float), 0.0)
+        mean = np.maximum(0.5 * (speeds[:-1] + speeds[1:]), 1e-9)
+        times = np.concatenate(([0.0], np.cumsum(polyline.segment_lengths / mean)))
+        return cls(polyline.cumulative_length, speeds, float(times[-1]), times)
 
     def speed_at(self, arc_length: float) -> float:
         """The speed at `arc_length`: v² is linear in s under constant acceleration."""
@@ -145,8 +159,10 @@ def profile_for(polyline: Polyline, limits: Limits, start_speed: float = 0.0,
                 shares: tuple[float, float, float] = PLANNING_SHARES) -> SpeedProfile | None:
     """The profile a base follows on `polyline` (from `start_speed`, under these `shares` of
     its limits): the curvature's bound on an endless loop or without acceleration limits, the
-    time-optimal profile on a curve, and None on a straight line (the window and braking alone
-    bound it there)."""
+    polyline's own timing where it was planned in time (from rest), the time-optimal profile
+    on a curve, and None on a straight line (the window and braking alone bound it there)."""
+    if polyline.speeds is not None and limits.limited and not start_speed:
+        return SpeedProfile.timed(polyline)
     if polyline.repeat or not limits.limited:
         return SpeedProfile.curvature_bound(polyline, limits, shares[0])
     if not np.any(np.abs(polyline.curvatures) > 1e-9):

@@ -39,7 +39,7 @@ UNPLANNED = object()  # a polyline's speed profile, before it is planned
 LANDED = 1e-5  # m, rad: on the end, for a landing (`_lands`)
 
 
-def _braking_speed(remaining: float, deceleration: float, period_s: float,
+def braking_speed(remaining: float, deceleration: float, period_s: float,
                    prediction: Prediction, limited: bool = False, landing: bool = False) -> float:
     """Fastest speed from which the turtle still stops within `remaining`.
 
@@ -90,7 +90,7 @@ class TrackerGains(Protocol):
     turn_first_angle: float  # heading error beyond which it turns before driving [rad]
 
 
-def _steering(error: float, gain: float, limits: Limits) -> float:
+def steering_rate(error: float, gain: float, limits: Limits) -> float:
     """The turn rate that corrects a heading error: proportional, and on a base with an
     angular acceleration limit no faster than it can stop turning when the error is gone
     (sqrt(2 alpha |error|)), or a high gain would overshoot, rate-limited."""
@@ -135,7 +135,7 @@ class TurnTracker:
             self.landed = landing = True
         overrun = prediction.overrun_when(config.limited)[1]
         rate = min(config.angular_speed,
-                   _braking_speed(max(abs(error) - overrun, 0.0), config.angular_braking,
+                   braking_speed(max(abs(error) - overrun, 0.0), config.angular_braking,
                                   config.period_s, prediction, config.limited, landing))
         return Command(0.0, math.copysign(rate, error))
 
@@ -217,8 +217,14 @@ class PolylineTracker:
                                         self._remaining(pose, actual_segment, actual_fraction))
                 return _finished(arrived, prediction, limits, self.landed)
             self.landed = landing = True
-        pose = predicted
+        return self._command(predicted, fraction, offset, remaining, prediction, limits, gains,
+                             landing)
 
+    def _command(self, pose: Pose2D, fraction: float, offset: float, remaining: float,
+                 prediction: Prediction, limits: Limits, gains: TrackerGains,
+                 landing: bool) -> Command:
+        """The command for the predicted `pose`, `fraction` along the current segment and
+        `offset` beside it (left positive), `remaining` from the end."""
         facing = pose.theta
         curvature, path_heading = self._heading_at(fraction, limits)
         heading_error = wrap_angle(path_heading - facing)
@@ -236,7 +242,7 @@ class PolylineTracker:
         lead = (abs(speed) * curvature * limits.period_s / 2.0 if prediction.turns_first
                 else 0.0)
         target = path_heading - lead - math.atan(gains.cross_track_gain * offset)
-        steering = _steering(wrap_angle(target - facing), gains.heading_gain, limits)
+        steering = steering_rate(wrap_angle(target - facing), gains.heading_gain, limits)
         angular = _clamp(abs(speed) * curvature + steering, limits.angular_speed)
         return Command(speed, angular)
 
@@ -270,7 +276,7 @@ class PolylineTracker:
             speed = min(speed, limits.angular_speed / abs(curvature))
         if remaining != math.inf:
             overrun = prediction.overrun_when(limits.limited)[0]
-            speed = min(speed, _braking_speed(max(abs(remaining) - overrun, 0.0),
+            speed = min(speed, braking_speed(max(abs(remaining) - overrun, 0.0),
                                               braking, limits.period_s,
                                               prediction, limits.limited, landing))
             speed = math.copysign(speed, remaining)

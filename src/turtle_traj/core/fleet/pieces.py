@@ -85,7 +85,8 @@ def _parts(leg: Polyline, longest: float) -> list[Polyline]:
         inside = (along > begin + JOINED_M) & (along < end - JOINED_M)  # no sliver at a cut
         ends = np.array([[np.interp(at, along, points[:, axis]) for axis in (0, 1)]
                          for at in (begin, end)])
-        parts.append(replace(leg, points=np.concatenate(([ends[0]], points[inside], [ends[1]]))))
+        parts.append(replace(leg, points=np.concatenate(([ends[0]], points[inside], [ends[1]])),
+                             speeds=None))
     return parts
 
 

@@ -88,6 +88,7 @@ def _unit_half(deflection: float,
 CLOTHOID_PAIR = math.inf  # the unit top curvature of a corner that is a clothoid pair
 
 CornerCost = Callable[[np.ndarray, float, float], float]  # points, heading in, heading out
+Timed = tuple[np.ndarray, np.ndarray]  # a motion's points (N, 2) and its speed at each (N,)
 
 
 def arc_shape(turn_rate: float, turn_accel: float) -> float:
@@ -144,7 +145,7 @@ def smoothed_curve(points: np.ndarray, tolerance: float) -> np.ndarray:
 def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHOID_PAIR,),
                  cost: CornerCost | None = None,
                  duration: Callable[[Polyline], float] | None = None,
-                 more: Callable[[np.ndarray, float], np.ndarray | None] | None = None) -> Path:
+                 more: Callable[[np.ndarray, float], Timed | None] | None = None) -> Path:
     """`path` with its turns in place between two polylines replaced by rounded corners.
 
     A turn is rounded when both polylines are driven the same way with the pen in the same
@@ -156,9 +157,10 @@ def rounded_path(path: Path, tolerance: float, shapes: Sequence[float] = (CLOTHO
     takes along a polyline, the stretch becomes the fastest of that, its corners swung out
     (`_swung_corners`), the stretch smoothed within the tolerance's tube by each of
     `tube.WINDOWS_M`, for a single curve the curve as it is, and `more(points, width)`:
-    another curve of the caller's through the stretch's points within `width` of them
-    (None: none). A turn too sharp to round that doubles the path back is turned short of the
-    cusp (`cusps.cusps_cut_short`).
+    another curve of the caller's through the stretch's points within `width` of them, with
+    the speed at each of its points where it is a motion planned in time (None: none). A turn
+    too sharp to round that doubles the path back is turned short of the cusp
+    (`cusps.cusps_cut_short`).
     """
     if tolerance <= 0.0:
         return path
@@ -209,18 +211,20 @@ def _turns_aimed(legs: list[Leg]) -> tuple[Leg, ...]:
 
 
 def _smoothed_in_tube(stretch: Sequence[Leg], tolerance: float,
-                      more: Callable[[np.ndarray, float], np.ndarray | None] | None = None,
+                      more: Callable[[np.ndarray, float], Timed | None] | None = None,
                       ) -> list[Polyline]:
     """A stretch (see `_stretches`) smoothed within the tolerance's tube by each of
-    `tube.WINDOWS_M` where that keeps to it, `more`'s curve, and a single curve as it is."""
+    `tube.WINDOWS_M` where that keeps to it, `more`'s curve (timed where it is driven
+    forwards), and a single curve as it is."""
     first = stretch[0]
     assert isinstance(first, Polyline)
     joined = _joined_points(stretch)
     width = _shape_width(tolerance, _SHAPE_SHARE)
-    smoothed = [tube_smoothed(joined, width, window) for window in WINDOWS_M]
-    if more is not None:
-        smoothed.append(more(joined, width))
-    candidates = [replace(first, points=points) for points in smoothed if points is not None]
+    smoothed = [(tube_smoothed(joined, width, window), None) for window in WINDOWS_M]
+    if more is not None and (timed := more(joined, width)) is not None:
+        smoothed.append((timed[0], None if first.reverse else timed[1]))
+    candidates = [replace(first, points=points, speeds=speeds)
+                  for points, speeds in smoothed if points is not None]
     return candidates + [first] if len(stretch) == 1 else candidates
 
 

@@ -48,7 +48,8 @@ def cusps_cut_short(legs: Sequence[Leg], drawn: np.ndarray, width: float,
         leaving = np.concatenate(([turned_at], onward))
         if len(leaving) < 2 or not all_near(resampled(leaving[:2], _SAMPLE_M), drawn, width):
             continue
-        cut_legs = _turned_twice(replace(before, points=kept), turn, before, after, leaving)
+        cut_legs = _turned_twice(replace(before, points=kept, speeds=None), turn, before,
+                                 after, leaving)
         out[index - 1:index + 2] = cut_legs
         index += len(cut_legs) - 3  # past the turns made here
     return tuple(out)
@@ -61,7 +62,7 @@ def _turned_twice(shortened: Polyline, turn: Turn, before: Polyline, after: Poly
     connection meets that polyline at a bend sharper than `_BEND_RAD`, the connection and the
     rest are legs of their own with a turn in place between them. The turns sweep as much, the
     same way round, as `turn` did from `before`'s end to `after`'s start."""
-    left = replace(after, points=leaving)
+    left = replace(after, points=leaving, speeds=None)
     start_shift = wrap_angle(float(shortened.headings[-1]) - float(before.headings[-1]))
     start = turn.start_heading + start_shift
     onto = turn.sweep_rad - start_shift + wrap_angle(float(left.headings[0])
@@ -74,8 +75,8 @@ def _turned_twice(shortened: Polyline, turn: Turn, before: Polyline, after: Poly
     if abs(bend) <= _BEND_RAD:
         return [shortened, Turn(x, y, start, onto), left]
     bx, by = (float(v) for v in leaving[1])
-    return [shortened, Turn(x, y, start, onto), replace(after, points=leaving[:2]),
-            Turn(bx, by, start + onto, bend), replace(after, points=leaving[1:])]
+    return [shortened, Turn(x, y, start, onto), replace(after, points=leaving[:2], speeds=None),
+            Turn(bx, by, start + onto, bend), replace(after, points=leaving[1:], speeds=None)]
 
 
 def _until(points: np.ndarray, arc: np.ndarray, length: float) -> np.ndarray:

@@ -104,7 +104,7 @@ def join_candidates(stretch: Polyline, heading: float, drawn: Polyline, toleranc
                     and all_near(join, nearby, width)):
                 # evenly spaced throughout: uneven chords bend the heading's spline (`profile`)
                 candidates.append(Joined(meeting, replace(stretch, points=resampled(
-                    np.concatenate((join, rest)), SPACING_M))))
+                    np.concatenate((join, rest)), SPACING_M), speeds=None)))
     return candidates
 
 
@@ -134,7 +134,7 @@ def joined_start(path: Path, drawn: Polyline, tolerance: float,
         def window_s(polyline: Polyline) -> float:
             kept = max(np.count_nonzero(polyline.cumulative_length
                                         <= polyline.length - compared), 2)
-            return duration(replace(polyline, points=polyline.points[:kept]))
+            return duration(replace(polyline, points=polyline.points[:kept], speeds=None))
         return sorted(((window_s(joined.stretch), joined) for joined in joins),
                       key=lambda pair: pair[0])
 

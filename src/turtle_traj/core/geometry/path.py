@@ -34,12 +34,20 @@ class Polyline:
     :param reverse: driven backwards (the turtle faces away from the direction of travel).
     :param repeat: an endless loop (points[-1] == points[0]); the follower never finishes it.
     :param pen: drawn with the pen down; False: a pen-up move between strokes of a drawing.
+    :param speeds: (N,) the speed at each point (m/s) of a motion planned in time, from rest to
+        rest with a constant acceleration between points (`planning.min_time`): the follower
+        keeps to its clock. None: the follower plans the speed.
     """
 
     points: np.ndarray
     reverse: bool = False
     repeat: bool = False
     pen: bool = True
+    speeds: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.speeds is not None and len(self.speeds) != len(self.points):
+            raise ValueError(f'{len(self.speeds)} speeds for {len(self.points)} points')
 
     @cached_property
     def segments(self) -> PolylineSegments:

@@ -64,6 +64,7 @@ class MinimumTime:
     max_error_m: float  # the largest distance of `motion` from the path
     solve_s: float  # CPU time of the solves
     solved: bool  # IPOPT converged
+    speeds: np.ndarray | None = None  # (n,): the speed at each position of `motion`
 
     @property
     def time_s(self) -> float:
@@ -118,7 +119,7 @@ def _on_the_path(points: np.ndarray, limits: Limits, heading0: float) -> Minimum
     began = time.process_time()
     drive = exact_drive(points, heading0, limits)
     return MinimumTime(drive.time, drive.poses, drive.velocities, drive.poses[:, :2], 0.0,
-                       time.process_time() - began, True)
+                       time.process_time() - began, True, drive.velocities[:, 0])
 
 
 class _Problem:
@@ -217,17 +218,19 @@ class _Problem:
                       else np.vstack([taken.T, [0.0, 0.0]]))
         durations = np.atleast_1d(np.asarray(solution.value(self.steps), dtype=float)).ravel()
         times = np.concatenate(([0.0], np.cumsum(durations)))
-        motion = _dense_motion(poses, velocities, taken, durations, inertia)
+        motion, speeds = _dense_motion(poses, velocities, taken, durations, inertia)
         error = float(np.max(shapely.distance(shapely.LineString(self.points),
                                               shapely.points(motion))))
-        return (MinimumTime(times, poses, velocities, motion, error, solve_s, solved),
+        return (MinimumTime(times, poses, velocities, motion, error, solve_s, solved, speeds),
                 Timeline(times, poses, velocities,
                          np.asarray(solution.value(self.progress), dtype=float).ravel()))
 
 
-def _dense_motion(poses, velocities, controls, durations, inertia) -> np.ndarray:
-    """The motion's positions, integrated finely (_DENSE samples an interval) from each node."""
-    samples = [poses[0, :2]]
+def _dense_motion(poses, velocities, controls, durations,
+                  inertia) -> tuple[np.ndarray, np.ndarray]:
+    """The motion's positions, integrated finely (_DENSE samples an interval) from each node,
+    and its speed at each."""
+    samples, speeds = [poses[0, :2]], [velocities[0, 0]]
     for k in range(len(poses) - 1):
         x, y, heading = poses[k]
         speed, turn = velocities[k]
@@ -241,4 +244,5 @@ def _dense_motion(poses, velocities, controls, durations, inertia) -> np.ndarray
             if inertia:
                 speed, turn = (speed + controls[0, k] * dt / 2, turn + controls[1, k] * dt / 2)
             samples.append((x, y))
-    return np.asarray(samples)
+            speeds.append(speed)
+    return np.asarray(samples), np.maximum(np.asarray(speeds, dtype=float), 0.0)

@@ -21,6 +21,8 @@ from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.core.control.duration import least_time_s
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.profile import (
+    ANGULAR_ACCEL_SHARE,
+    ANGULAR_SHARE,
     FULL_LIMITS,
     PLANNING_SHARES,
     SpeedProfile,
@@ -49,6 +51,8 @@ __all__ = ['SKETCHES', 'PlanError', 'largest_size', 'plan']
 LIMIT_NODES_PER_M = 13  # the minimum-time trajectory's intervals, for a candidate of a plan
 LIMIT_NODES = (30, 240)  # at the least and the most
 LIMIT_WIDTH_SHARE = 0.92  # of the tube's width: its motion between nodes strays a little
+_APART_M = 1e-6  # the limit's positions closer than this to the last one are dropped
+_TIMED_SHARE = 0.01  # a motion's time along its polyline within this share of its own: timed
 
 
 def plan(trajectory: str, request: Any, start: Pose2D, settings: Settings, *,
@@ -104,23 +108,36 @@ def _rounded(path: Path, tolerance: float, run: ControlConfig, minimum_time: boo
                         lambda turn: least_time_s(Path(legs=(turn,)), run))
 
 
-def limit_path(points: np.ndarray, width: float, *, config: ControlConfig) -> np.ndarray | None:
-    """The path of the minimum-time trajectory within `width` of `points` on a base with
-    `config`'s limits (`min_time`), sampled every `tube.SPACING_M`; None unless the solver
-    converged and its motion keeps within the width between its nodes too (it is solved in a
-    tube LIMIT_WIDTH_SHARE as wide)."""
+def limit_path(points: np.ndarray, width: float, *,
+               config: ControlConfig) -> tuple[np.ndarray, np.ndarray | None] | None:
+    """The minimum-time trajectory within `width` of `points` on a base with `config`'s
+    limits, each turn's a little less (`min_time`): its positions, as finely as it was
+    integrated between its nodes, and its speed at each (the follower keeps to its clock);
+    where it turns in place on the way, only its path, every `tube.SPACING_M`, with no speeds
+    (the follower plans them). None unless the solver converged and its motion keeps within
+    the width between its nodes too (it is solved in a tube LIMIT_WIDTH_SHARE as wide)."""
     # only when asked: the command line starts without shapely and CasADi
     from turtle_traj.core.planning.min_time import minimum_time
 
     nodes = int(np.clip(LIMIT_NODES_PER_M * Polyline(points).length, *LIMIT_NODES))
+    limits = config.limits
+    # the turn's reserve is the steering's, as an exact path's profile keeps it (`profile`):
+    # a motion at the very limits everywhere leaves nothing to pull back onto it with
+    planned = replace(limits, angular_speed=ANGULAR_SHARE * limits.angular_speed,
+                      angular_accel=ANGULAR_ACCEL_SHARE * limits.angular_accel)
     try:
-        limit = minimum_time(points, LIMIT_WIDTH_SHARE * width, config.limits, nodes=nodes)
+        limit = minimum_time(points, LIMIT_WIDTH_SHARE * width, planned, nodes=nodes)
     except ImportError:
         raise PlanError("corner_planning 'minimum_time' needs CasADi (pip install casadi), "
                         "or set corner_planning to 'tube'") from None
     if not limit.solved or limit.max_error_m > width:
         return None
-    return resampled(limit.motion, SPACING_M)
+    moving = np.concatenate(([True], np.hypot(*np.diff(limit.motion, axis=0).T) > _APART_M))
+    timed = Polyline(limit.motion[moving], speeds=limit.speeds[moving])
+    if abs(SpeedProfile.timed(timed).duration_s - limit.time_s) > _TIMED_SHARE * limit.time_s:
+        # it turns in place for a while: a motion along a polyline has no time for that
+        return resampled(limit.motion, SPACING_M), None
+    return timed.points, timed.speeds
 
 
 def _stretch_duration(polyline: Polyline, *, config: ControlConfig) -> float:

@@ -1,7 +1,8 @@
 """The node's exact follower, as a `Controller` like any other. Pure Python.
 
 It drives one stroke between two corners (`turns_at_corners`: the node turns in place at each,
-so corners are exact) with `trackers.PolylineTracker`: speed capped by the curvature, the
+so corners are exact) with `trackers.PolylineTracker` (a motion planned in time with
+`timed_tracker.TimedTracker`, on its clock): speed capped by the curvature, the
 base's speed profile and a braking that lands on the end point; on turtlesim each step lands on
 the curve (`curve_step`), on a base with inertia curvature feed-forward and a heading set-point
 steer back onto the path. It steers from the state the model of the robot predicts, and
@@ -20,6 +21,8 @@ from __future__ import annotations
 from turtle_traj.core.control.commands import Command
 from turtle_traj.core.control.controller import Limits, State, Stroke
 from turtle_traj.core.control.dynamics import within_reach
+from turtle_traj.core.control.profile import SpeedProfile
+from turtle_traj.core.control.timed_tracker import TimedTracker
 from turtle_traj.core.control.trackers import UNPLANNED, PolylineTracker
 from turtle_traj.core.control.tuning import Tunable
 from turtle_traj.core.geometry.path import Polyline
@@ -45,7 +48,11 @@ class ExactFollower:
     def start(self, stroke: Stroke, limits: Limits) -> None:
         profile = stroke.profile if stroke.profile is not None else UNPLANNED
         polyline = stroke.polyline or Polyline(stroke.points, repeat=stroke.endless)
-        self._tracker = PolylineTracker(polyline, stroke.tolerance, profile, stroke.tube)
+        if (isinstance(profile, SpeedProfile) and profile.times is not None
+                and limits.limited):  # a motion planned in time: kept to its clock
+            self._tracker = TimedTracker(polyline, stroke.tolerance, profile)
+        else:
+            self._tracker = PolylineTracker(polyline, stroke.tolerance, profile, stroke.tube)
 
     def command(self, state: State) -> Command | None:
         nearest = state.nearest if state.nearest is not None else self._tracker.locate(
