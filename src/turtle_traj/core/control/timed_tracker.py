@@ -38,7 +38,6 @@ from turtle_traj.core.geometry.path import Polyline, Pose2D
 
 _BEHIND = 10  # points searched behind the last match
 _AHEAD = 60  # and ahead of it
-_REFINED = 8  # instants tried between the nearest point's neighbours
 
 
 @dataclass(frozen=True)
@@ -64,20 +63,34 @@ class Timing:
         self.duration_s = float(profile.times[-1])
         self._last = 0  # the point nearest the last match
 
-    def _distance2(self, reference: Reference, pose: Pose2D) -> float:
-        return (reference.x - pose.x) ** 2 + (reference.y - pose.y) ** 2
-
     def match(self, pose: Pose2D) -> float:
-        """The instant of the plan nearest `pose`, searched near the last one found."""
+        """The instant of the plan nearest `pose`, searched near the last one found: on the
+        nearer of the two segments at the nearest point, where its constant acceleration has
+        the plan there."""
+        polyline, count = self.polyline, len(self.times)
         first = max(self._last - _BEHIND, 0)
-        last = min(self._last + _AHEAD, len(self.times) - 1)
-        points = self.polyline.points[first:last + 1]
-        nearest = first + int(np.argmin((points[:, 0] - pose.x) ** 2
-                                        + (points[:, 1] - pose.y) ** 2))
+        window = polyline.points[first:min(self._last + _AHEAD, count - 1) + 1]
+        nearest = first + int(np.argmin((window[:, 0] - pose.x) ** 2
+                                        + (window[:, 1] - pose.y) ** 2))
         self._last = nearest
-        around = np.linspace(self.times[max(nearest - 1, 0)],
-                             self.times[min(nearest + 1, len(self.times) - 1)], _REFINED + 1)
-        return float(min(around, key=lambda instant: self._distance2(self.at(instant), pose)))
+        best = (math.inf, 0, 0.0)
+        for index in (nearest - 1, nearest):
+            if not 0 <= index < count - 1:
+                continue
+            (ax, ay), (bx, by) = polyline.points[index], polyline.points[index + 1]
+            dx, dy = bx - ax, by - ay
+            share = min(max(((pose.x - ax) * dx + (pose.y - ay) * dy)
+                            / max(dx * dx + dy * dy, 1e-24), 0.0), 1.0)
+            gap = (ax + share * dx - pose.x) ** 2 + (ay + share * dy - pose.y) ** 2
+            best = min(best, (gap, index, share))
+        _, index, share = best
+        along = share * float(polyline.segment_lengths[index])
+        start_speed, end_speed = float(self.speeds[index]), float(self.speeds[index + 1])
+        length = max(float(polyline.segment_lengths[index]), 1e-12)
+        # v^2 is linear along a segment of constant acceleration
+        there = math.sqrt(max(start_speed ** 2 + (end_speed ** 2 - start_speed ** 2)
+                              * along / length, 0.0))
+        return float(self.times[index]) + 2.0 * along / max(start_speed + there, 1e-9)
 
     def at(self, instant: float) -> Reference:
         """The reference at `instant` (at rest on the end once the plan is over)."""
