@@ -11,6 +11,7 @@ import shapely
 from turtle_traj.core.control.config import Limits
 from turtle_traj.core.planning.min_time import EXACT_M, minimum_time
 from turtle_traj.core.turtlesim_contract import STEP_S
+from turtle_traj.testing.pure_loop import driven_with_late_commands
 
 PAPER = Limits(linear_speed=0.5, angular_speed=1.0, linear_accel=0.5, angular_accel=1.0,
                period_s=STEP_S)
@@ -124,6 +125,11 @@ def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube(c
     assert run.run.ending[0], run.run.ending
     assert run.elapsed_s <= 1.02 * plans['minimum_time']
     assert shapely.distance(drawn, shapely.points(run.xy())).max() <= tolerance
+    # commands that act a period late, one in five: still within the tolerance, and done
+    ending, xy = driven_with_late_commands(plan, start, settings, every=5)
+    assert ending[0], ending
+    assert shapely.distance(drawn, shapely.points(xy)).max() <= tolerance
+
 
 
 def test_a_limit_that_cuts_across_the_tube_between_nodes_is_solved_again_with_more():

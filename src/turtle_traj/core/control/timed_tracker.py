@@ -3,17 +3,20 @@
 Python.
 
 Each command finds the instant of the plan the robot is at: the one whose position is nearest
-the pose predicted for when the command takes effect, searched near the last one found (the
-plan's points lie close together where it is slow). The plan at that instant gives the heading
-to keep and the line to pull back onto; the plan one period on gives the speed and the turn
-rate (feed-forward, within the base's reach, as the plan is). The heading set-point steers back
-onto the plan's line as `trackers.PolylineTracker` steers onto a path. Arrival and the end are
-the polyline tracker's.
+the pose predicted for when the command takes effect, searched from a little before the last
+one found to a few periods after it (where the plan curls at a near-pivot, a robot pushed off
+it lies nearer to where the plan goes on after the curl). The plan at that instant gives the
+heading to keep and the line to pull back onto; the plan one period on gives the speed and the
+turn rate (feed-forward). The heading set-point steers back onto the plan's line as
+`trackers.PolylineTracker` steers onto a path. Where the turn rate that asks for is beyond the
+base's top rate, the speed is cut in proportion, so the robot stays on the curve it asks for
+and loses time rather than the path (the plan keeps only a twentieth of the turn rate in
+reserve). Arrival and the end are the polyline tracker's; past the end, it backs up to it.
 
 The polyline tracker, reading a planned speed by arc length and turning at that speed times
 the path's curvature, falls behind such a motion where it nearly pivots, the heading turning
 fast while the robot barely moves (the DWPP paper's 135-degree steps within 106 mm: 21.9 s
-and 123 mm from the path, where this tracker takes 20.5 s and 94 mm).
+and 123 mm from the path, where this tracker takes 20.6 s and 94 mm).
 """
 
 from __future__ import annotations
@@ -36,8 +39,11 @@ from turtle_traj.core.control.trackers import (
 from turtle_traj.core.geometry.angles import wrap_angle
 from turtle_traj.core.geometry.path import Polyline, Pose2D
 
-_BEHIND = 10  # points searched behind the last match
-_AHEAD = 60  # and ahead of it
+# Where a match is searched for, around the last one: a robot pushed off the plan where it
+# curls (a near-pivot) lies nearer to where the plan goes on after the curl than to where it is
+# in the plan; it cannot get further ahead of the plan than a few periods a command.
+_BEHIND_S = 0.5
+_AHEAD_PERIODS = 3
 
 
 @dataclass(frozen=True)
@@ -61,18 +67,19 @@ class Timing:
         self.times = profile.times
         self.speeds = profile.speed
         self.duration_s = float(profile.times[-1])
-        self._last = 0  # the point nearest the last match
+        self._instant = 0.0  # of the plan, where the last match found the robot
 
-    def match(self, pose: Pose2D) -> float:
-        """The instant of the plan nearest `pose`, searched near the last one found: on the
-        nearer of the two segments at the nearest point, where its constant acceleration has
-        the plan there."""
+    def match(self, pose: Pose2D, period_s: float) -> float:
+        """The instant of the plan nearest `pose`, from a little before the last one found to
+        a few periods after it (`_BEHIND_S`, `_AHEAD_PERIODS`): on the nearer of the two
+        segments at the nearest point, where its constant acceleration has the plan there."""
         polyline, count = self.polyline, len(self.times)
-        first = max(self._last - _BEHIND, 0)
-        window = polyline.points[first:min(self._last + _AHEAD, count - 1) + 1]
+        first = max(int(np.searchsorted(self.times, self._instant - _BEHIND_S)) - 1, 0)
+        last = min(int(np.searchsorted(self.times, self._instant
+                                       + _AHEAD_PERIODS * period_s)) + 1, count - 1)
+        window = polyline.points[first:last + 1]
         nearest = first + int(np.argmin((window[:, 0] - pose.x) ** 2
                                         + (window[:, 1] - pose.y) ** 2))
-        self._last = nearest
         best = (math.inf, 0, 0.0)
         for index in (nearest - 1, nearest):
             if not 0 <= index < count - 1:
@@ -90,7 +97,10 @@ class Timing:
         # v^2 is linear along a segment of constant acceleration
         there = math.sqrt(max(start_speed ** 2 + (end_speed ** 2 - start_speed ** 2)
                               * along / length, 0.0))
-        return float(self.times[index]) + 2.0 * along / max(start_speed + there, 1e-9)
+        found = float(self.times[index]) + 2.0 * along / max(start_speed + there, 1e-9)
+        self._instant = min(max(found, self._instant - _BEHIND_S),
+                            self._instant + _AHEAD_PERIODS * period_s)
+        return self._instant
 
     def at(self, instant: float) -> Reference:
         """The reference at `instant` (at rest on the end once the plan is over)."""
@@ -128,7 +138,7 @@ class TimedTracker(PolylineTracker):
                  prediction: Prediction, limits: Limits, gains: TrackerGains,
                  landing: bool) -> Command:
         timing, period = self._timing, limits.period_s
-        instant = timing.match(pose)
+        instant = timing.match(pose, period)
         reference, onward = timing.at(instant), timing.at(instant + period)
         beside = ((reference.y - pose.y) * math.cos(reference.heading)
                   - (reference.x - pose.x) * math.sin(reference.heading))
@@ -139,12 +149,15 @@ class TimedTracker(PolylineTracker):
             speed = max(onward.speed * math.cos(heading_error),
                         min(abs(remaining) / period, limits.linear_accel * period))
         overrun = prediction.overrun_when(limits.limited)[0]
-        speed = min(speed, limits.linear_speed,
-                    braking_speed(max(abs(remaining) - overrun, 0.0),
-                                  limits.linear_braking or gains.deceleration, period,
-                                  prediction, limits.limited, landing))
+        speed = math.copysign(min(speed, limits.linear_speed,
+                                  braking_speed(max(abs(remaining) - overrun, 0.0),
+                                                limits.linear_braking or gains.deceleration,
+                                                period, prediction, limits.limited, landing)),
+                              remaining)  # backing up to the end, if past it
         target = reference.heading + math.atan(gains.cross_track_gain * beside)
         steering = steering_rate(wrap_angle(target - pose.theta), gains.heading_gain, limits)
-        angular = max(-limits.angular_speed,
-                      min(limits.angular_speed, onward.turn_rate + steering))
-        return Command(max(speed, 0.0), angular)
+        angular = onward.turn_rate + steering
+        if abs(angular) > limits.angular_speed:  # out of reach: slower, on the same curve
+            speed *= limits.angular_speed / abs(angular)
+            angular = math.copysign(limits.angular_speed, angular)
+        return Command(speed, angular)

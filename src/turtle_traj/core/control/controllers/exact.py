@@ -59,6 +59,8 @@ class ExactFollower:
             state.measured)
         command = self._tracker.update(state.measured, state.robot, state.limits, self,
                                        nearest)
-        # the profile keeps the path's turn within reach: only the steering is clamped
+        # the profile keeps the path's turn within reach: only the steering is clamped; a
+        # motion planned in time at the limits slows down instead, on the curve it asks for
+        timed = isinstance(self._tracker, TimedTracker)
         return None if command is None else within_reach(command, state.velocity, state.limits,
-                                                         keep_curvature=False)
+                                                         keep_curvature=timed)
