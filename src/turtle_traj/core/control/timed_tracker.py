@@ -8,7 +8,7 @@ one found to a few periods after it (where the plan curls at a near-pivot, a rob
 it lies nearer to where the plan goes on after the curl). The plan at that instant gives the
 heading to keep and the line to pull back onto; the plan one period on gives the speed and the
 turn rate (feed-forward). The heading set-point steers back onto the plan's line as
-`trackers.PolylineTracker` steers onto a path. Where the turn rate that asks for is beyond the
+`trackers.PolylineTracker` steers onto a path. Where the turn rate it asks for is beyond the
 base's top rate, the speed is cut in proportion, so the robot stays on the curve it asks for
 and loses time rather than the path (the plan keeps only a twentieth of the turn rate in
 reserve). Arrival and the end are the polyline tracker's; past the end, it backs up to it.
