@@ -70,6 +70,13 @@ def test_a_run_is_recorded_with_types_rising_times_and_qos(recorded):
         assert pose_qos and pose_qos[0].reliability.name == 'RELIABLE'
         assert bag.offered_qos('/turtle_traj/plan')[0].durability.name == 'TRANSIENT_LOCAL'
         assert bag.custom_data['trajectory'] == 'square'
+        # the plan, made beside the executor and stamped as it was published: the square
+        (plan,) = [m.value for m in bag.messages(['/turtle_traj/plan'], deserialize=True)]
+        corners = np.array([(p.pose.position.x, p.pose.position.y) for p in plan.poses])
+        assert np.ptp(corners, axis=0) == pytest.approx([1.5, 1.5], abs=1e-6)
+        assert np.allclose(corners[0], corners[-1])
+        assert plan.header.stamp.sec > 0 or plan.header.stamp.nanosec > 0
+        assert all(p.header.stamp == plan.header.stamp for p in plan.poses)
         feedback = [m.value.feedback.progress for m in bag.messages(
             ['/turtle_traj/draw/_action/feedback'], deserialize=True)]
         assert feedback == sorted(feedback) and 0.0 < feedback[0] < feedback[-1] <= 1.0

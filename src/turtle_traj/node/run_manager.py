@@ -334,8 +334,10 @@ class RunManager:
         self._run_done = done = Future()
         if self._recording is not None:
             self._recording.start(kind.name, settings.control)
-        self._plan.publish(outcomes.plan_message(plan.path, Header(
-            frame_id=outcomes.PLAN_FRAME_ID, stamp=self._node.get_clock().now().to_msg())))
+        message = planning.message or outcomes.plan_message(
+            plan.path, Header(frame_id=outcomes.PLAN_FRAME_ID))
+        message.header.stamp = self._node.get_clock().now().to_msg()  # its poses' header too
+        self._plan.publish(message)
         self._state_lock.info(f'{kind.name}: {outcomes.describe(plan, settings.control)}')
         return run, done
 

@@ -9,6 +9,7 @@ from rclpy.node import Node
 
 from turtle_traj.api.ros_interface import DRAW_ACTION
 from turtle_traj.bags.recorder import TopicRecorder
+from turtle_traj.bags.types import typestore_for
 from turtle_traj.bags.writer import BagError
 from turtle_traj.core.control.config import ControlConfig
 from turtle_traj.node.base_topics import BaseTopics
@@ -24,6 +25,9 @@ class RunRecording:
         self._recorder = TopicRecorder(node, [
             base.pose_topic, base.publisher.topic_name, '~/plan',
             f'~/{DRAW_ACTION}/_action/feedback', f'~/{DRAW_ACTION}/_action/status'])
+        # rosbags loads its Jazzy types here (0.1 s), not when the first run starts, where it
+        # would hold the run's first commands (at five times real time, past pose_timeout)
+        typestore_for(())
 
     def start(self, trajectory: str, control: ControlConfig) -> None:
         path = self.folder / f'{trajectory}_{datetime.now():%Y%m%d-%H%M%S-%f}'
