@@ -40,7 +40,7 @@ LANDED = 1e-5  # m, rad: on the end, for a landing (`_lands`)
 
 
 def braking_speed(remaining: float, deceleration: float, period_s: float,
-                   prediction: Prediction, limited: bool = False, landing: bool = False) -> float:
+                  prediction: Prediction, limited: bool = False, landing: bool = False) -> float:
     """Fastest speed from which the turtle still stops within `remaining`.
 
     Near the end a command covers what remains of the predicted remainder in one period, so it
@@ -136,7 +136,7 @@ class TurnTracker:
         overrun = prediction.overrun_when(config.limited)[1]
         rate = min(config.angular_speed,
                    braking_speed(max(abs(error) - overrun, 0.0), config.angular_braking,
-                                  config.period_s, prediction, config.limited, landing))
+                                 config.period_s, prediction, config.limited, landing))
         return Command(0.0, math.copysign(rate, error))
 
 
@@ -277,8 +277,8 @@ class PolylineTracker:
         if remaining != math.inf:
             overrun = prediction.overrun_when(limits.limited)[0]
             speed = min(speed, braking_speed(max(abs(remaining) - overrun, 0.0),
-                                              braking, limits.period_s,
-                                              prediction, limits.limited, landing))
+                                             braking, limits.period_s,
+                                             prediction, limits.limited, landing))
             speed = math.copysign(speed, remaining)
         return speed
 
