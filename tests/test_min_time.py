@@ -132,6 +132,31 @@ def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube(c
 
 
 
+def test_planning_by_minimum_time_from_another_heading_is_no_slower_than_by_the_tube():
+    """The limit is solved from the path's own heading. From facing along x, 43 degrees off a
+    sine's start, where the tube's plan curves onto the path from the robot's heading,
+    planning by minimum time takes the faster plan as a whole: no slower by the controller's
+    least time than the tube's (it took the limit's motion and a turn in place first, 14%
+    slower)."""
+    from turtle_traj.apps.score.courses import PAPER_LIMITS, follow_request
+    from turtle_traj.core.geometry.path import Pose2D
+    from turtle_traj.core.parameters.settings import settings_from_values
+    from turtle_traj.core.parameters.table import DEFAULTS
+    from turtle_traj.core.planning import planner
+
+    along = np.linspace(0.0, 2.0, 41)
+    points = np.stack([1.0 + along, 2.0 + 0.3 * np.sin(math.pi * along)], axis=1)
+    start = Pose2D(1.0, 2.0, 0.0)
+    least = {}
+    for way in ('tube', 'minimum_time'):
+        settings = settings_from_values({**DEFAULTS, **PAPER_LIMITS, 'arena': 'none',
+                                         'corner_planning': way})
+        plan = planner.plan('follow_path', follow_request(points, corner_tolerance=0.1),
+                            start, settings)
+        least[way] = plan.least_time_s(settings.control)
+    assert least['minimum_time'] <= least['tube']
+
+
 def test_a_limit_that_cuts_across_the_tube_between_nodes_is_solved_again_with_more():
     """With few nodes the limit's motion leaves the tube between them, and is faster than a
     motion that keeps within it may be. Asked to, it is solved again from itself with twice the

@@ -91,21 +91,36 @@ def _rounded(path: Path, tolerance: float, run: ControlConfig, minimum_time: boo
     """`path` with its corners rounded within `tolerance`, each stretch of it as fast as
     `corners.rounded_path` finds (by its least time); on a base with angular limits, each
     corner is the faster (by its speed profile) of a clothoid pair and a
-    clothoid-arc-clothoid, and with `minimum_time` each stretch may be the minimum-time
-    trajectory's path (`limit_path`); where the tolerance lets the robot curve onto the path
-    from its heading faster than it turns in place first, it does (`join.joined_start`).
-    Every stretch is timed, as it is driven, at the full limits."""
+    clothoid-arc-clothoid; where the tolerance lets the robot curve onto the path from its
+    heading faster than it turns in place first, it does (`join.joined_start`). With
+    `minimum_time` each stretch may also be the minimum-time trajectory (`limit_path`), and
+    the path is the faster of the two plans as a whole: the limit is solved from the path's
+    own heading, and where the robot faces elsewhere the tube's join onto the path can beat
+    it. Every stretch is timed, as it is driven, at the full limits."""
     duration = partial(_stretch_duration, config=run)
-    if not run.max_angular_accel:
-        rounded = rounded_path(path, tolerance, duration=duration)
-    else:
-        shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed, run.max_angular_accel))
-        more = partial(limit_path, config=run) if minimum_time and run.max_linear_accel else None
-        rounded = rounded_path(path, tolerance, shapes, partial(_corner_cost, config=run),
-                               duration, more)
     drawn = Polyline(path.points())
-    return joined_start(rounded, drawn, tolerance, duration,
-                        lambda turn: least_time_s(Path(legs=(turn,)), run))
+
+    def joined(rounded: Path) -> Path:
+        return joined_start(rounded, drawn, tolerance, duration,
+                            lambda turn: least_time_s(Path(legs=(turn,)), run))
+
+    if not run.max_angular_accel:
+        return joined(rounded_path(path, tolerance, duration=duration))
+    shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed, run.max_angular_accel))
+    cost = partial(_corner_cost, config=run)
+    by_tube = joined(rounded_path(path, tolerance, shapes, cost, duration))
+    if not (minimum_time and run.max_linear_accel):
+        return by_tube
+    by_limit = joined(rounded_path(path, tolerance, shapes, cost, duration,
+                                   partial(limit_path, config=run)))
+    return min((by_tube, by_limit), key=partial(_path_duration, config=run))
+
+
+def _path_duration(path: Path, *, config: ControlConfig) -> float:
+    """The least time the controller drives a rounded `path` in, each leg from rest."""
+    return least_time_s(path, config, tuple(
+        profile_for(leg, config.limits, shares=FULL_LIMITS) if isinstance(leg, Polyline)
+        else None for leg in path.legs))
 
 
 def limit_path(points: np.ndarray, width: float, *,
