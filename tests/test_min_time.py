@@ -11,7 +11,6 @@ import shapely
 from turtle_traj.core.control.config import Limits
 from turtle_traj.core.planning.min_time import EXACT_M, minimum_time
 from turtle_traj.core.turtlesim_contract import STEP_S
-from turtle_traj.testing.pure_loop import driven_with_late_commands
 
 PAPER = Limits(linear_speed=0.5, angular_speed=1.0, linear_accel=0.5, angular_accel=1.0,
                period_s=STEP_S)
@@ -126,9 +125,10 @@ def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube(c
     assert run.elapsed_s <= 1.02 * plans['minimum_time']
     assert shapely.distance(drawn, shapely.points(run.xy())).max() <= tolerance
     # commands that act a period late, one in five: still within the tolerance, and done
-    ending, xy = driven_with_late_commands(plan, start, settings, every=5)
-    assert ending[0], ending
-    assert shapely.distance(drawn, shapely.points(xy)).max() <= tolerance
+    late = drive(plan, start, settings, late_every=5,
+                 inertia=Inertia(PAPER.linear_accel, PAPER.angular_accel))
+    assert late.run.ending[0], late.run.ending
+    assert shapely.distance(drawn, shapely.points(late.xy())).max() <= tolerance
 
 
 
@@ -136,7 +136,7 @@ def test_planning_by_minimum_time_from_another_heading_is_no_slower_than_by_the_
     """The limit is solved from the path's own heading. From facing along x, 43 degrees off a
     sine's start, where the tube's plan curves onto the path from the robot's heading,
     planning by minimum time takes the faster plan as a whole: no slower by the controller's
-    least time than the tube's (it took the limit's motion and a turn in place first, 14%
+    least time than the tube's (the limit's motion after a turn in place first is 14%
     slower)."""
     from turtle_traj.apps.score.courses import PAPER_LIMITS, follow_request
     from turtle_traj.core.geometry.path import Pose2D

@@ -83,7 +83,7 @@ def _near_pivot_motion() -> Polyline:
     return Polyline(points[keep], speeds=np.maximum(speed[keep], 0.0))
 
 
-def _drive(plan, start):
+def _drive(plan, start, late_every: int = 0):
     from turtle_traj.apps.score.courses import PAPER_LIMITS
     from turtle_traj.apps.score.loop import drive
     from turtle_traj.core.parameters.settings import settings_from_values
@@ -92,8 +92,8 @@ def _drive(plan, start):
 
     settings = settings_from_values({**DEFAULTS, **PAPER_LIMITS, 'arena': 'none'})
     limits = settings.control.limits
-    return drive(plan, start, settings, inertia=Inertia(limits.linear_accel,
-                                                        limits.angular_accel))
+    return drive(plan, start, settings, late_every=late_every,
+                 inertia=Inertia(limits.linear_accel, limits.angular_accel))
 
 
 def test_a_base_keeps_to_the_clock_of_a_near_pivot_and_to_its_motion():
@@ -115,17 +115,12 @@ def test_a_base_keeps_to_the_clock_of_a_near_pivot_and_to_its_motion():
 def test_a_near_pivot_followed_with_late_commands_keeps_to_its_motion():
     """One command in ten reaching the base a period late: the motion still within 5 mm, and
     done. (Turning at the very top rate where the plan asked for more, on the speed planned,
-    took the robot 82 mm off it: the follower slows down instead, on the curve it asks for.)"""
-    from turtle_traj.apps.score.courses import PAPER_LIMITS
+    takes the robot 82 mm off it: the follower slows down instead, on the curve it asks for.)"""
     from turtle_traj.core.control.plan import Plan
-    from turtle_traj.core.parameters.settings import settings_from_values
-    from turtle_traj.core.parameters.table import DEFAULTS
-    from turtle_traj.testing.pure_loop import driven_with_late_commands
 
     polyline = _near_pivot_motion()
-    settings = settings_from_values({**DEFAULTS, **PAPER_LIMITS, 'arena': 'none'})
     plan = Plan('follow_path', Path(legs=(polyline,)), profiles=(SpeedProfile.timed(polyline),))
-    ending, positions = driven_with_late_commands(plan, Pose2D(1.0, 1.0, 0.0), settings, 10)
-    assert ending[0], ending
+    run = _drive(plan, Pose2D(1.0, 1.0, 0.0), late_every=10)
+    assert run.run.ending[0], run.run.ending
     motion = shapely.LineString(polyline.points)
-    assert float(shapely.distance(motion, shapely.points(positions)).max()) <= 0.005
+    assert float(shapely.distance(motion, shapely.points(run.xy())).max()) <= 0.005

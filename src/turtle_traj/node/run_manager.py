@@ -19,7 +19,6 @@ from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.task import Future
-from std_msgs.msg import Header
 
 from turtle_traj.core.control.commands import STOP, Command
 from turtle_traj.core.control.controllers.catalogue import ControllerChoice
@@ -334,8 +333,8 @@ class RunManager:
         self._run_done = done = Future()
         if self._recording is not None:
             self._recording.start(kind.name, settings.control)
-        message = planning.message or outcomes.plan_message(
-            plan.path, Header(frame_id=outcomes.PLAN_FRAME_ID))
+        message = planning.message  # made with the plan (`plan_desk`)
+        assert message is not None
         message.header.stamp = self._node.get_clock().now().to_msg()  # its poses' header too
         self._plan.publish(message)
         self._state_lock.info(f'{kind.name}: {outcomes.describe(plan, settings.control)}')

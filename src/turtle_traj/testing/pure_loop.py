@@ -16,12 +16,11 @@ from types import SimpleNamespace
 import numpy as np
 
 from turtle_traj.core.control.loop import ControlLoop
-from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.geometry.path import Pose2D
-from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS, Settings
+from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
 from turtle_traj.core.planning import planner as planning
 from turtle_traj.core.turtlesim_contract import STEP_S
-from turtle_traj.sim.physics import Inertia, World
+from turtle_traj.sim.physics import World
 
 
 def shape(**fields) -> SimpleNamespace:
@@ -67,34 +66,3 @@ class Loop:
             self.world.step()
         raise AssertionError('the run never ended')
 
-
-def driven_with_late_commands(plan: Plan, start: Pose2D, settings: Settings, every: int,
-                              max_s: float = 60.0) -> tuple[tuple, np.ndarray]:
-    """`plan` driven on the simulator with the inertia of `settings`' base, each `every`-th
-    command reaching it a period late (the one before acting a period longer), as a loaded
-    transport delivers them: the run's ending and the positions, one a step."""
-    limits = settings.control.limits
-    world = World(inertia=Inertia(limits.linear_accel, limits.angular_accel))
-    turtle = world.spawn(start.x, start.y, start.theta, 'turtle1')
-    control = ControlLoop(STEP_S)
-    control.observe(start, 0.0, 0.0)
-    run = control.start(plan, arena=settings.arena, now_s=0.0)
-    positions, waiting = [], None
-    for step in range(int(max_s / STEP_S)):
-        positions.append((turtle.x, turtle.y))
-        control.observe(Pose2D(turtle.x, turtle.y, turtle.theta),
-                        float(np.float32(turtle.linear_speed)), float(np.float32(turtle.omega)))
-        command = control.command(settings.control, settings.arena, step * STEP_S)
-        if run.ending is not None:
-            break
-        if waiting is not None:
-            world.command('turtle1', waiting.linear, 0.0, waiting.angular)
-            waiting = None
-        if command is not None:
-            control.sent(command, step * STEP_S)
-            if step % every == every - 1:
-                waiting = command
-            else:
-                world.command('turtle1', command.linear, 0.0, command.angular)
-        world.step()
-    return run.ending or (False, 'still running'), np.array(positions)

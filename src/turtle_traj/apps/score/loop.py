@@ -42,18 +42,20 @@ class Drive:
 
 
 def drive(plan: Plan, start: Pose2D, settings: Settings, *, inertia: Inertia | None = None,
-          controller: ControllerChoice | None = None, disturb=None,
+          controller: ControllerChoice | None = None, disturb=None, late_every: int = 0,
           max_s: float = 600.0) -> Drive:
     """Drive `plan` from `start` until its run ends (or `max_s` of simulated time).
 
     :param disturb: called as disturb(step, turtle) before each step (a push, a teleport).
+    :param late_every: each such command reaches the simulator a step late, the one before it
+        acting a step longer, as a loaded transport delivers them (0: none).
     """
     world = World(inertia=inertia)
     turtle = world.spawn(start.x, start.y, start.theta, 'turtle1')
     loop = ControlLoop(STEP_S)
     loop.observe(start, 0.0, 0.0)
     record = Drive(loop.start(plan, arena=settings.arena, now_s=0.0, controller=controller))
-    run = record.run
+    run, late = record.run, None
     for step in range(int(max_s / STEP_S)):
         if disturb is not None:
             disturb(step, turtle)
@@ -66,9 +68,15 @@ def drive(plan: Plan, start: Pose2D, settings: Settings, *, inertia: Inertia | N
             return record
         if run.pen_wanted is not None:
             run.pen_is(run.pen_wanted)  # the simulator's set_pen answers at once
+        if late is not None:
+            world.command('turtle1', late.linear, 0.0, late.angular)
+            late = None
         if command is not None:  # None: commands wait at the robot, none is sent
             loop.sent(command, step * STEP_S)
-            world.command('turtle1', command.linear, 0.0, command.angular)
+            if late_every and step % late_every == late_every - 1:
+                late = command
+            else:
+                world.command('turtle1', command.linear, 0.0, command.angular)
             record.commands.append(command)
         world.step()
     record.steps = int(max_s / STEP_S)

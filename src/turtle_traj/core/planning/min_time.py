@@ -61,10 +61,10 @@ class MinimumTime:
     poses: np.ndarray  # (nodes + 1, 3): x, y, heading at each node
     velocities: np.ndarray  # (nodes + 1, 2): speed, turn rate (without inertia: as commanded)
     motion: np.ndarray  # (n, 2): the positions, integrated finely between nodes
+    speeds: np.ndarray  # (n,): the speed at each position of `motion`
     max_error_m: float  # the largest distance of `motion` from the path
     solve_s: float  # CPU time of the solves
     solved: bool  # IPOPT converged
-    speeds: np.ndarray | None = None  # (n,): the speed at each position of `motion`
 
     @property
     def time_s(self) -> float:
@@ -118,8 +118,8 @@ def _on_the_path(points: np.ndarray, limits: Limits, heading0: float) -> Minimum
     allows, turning in place at its corners: `exact_drive`, with nothing to solve."""
     began = time.process_time()
     drive = exact_drive(points, heading0, limits)
-    return MinimumTime(drive.time, drive.poses, drive.velocities, drive.poses[:, :2], 0.0,
-                       time.process_time() - began, True, drive.velocities[:, 0])
+    return MinimumTime(drive.time, drive.poses, drive.velocities, drive.poses[:, :2],
+                       drive.velocities[:, 0], 0.0, time.process_time() - began, True)
 
 
 class _Problem:
@@ -221,7 +221,7 @@ class _Problem:
         motion, speeds = _dense_motion(poses, velocities, taken, durations, inertia)
         error = float(np.max(shapely.distance(shapely.LineString(self.points),
                                               shapely.points(motion))))
-        return (MinimumTime(times, poses, velocities, motion, error, solve_s, solved, speeds),
+        return (MinimumTime(times, poses, velocities, motion, speeds, error, solve_s, solved),
                 Timeline(times, poses, velocities,
                          np.asarray(solution.value(self.progress), dtype=float).ravel()))
 
