@@ -174,3 +174,37 @@ def test_the_matched_table_is_printed_only_when_asked(capsys):
     printed = capsys.readouterr().out
     assert 'square             dwpp' in printed
     assert 'the exact follower is ahead at equal error in 1 of 1' in printed
+
+
+def test_on_a_base_with_inertia_the_matched_run_is_also_planned_by_the_limit(tmp_path,
+                                                                            monkeypatch):
+    """A sharp corner (135 degrees) on the DWPP paper's base, at a rival's 100 mm: planned by
+    the minimum-time limit, the exact follower keeps within the rival's error, takes no less
+    than the limit and less than the tube's plan, and the table prints both against it. (The
+    limit at 30 nodes, as the planner solves a path this long: cutting across the tube
+    between them, it is no slower than at more, and it takes a sixth of the CPU.)"""
+    from turtle_traj.apps.score import matched as score_matched
+    from turtle_traj.apps.score.courses import PAPER_LIMITS, Course, follow_request
+    from turtle_traj.apps.score.matched import format_matched, matched_runs
+    from turtle_traj.core.geometry.path import Pose2D
+    from turtle_traj.core.parameters.settings import settings_from_values
+    from turtle_traj.core.parameters.table import DEFAULTS
+    from turtle_traj.testing.geometry import distance_to_polyline
+
+    monkeypatch.setattr(score_matched, 'LIMIT_NODES', 30)
+    monkeypatch.setattr(score_matched, 'LIMIT_MOST_NODES', 30)
+    settings = settings_from_values({**DEFAULTS, **PAPER_LIMITS, 'arena': 'none'})
+    turn = math.radians(135.0)
+    points = np.array([(1.0, 1.5), (2.0, 1.5), (2.0 + math.cos(turn), 1.5 + math.sin(turn))])
+    course = Course('sharp corner', 'inertia', 'follow_path', follow_request(points),
+                    Pose2D(1.0, 1.5, 0.0), settings)
+    exact = run_course(course, 'exact', work_dir=tmp_path)
+    rival = replace(exact, controller='rival', max_mm=100.0, time_s=exact.time_s + 5.0)
+    [matched] = matched_runs(course, [exact, rival], tmp_path)
+    by_limit = matched.by_limit
+    assert by_limit.success and by_limit.controller == 'exact'
+    assert 1e3 * distance_to_polyline(by_limit.path, points).max() <= rival.max_mm
+    assert matched.limit_s <= by_limit.time_s < matched.exact.time_s
+    row = format_matched([matched]).splitlines()[1].split()
+    assert row[-3:] == [f'{by_limit.time_s:.2f}', f'{by_limit.max_mm:.2f}',
+                        f'{by_limit.time_s / matched.limit_s:.3f}']

@@ -3,7 +3,9 @@ controller that finishes it off the path, the exact follower runs again with tha
 maximum error as its `corner_tolerance`. Is it then no slower, and within that error? That is
 the trade a user makes, measured: who is ahead at equal error. Beside each, on the courses that
 give their path as points (`follow_path`), the minimum-time limit at that tolerance
-(`core.planning.min_time`): how far the exact follower is from the fastest the robot can go.
+(`core.planning.min_time`): how far the exact follower is from the fastest the robot can go;
+and on a base with inertia, the exact follower once more with `corner_planning` set to
+`minimum_time` (the node plans by that limit itself, in seconds of CPU rather than tenths).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ class Matched:
     exact: Result
     tolerance_m: float
     limit_s: float | None = None  # the minimum-time limit at `tolerance_m`, where computed
+    by_limit: Result | None = None  # planned with corner_planning 'minimum_time', where it can
 
     @property
     def ahead(self) -> bool:
@@ -55,9 +58,20 @@ def matched_runs(course: Course, results: Sequence[Result], work_dir: Path) -> l
         request = copy.copy(course.request)
         request.corner_tolerance = tolerance
         result = run_course(replace(course, request=request), EXACT, work_dir=work_dir)
+        limit = limit_s(course, tolerance)
+        by_limit = (run_course(_planned_by_limit(replace(course, request=request)), EXACT,
+                               work_dir=work_dir) if limit is not None
+                    and course.settings.control.max_linear_accel else None)
         matched.append(Matched(rival, replace(result, controller=f'{EXACT} @ {rival.controller}'),
-                               tolerance, limit_s(course, tolerance)))
+                               tolerance, limit, by_limit))
     return matched
+
+
+def _planned_by_limit(course: Course) -> Course:
+    """`course` with the node's `corner_planning` set to 'minimum_time'."""
+    settings = course.settings
+    return replace(course, settings=replace(
+        settings, defaults=replace(settings.defaults, minimum_time_corners=True)))
 
 
 def limit_s(course: Course, tolerance_m: float) -> float | None:
@@ -76,17 +90,31 @@ def limit_s(course: Course, tolerance_m: float) -> float | None:
 
 
 def format_matched(matched: Sequence[Matched]) -> str:
-    """A row per rival and course: its time and error, then the exact follower's at it."""
+    """A row per rival and course: its time and error, then the exact follower's at it, the
+    limit's time, and where planned by the limit, the exact follower's time and error so."""
     lines = [f"{'course':18} {'rival':14} {'time s':>7} {'max mm':>8}   {'exact at it':>11} "
-             f"{'max mm':>8} {'ahead':>5}   {'limit s':>7} {'x limit':>7}"]
+             f"{'max mm':>8} {'ahead':>5}   {'limit s':>7} {'x limit':>7}   "
+             f"{'min-time plan':>13} {'max mm':>8} {'x limit':>7}"]
     for m in matched:
         exact = m.exact
         time = f'{exact.time_s:11.2f}' if exact.success else f"{'NO':>11}"
-        limit = (f'{m.limit_s:7.2f} {exact.time_s / m.limit_s:7.3f}'
-                 if m.limit_s and exact.success else f"{'-':>7} {'-':>7}")
+        limit = (f'{m.limit_s:7.2f} {_times(exact, m.limit_s):>7}' if m.limit_s
+                 else f"{'-':>7} {'-':>7}")
+        by_limit = (f'{_time(m.by_limit):>13} {m.by_limit.max_mm:8.2f} '
+                    f'{_times(m.by_limit, m.limit_s):>7}' if m.by_limit and m.limit_s
+                    else f"{'-':>13} {'-':>8} {'-':>7}")
         lines.append(f'{m.rival.course:18} {m.rival.controller:14} {m.rival.time_s:7.2f} '
                      f"{m.rival.max_mm:8.2f}   {time} {exact.max_mm:8.2f} "
-                     f"{'yes' if m.ahead else 'no':>5}   {limit}")
+                     f"{'yes' if m.ahead else 'no':>5}   {limit}   {by_limit}")
     ahead = sum(m.ahead for m in matched)
     lines.append(f'the exact follower is ahead at equal error in {ahead} of {len(matched)}')
     return '\n'.join(lines)
+
+
+def _time(result: Result) -> str:
+    return f'{result.time_s:.2f}' if result.success else 'NO'
+
+
+def _times(result: Result, limit_s: float) -> str:
+    """`result`'s time over the limit's, or '-' where it did not finish."""
+    return f'{result.time_s / limit_s:.3f}' if result.success else '-'

@@ -10,8 +10,8 @@ heading to keep and the line to pull back onto; the plan one period on gives the
 turn rate (feed-forward). The heading set-point steers back onto the plan's line as
 `trackers.PolylineTracker` steers onto a path. Where the turn rate it asks for is beyond the
 base's top rate, the speed is cut in proportion, so the robot stays on the curve it asks for
-and loses time rather than the path (the plan keeps only a twentieth of the turn rate in
-reserve). Arrival and the end are the polyline tracker's; past the end, it backs up to it.
+and loses time rather than the path (the plan keeps none of the turn rate in reserve).
+Arrival and the end are the polyline tracker's; past the end, it backs up to it.
 
 The polyline tracker, reading a planned speed by arc length and turning at that speed times
 the path's curvature, falls behind such a motion where it nearly pivots, the heading turning

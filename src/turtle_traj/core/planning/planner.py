@@ -22,7 +22,6 @@ from turtle_traj.core.control.duration import least_time_s
 from turtle_traj.core.control.plan import Plan
 from turtle_traj.core.control.profile import (
     ANGULAR_ACCEL_SHARE,
-    ANGULAR_SHARE,
     FULL_LIMITS,
     PLANNING_SHARES,
     SpeedProfile,
@@ -126,7 +125,7 @@ def _path_duration(path: Path, *, config: ControlConfig) -> float:
 def limit_path(points: np.ndarray, width: float, *,
                config: ControlConfig) -> tuple[np.ndarray, np.ndarray | None] | None:
     """The minimum-time trajectory within `width` of `points` on a base with `config`'s
-    limits, each turn's a little less (`min_time`): its positions, as finely as it was
+    limits, its angular acceleration a little less (`min_time`): its positions, as finely as it was
     integrated between its nodes, and its speed at each (the follower keeps to its clock);
     where it turns in place on the way, only its path, every `tube.SPACING_M`, with no speeds
     (the follower plans them). None unless the solver converged and its motion keeps within
@@ -136,10 +135,11 @@ def limit_path(points: np.ndarray, width: float, *,
 
     nodes = int(np.clip(LIMIT_NODES_PER_M * Polyline(points).length, *LIMIT_NODES))
     limits = config.limits
-    # the turn's reserve is the steering's, as an exact path's profile keeps it (`profile`):
-    # a motion at the very limits everywhere leaves nothing to pull back onto it with
-    planned = replace(limits, angular_speed=ANGULAR_SHARE * limits.angular_speed,
-                      angular_accel=ANGULAR_ACCEL_SHARE * limits.angular_accel)
+    # the angular acceleration's reserve is the steering's, as an exact path's profile keeps
+    # it (`profile`): a motion at the very limits leaves nothing to pull back onto it with.
+    # The turn rate needs none: where the steering asks for more, the timed tracker slows
+    # down on the same curve.
+    planned = replace(limits, angular_accel=ANGULAR_ACCEL_SHARE * limits.angular_accel)
     try:
         limit = minimum_time(points, LIMIT_WIDTH_SHARE * width, planned, nodes=nodes)
     except ImportError:
