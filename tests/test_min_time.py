@@ -3,6 +3,7 @@ trapezoid, a circle at the turn rate's speed, and a corner between turning in pl
 straight through. The distances are measured independently of the solver (shapely)."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -174,3 +175,21 @@ def test_a_limit_that_cuts_across_the_tube_between_nodes_is_solved_again_with_mo
     assert len(refined.times) == 31
     assert stray_m(refined) < 0.5 * stray_m(coarse)
     assert refined.time_s > coarse.time_s
+
+
+def test_the_solver_prints_nothing_on_standard_output():
+    """IPOPT's banner would land in the middle of `turtle-traj score`'s tables: a fresh process
+    (the banner comes once, at a process's first solve) solves a corner and prints only its
+    own line."""
+    import subprocess
+    import sys
+
+    program = ('import numpy as np\n'
+               'from test_min_time import PAPER\n'
+               'from turtle_traj.core.planning.min_time import minimum_time\n'
+               'limit = minimum_time(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]), 0.05, PAPER,'
+               ' nodes=20, most_nodes=20)\n'
+               'print(limit.solved)\n')
+    done = subprocess.run([sys.executable, '-c', program], capture_output=True, text=True,
+                          cwd=Path(__file__).parent, timeout=120, check=True)
+    assert done.stdout == 'True\n'

@@ -190,7 +190,8 @@ class _Problem:
             opti.subject_to(gap / width ** 2 <= 1.0)
         opti.minimize(casadi.sum2(steps))
         opti.solver('ipopt', {'print_time': False, 'expand': True},
-                    {'print_level': 0, 'max_iter': 3000, 'tol': 1e-8, 'acceptable_tol': 1e-6})
+                    {'print_level': 0, 'sb': 'yes',  # 'sb': no banner on stdout
+                     'max_iter': 3000, 'tol': 1e-8, 'acceptable_tol': 1e-6})
 
     def solve(self, start: Timeline) -> tuple[MinimumTime, Timeline]:
         """The solver's answer from the motion `start`, and that answer as a timeline."""
