@@ -436,3 +436,62 @@ def test_the_loop_is_at_rest_when_the_model_is_as_each_robot_tells_it():
     pose = Pose2D(1.0, 1.0, 0.0)
     assert turtlesim.model.predict(pose, 0.0).turns_first
     assert not odometry.model.predict(pose, 0.0).turns_first
+
+
+def _square_with_the_first_stop_late(late_prior: float):
+    """A 0.5 m square on turtlesim, its first stop after moving acting a step late (the
+    sending process stalled at the first corner), from a control loop with `late_prior`:
+    its largest distance from the square (m) and its time (s)."""
+    from turtle_traj.apps.score.loop import drive
+    from turtle_traj.core.parameters.settings import DEFAULT_SETTINGS
+    from turtle_traj.core.planning import planner
+    from turtle_traj.testing.geometry import distance_to_polyline
+    from turtle_traj.testing.pure_loop import shape
+
+    start = Pose2D(5.544, 5.544, 0.0)
+    plan = planner.plan('square', shape(size=0.5), start, DEFAULT_SETTINGS)
+    moved, late = [False], []
+
+    def first_stop_after_moving(step: int, command: Command) -> bool:
+        moved[0] = moved[0] or command.linear != 0.0
+        if moved[0] and command == STOP and not late:
+            late.append(step)
+            return True
+        return False
+
+    record = drive(plan, start, DEFAULT_SETTINGS, late_if=first_stop_after_moving,
+                   late_prior=late_prior)
+    assert record.run.ending[0] and late, record.run.ending
+    corners = np.array([[5.544, 5.544], [6.044, 5.544], [6.044, 6.044], [5.544, 6.044],
+                        [5.544, 5.544]])
+    return float(distance_to_polyline(record.xy(), corners).max()), record.steps * STEP_S
+
+
+def test_a_cold_start_allows_for_a_late_command_at_the_first_corner():
+    """Before the link's timing is seen (`COLD_START_LATE_STEPS`), the approach to the first
+    corner allows for a command a step late: a stop that acts late leaves the turtle within
+    a millimetre. Without that allowance the last command of the approach acts a step longer
+    and carries it millimetres past the corner. The allowance costs about a quarter of a
+    second a corner (the approach stops short, stands, then lands)."""
+    from turtle_traj.core.control.robot_model import COLD_START_LATE_STEPS
+
+    brisk_m, brisk_s = _square_with_the_first_stop_late(0.0)
+    wary_m, wary_s = _square_with_the_first_stop_late(COLD_START_LATE_STEPS)
+    assert brisk_m > 0.002
+    assert wary_m < 0.001
+    assert brisk_s < wary_s <= brisk_s + 4 * 0.3
+
+
+def test_the_cold_start_allowance_fades_as_commands_act_on_time():
+    """It counts as a stall seen: each command seen acting on time takes back a share, and
+    after about 200 of them (3 s of driving) the approach is brisk again."""
+    from turtle_traj.core.control.robot_model import COLD_START_LATE_STEPS
+
+    pose = Pose2D(1.0, 1.0, 0.0)
+    assert RobotModel(STEP_S).predict(pose, 0.0).late_steps == 0
+    fading = [RobotModel(STEP_S, late_prior=COLD_START_LATE_STEPS) for _ in range(2)]
+    assert fading[0].predict(pose, 0.0).late_steps == 1
+    for model, count in zip(fading, (150, 250), strict=True):
+        _through_a_link(model, _distinct_commands(count), [1] * count)
+        model.ticked(count * STEP_S)
+    assert [model.predict(pose, 250 * STEP_S).late_steps for model in fading] == [1, 0]

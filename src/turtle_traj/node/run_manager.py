@@ -26,6 +26,7 @@ from turtle_traj.core.control.ending import Ending
 from turtle_traj.core.control.loop import ControlLoop
 from turtle_traj.core.control.observers import ODOMETRY_BASE, TURTLESIM
 from turtle_traj.core.control.plan import Plan
+from turtle_traj.core.control.robot_model import COLD_START_LATE_STEPS
 from turtle_traj.core.control.supervisor import Outcome, RunSupervisor
 from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.settings import Settings
@@ -67,7 +68,10 @@ class RunManager:
         self._state_lock = StateLock(node.get_logger())
         self._base = BaseTopics(node, turtle, self._on_pose)  # poses come once it spins
         self.pose_topic = self._base.pose_topic
-        self._loop = ControlLoop(STEP_S, robot=ODOMETRY_BASE if self._base.odometry else TURTLESIM)
+        # on the wall clock the robot steps on its own timer, and a command can act late
+        self._loop = ControlLoop(
+            STEP_S, robot=ODOMETRY_BASE if self._base.odometry else TURTLESIM,
+            late_prior=0.0 if node.get_clock().ros_time_is_active else COLD_START_LATE_STEPS)
         name = node.get_parameter('controller').value  # checked as it was declared
         self._tuning = ControllerTuning(node, name)
         self._controller = self._tuning.choose(name)

@@ -28,10 +28,13 @@ class ControlLoop:
         not the control period, which may differ.
     :param robot: what the robot is (`observers.Robot`): turtlesim, or a base seen through
         its odometry.
+    :param late_prior: steps a command may act late at a leg's end before the link's timing
+        is seen (`RobotModel`).
     """
 
-    def __init__(self, step_s: float, *, robot: Robot = TURTLESIM) -> None:
-        self.model = RobotModel(step_s, robot=robot)
+    def __init__(self, step_s: float, *, robot: Robot = TURTLESIM,
+                 late_prior: float = 0.0) -> None:
+        self.model = RobotModel(step_s, robot=robot, late_prior=late_prior)
         self.run: RunSupervisor | None = None
         self.pose: Pose2D | None = None
 

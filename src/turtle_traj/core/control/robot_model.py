@@ -76,6 +76,13 @@ APPROACH_CONFIDENCE = 0.99
 BRAKING_COMMANDS = 64
 BRAKING_WINDOW = round(BRAKING_COMMANDS / (1.0 - APPROACH_CONFIDENCE))
 RATE = 0.25  # steps: the most one observation moves a running quantile
+# A robot that steps on its own timer, the link's timing not yet seen: a leg's end allows for
+# a command a step late, as if one had been seen. Else the first stall of the sending process
+# at a corner (a loaded machine) lets the last command of the approach act a step longer, up
+# to 10 mm past it at the exact follower's braking. The allowance fades as commands are seen
+# to act on time, by RATE * (1 - APPROACH_CONFIDENCE) each: below half a step after 200
+# commands, about 3 s of driving.
+COLD_START_LATE_STEPS = 1.0
 class RobotModel:
     """Commands sent, the evidence of which one acts, and the prediction they make.
 
@@ -84,9 +91,13 @@ class RobotModel:
 
     :param step_s: how long each command acts at least (the robot's step, turtlesim's 16 ms).
     :param robot: what the robot is: turtlesim, or a base seen through its odometry.
+    :param late_prior: how many steps late a command may act at a leg's end before any
+        command was seen to act (`APPROACH_CONFIDENCE`'s quantile before its observations;
+        see `COLD_START_LATE_STEPS`).
     """
 
-    def __init__(self, step_s: float, *, robot: Robot = TURTLESIM) -> None:
+    def __init__(self, step_s: float, *, robot: Robot = TURTLESIM,
+                 late_prior: float = 0.0) -> None:
         self.step_s = step_s
         self.robot = robot
         self._observer = robot.observer(step_s)
@@ -100,7 +111,7 @@ class RobotModel:
         self._latencies: deque[float] = deque(maxlen=3)  # of the last commands seen to act
         # steps later than the one before; the timer's steps from one tick to the next
         self._jitter = RunningQuantile(CONFIDENCE, RATE, prior=0.0)
-        self._jitter_tail = RunningQuantile(APPROACH_CONFIDENCE, RATE, prior=0.0)
+        self._jitter_tail = RunningQuantile(APPROACH_CONFIDENCE, RATE, prior=late_prior)
         self._jitter_braking = WindowQuantile(BRAKING_WINDOW)
         self._last_tick: float | None = None
         self._follows = RunningQuantile(CONFIDENCE, RATE, prior=1.0)
