@@ -83,6 +83,8 @@ RATE = 0.25  # steps: the most one observation moves a running quantile
 # to act on time, by RATE * (1 - APPROACH_CONFIDENCE) each: below half a step after 200
 # commands, about 3 s of driving.
 COLD_START_LATE_STEPS = 1.0
+
+
 class RobotModel:
     """Commands sent, the evidence of which one acts, and the prediction they make.
 
