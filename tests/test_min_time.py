@@ -3,7 +3,6 @@ trapezoid, a circle at the turn rate's speed, and a corner between turning in pl
 straight through. The distances are measured independently of the solver (shapely)."""
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -126,11 +125,10 @@ def test_a_base_planning_corners_by_minimum_time_is_no_slower_than_by_the_tube(c
     assert run.elapsed_s <= 1.02 * plans['minimum_time']
     assert shapely.distance(drawn, shapely.points(run.xy())).max() <= tolerance
     # commands that act a period late, one in five: still within the tolerance, and done
-    late = drive(plan, start, settings, late_every=5,
+    late = drive(plan, start, settings, late_if=lambda step, _: step % 5 == 4,
                  inertia=Inertia(PAPER.linear_accel, PAPER.angular_accel))
     assert late.run.ending[0], late.run.ending
     assert shapely.distance(drawn, shapely.points(late.xy())).max() <= tolerance
-
 
 
 def test_planning_by_minimum_time_from_another_heading_is_no_slower_than_by_the_tube():
@@ -185,11 +183,13 @@ def test_the_solver_prints_nothing_on_standard_output():
     import sys
 
     program = ('import numpy as np\n'
-               'from test_min_time import PAPER\n'
+               'from turtle_traj.core.control.config import Limits\n'
                'from turtle_traj.core.planning.min_time import minimum_time\n'
-               'limit = minimum_time(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]), 0.05, PAPER,'
-               ' nodes=20, most_nodes=20)\n'
+               'limits = Limits(linear_speed=0.5, angular_speed=1.0, linear_accel=0.5,'
+               ' angular_accel=1.0, period_s=0.016)\n'
+               'limit = minimum_time(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]), 0.05,'
+               ' limits, nodes=20, most_nodes=20)\n'
                'print(limit.solved)\n')
     done = subprocess.run([sys.executable, '-c', program], capture_output=True, text=True,
-                          cwd=Path(__file__).parent, timeout=120, check=True)
+                          timeout=120, check=True)
     assert done.stdout == 'True\n'

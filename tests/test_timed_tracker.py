@@ -85,6 +85,7 @@ def _near_pivot_motion() -> Polyline:
 
 
 def _drive(plan, start, late_every: int = 0):
+    """On the paper's base; every `late_every`-th command a step late (0: none)."""
     from turtle_traj.apps.score.courses import PAPER_LIMITS
     from turtle_traj.apps.score.loop import drive
     from turtle_traj.core.parameters.settings import settings_from_values
@@ -93,7 +94,8 @@ def _drive(plan, start, late_every: int = 0):
 
     settings = settings_from_values({**DEFAULTS, **PAPER_LIMITS, 'arena': 'none'})
     limits = settings.control.limits
-    return drive(plan, start, settings, late_every=late_every,
+    late = (lambda step, _: step % late_every == late_every - 1) if late_every else None
+    return drive(plan, start, settings, late_if=late,
                  inertia=Inertia(limits.linear_accel, limits.angular_accel))
 
 

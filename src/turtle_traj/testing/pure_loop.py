@@ -65,4 +65,3 @@ class Loop:
             self.world.command('turtle1', command.linear, 0.0, command.angular)
             self.world.step()
         raise AssertionError('the run never ended')
-

@@ -43,15 +43,15 @@ class Drive:
 
 
 def drive(plan: Plan, start: Pose2D, settings: Settings, *, inertia: Inertia | None = None,
-          controller: ControllerChoice | None = None, disturb=None, late_every: int = 0,
+          controller: ControllerChoice | None = None, disturb=None,
           late_if: Callable[[int, Command], bool] | None = None, late_prior: float = 0.0,
           max_s: float = 600.0) -> Drive:
     """Drive `plan` from `start` until its run ends (or `max_s` of simulated time).
 
     :param disturb: called as disturb(step, turtle) before each step (a push, a teleport).
-    :param late_every: each such command reaches the simulator a step late, the one before it
-        acting a step longer, as a loaded transport delivers them (0: none).
-    :param late_if: called as late_if(step, command): whether that command is a step late too.
+    :param late_if: called as late_if(step, command) for each command sent: whether it reaches
+        the simulator a step late, the one before it acting a step longer, as a loaded
+        transport delivers them (None: none is).
     :param late_prior: the control loop's (`ControlLoop`).
     """
     world = World(inertia=inertia)
@@ -77,8 +77,7 @@ def drive(plan: Plan, start: Pose2D, settings: Settings, *, inertia: Inertia | N
             late = None
         if command is not None:  # None: commands wait at the robot, none is sent
             loop.sent(command, step * STEP_S)
-            if ((late_every and step % late_every == late_every - 1)
-                    or (late_if is not None and late_if(step, command))):
+            if late_if is not None and late_if(step, command):
                 late = command
             else:
                 world.command('turtle1', command.linear, 0.0, command.angular)

@@ -61,7 +61,7 @@ def matched_runs(course: Course, results: Sequence[Result], work_dir: Path) -> l
         limit = limit_s(course, tolerance)
         by_limit = (run_course(_planned_by_limit(replace(course, request=request)), EXACT,
                                work_dir=work_dir) if limit is not None
-                    and course.settings.control.max_linear_accel else None)
+                    and planner.plans_by_limit(course.settings.control) else None)
         matched.append(Matched(rival, replace(result, controller=f'{EXACT} @ {rival.controller}'),
                                tolerance, limit, by_limit))
     return matched

@@ -45,7 +45,7 @@ from turtle_traj.core.planning.sketches.base import (
     fits_in_arena,
 )
 
-__all__ = ['SKETCHES', 'PlanError', 'largest_size', 'plan']
+__all__ = ['SKETCHES', 'PlanError', 'largest_size', 'plan', 'plans_by_limit']
 
 LIMIT_NODES_PER_M = 13  # the minimum-time trajectory's intervals, for a candidate of a plan
 LIMIT_NODES = (30, 240)  # at the least and the most
@@ -108,11 +108,17 @@ def _rounded(path: Path, tolerance: float, run: ControlConfig, minimum_time: boo
     shapes = (CLOTHOID_PAIR, arc_shape(run.angular_speed, run.max_angular_accel))
     cost = partial(_corner_cost, config=run)
     by_tube = joined(rounded_path(path, tolerance, shapes, cost, duration))
-    if not (minimum_time and run.max_linear_accel):
+    if not (minimum_time and plans_by_limit(run)):
         return by_tube
     by_limit = joined(rounded_path(path, tolerance, shapes, cost, duration,
                                    partial(limit_path, config=run)))
     return min((by_tube, by_limit), key=partial(_path_duration, config=run))
+
+
+def plans_by_limit(config: ControlConfig) -> bool:
+    """Whether `corner_planning: minimum_time` can offer the limit's motion on this base: one
+    with both acceleration limits (elsewhere it plans as `tube` does)."""
+    return bool(config.max_linear_accel and config.max_angular_accel)
 
 
 def _path_duration(path: Path, *, config: ControlConfig) -> float:
