@@ -8,6 +8,8 @@ from collections.abc import Callable
 
 from rclpy.clock import ROSClock
 
+from turtle_traj.rosutils.clock_read import now_ns
+
 
 class PoseSilence:
     """Time since the last pose. On simulated time, on the node clock (the same verdict under
@@ -33,7 +35,7 @@ class PoseSilence:
 
     def heard(self) -> None:
         """A pose arrived now."""
-        self._pose_ns, self._wall_s = self._clock.now().nanoseconds, 0.0
+        self._pose_ns, self._wall_s = now_ns(self._clock), 0.0
         self._last_beat_s = self._wall()  # wall silence counts from here
 
     def was_busy(self) -> None:
@@ -62,7 +64,7 @@ class PoseSilence:
         if self._pose_ns is None:
             return math.inf
         if self._clock.ros_time_is_active:  # simulated time
-            silence = (self._clock.now().nanoseconds - self._pose_ns) * 1e-9
+            silence = (now_ns(self._clock) - self._pose_ns) * 1e-9
             if silence > 0.0:
                 return silence
         return self._wall_s + min(self._wall() - self._last_beat_s, 2 * self._beat_s)

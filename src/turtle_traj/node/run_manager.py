@@ -42,6 +42,7 @@ from turtle_traj.node.pose_silence import PoseSilence
 from turtle_traj.node.state_lock import StateLock, serialized
 from turtle_traj.node.waiting import completion
 from turtle_traj.rosutils import offload
+from turtle_traj.rosutils.clock_read import now_ns
 
 WATCHDOG_PERIOD_S = 0.05
 _STOPPED_EARLY = 'stopped by request before it started'
@@ -128,7 +129,7 @@ class RunManager:
 
     def now_s(self) -> float:
         """The node clock, seconds."""
-        return self._node.get_clock().now().nanoseconds * 1e-9
+        return now_ns(self._node.get_clock()) * 1e-9
 
     @serialized
     def _on_pose(self, pose: Pose2D, linear_echo: float, angular_echo: float) -> None:

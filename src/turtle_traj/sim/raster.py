@@ -229,60 +229,49 @@ def _slanted(pa: Point, pb: Point, width: float, size: int) -> list[Span]:
     its left and right edges, each taken at the row's centre."""
     if pa[1] > pb[1]:
         pa, pb = pb, pa
-    half_x, half_y = (pb[0] - pa[0]) * 0.5 * width, (pb[1] - pa[1]) * 0.5 * width
-    perp = (half_y, -half_x)
-    if pa[0] < pb[0]:
-        top, left = _add(pa, perp, 1), _add(pa, perp, -1)
-        right, bottom = _add(pb, perp, 1), _add(pb, perp, -1)
+    (ax, ay), (bx, by) = pa, pb
+    half_x, half_y = (bx - ax) * 0.5 * width, (by - ay) * 0.5 * width  # perpendicular:
+    if ax < bx:                                                         # (half_y, -half_x)
+        corners = (ax + half_y, ay - half_x, ax - half_y, ay + half_x,
+                   bx + half_y, by - half_x, bx - half_y, by + half_x)
     else:
-        top, left = _add(pa, perp, -1), _add(pb, perp, -1)
-        right, bottom = _add(pa, perp, 1), _add(pb, perp, 1)
-    top, left, right, bottom = ((_snap(x), _snap(y)) for x, y in (top, left, right, bottom))
-
-    def slope(frm: Point, to: Point) -> float:
-        return _safe_divide(to[0] - frm[0], to[1] - frm[1])
-
-    top_left, top_right = slope(top, left), slope(top, right)
-    bottom_left, bottom_right = slope(left, bottom), slope(right, bottom)
-
-    def last_row(y: float) -> int:
-        return -1 if y < 0.5 else int(y - 0.5)
-
-    first_row = int(top[1] + 0.5)
-    left_row, right_row, bottom_row = last_row(left[1]), last_row(right[1]), last_row(bottom[1])
+        corners = (ax - half_y, ay + half_x, bx - half_y, by + half_x,
+                   ax + half_y, ay - half_x, bx + half_y, by - half_x)
+    top_x, top_y, left_x, left_y, right_x, right_y, bottom_x, bottom_y = map(_snap, corners)
+    top_left = _safe_divide(left_x - top_x, left_y - top_y)
+    top_right = _safe_divide(right_x - top_x, right_y - top_y)
+    bottom_left = _safe_divide(bottom_x - left_x, bottom_y - left_y)
+    bottom_right = _safe_divide(bottom_x - right_x, bottom_y - right_y)
+    first_row = int(top_y + 0.5)
+    left_row = -1 if left_y < 0.5 else int(left_y - 0.5)
+    right_row = -1 if right_y < 0.5 else int(right_y - 0.5)
+    bottom_row = -1 if bottom_y < 0.5 else int(bottom_y - 0.5)
     # The edges' crossings with the first row of each part, in 16.16: left edges at the
     # pixel centre's right, right edges at its left, so a pixel is in when its centre is.
-    edges = {
-        'top_left': _to_16dot16(top[0] + 0.5 + (first_row + 0.5 - top[1]) * top_left),
-        'left_bottom': _to_16dot16(left[0] + 0.5 + (left_row + 1.5 - left[1]) * bottom_left),
-        'top_right': _to_16dot16(top[0] - 0.5 + (first_row + 0.5 - top[1]) * top_right),
-        'right_bottom': _to_16dot16(right[0] - 0.5 + (right_row + 1.5 - right[1])
-                                    * bottom_right),
-    }
-    steps = {name: _to_16dot16(value) for name, value in (
-        ('top_left', top_left), ('left_bottom', bottom_left),
-        ('top_right', top_right), ('right_bottom', bottom_right))}
-    spans, row = [], first_row
-    for end_row, left_edge, right_edge in (
-            (min(left_row, right_row), 'top_left', 'top_right'),
-            (right_row, 'left_bottom', 'top_right'),
-            (left_row, 'top_left', 'right_bottom'),
-            (bottom_row, 'left_bottom', 'right_bottom')):
+    # Edges 0 to 3: top-left, left-bottom, top-right, right-bottom.
+    edges = [_to_16dot16(top_x + 0.5 + (first_row + 0.5 - top_y) * top_left),
+             _to_16dot16(left_x + 0.5 + (left_row + 1.5 - left_y) * bottom_left),
+             _to_16dot16(top_x - 0.5 + (first_row + 0.5 - top_y) * top_right),
+             _to_16dot16(right_x - 0.5 + (right_row + 1.5 - right_y) * bottom_right)]
+    steps = [_to_16dot16(top_left), _to_16dot16(bottom_left), _to_16dot16(top_right),
+             _to_16dot16(bottom_right)]
+    spans, row, last_column = [], first_row, size - 1
+    for end_row, left_edge, right_edge in ((min(left_row, right_row), 0, 2), (right_row, 1, 2),
+                                           (left_row, 0, 3), (bottom_row, 1, 3)):
         skip_to = min(end_row + 1, 0)  # Qt's start at the clip's top (sic: qMin)
         if row < skip_to:
             edges[left_edge] += steps[left_edge] * (skip_to - row)
             edges[right_edge] += steps[right_edge] * (skip_to - row)
             row = skip_to
-        while row <= min(end_row, size - 1):
-            first = max(edges[left_edge] >> 16, 0)
-            last = min(edges[right_edge] >> 16, size - 1)
+        left, right = edges[left_edge], edges[right_edge]
+        left_step, right_step = steps[left_edge], steps[right_edge]
+        while row <= min(end_row, last_column):
+            first = max(left >> 16, 0)
+            last = min(right >> 16, last_column)
             if last >= first and row >= 0:
                 spans.append((row, first, last))
-            edges[left_edge] += steps[left_edge]
-            edges[right_edge] += steps[right_edge]
+            left += left_step
+            right += right_step
             row += 1
+        edges[left_edge], edges[right_edge] = left, right
     return spans
-
-
-def _add(point: Point, offset: Point, sign: int) -> Point:
-    return point[0] + sign * offset[0], point[1] + sign * offset[1]

@@ -10,7 +10,7 @@ echo is unlike any other remembered, and the echo names the command in effect on
 from __future__ import annotations
 
 import struct
-from collections.abc import Callable
+from collections.abc import Callable, Container
 
 import numpy as np
 
@@ -56,7 +56,7 @@ def _with(command: Command, on_linear: bool, value: float) -> Command:
             else Command(command.linear, value))
 
 
-def distinct(command: Command, taken: set[Echo], previous: Command) -> Command:
+def distinct(command: Command, taken: Container[Echo], previous: Command) -> Command:
     """`command` moved by the fewest float32 steps that give it an echo not in `taken`: its
     speed (its turn rate, when it has no speed), towards `previous`, then on towards zero. So
     it keeps within any limit of speed it was within, and its change from `previous` grows by a

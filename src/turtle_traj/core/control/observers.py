@@ -18,7 +18,7 @@ to act (`PoseReading`):
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -42,6 +42,7 @@ class CommandLog(Protocol):
     """What an observer reads of the model: the commands remembered, and what it knows."""
 
     remembered: Sequence[Sent]  # the commands remembered, oldest first
+    echoes: Mapping[Echo, list[int]]  # the numbers of those remembered, by echo, oldest first
     first: int  # the number of the oldest remembered
     count: int  # commands sent so far: the next one's number
     in_effect: int | None  # the number of the command in effect at the last pose, if known
@@ -82,7 +83,7 @@ class EchoObserver:
         self.step_s = step_s
 
     def distinct(self, command: Command, model: CommandLog, last_sent: Command) -> Command:
-        return distinct(command, {sent.echo for sent in model.remembered}, last_sent)
+        return distinct(command, model.echoes, last_sent)
 
     def see(self, model: CommandLog, echo: Echo, pose: Pose2D | None) -> PoseReading | None:
         # among equal echoes, the one a step on from the last (the latency's floor is the
@@ -109,8 +110,7 @@ def _matches(model: CommandLog, echo: Echo) -> list[int]:
     """The numbers of the commands remembered whose echo is `echo`: those no older than the
     one in effect at the last pose, as commands take effect in order; any, if none is (the
     last match was wrong)."""
-    matches = [model.first + index for index, sent in enumerate(model.remembered)
-               if sent.echo == echo]
+    matches = list(model.echoes.get(echo, ()))
     in_order = [number for number in matches if number >= (model.in_effect or 0)]
     return in_order or matches
 

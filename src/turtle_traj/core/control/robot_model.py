@@ -57,7 +57,7 @@ import math
 from collections import deque
 
 from turtle_traj.core.control.commands import COMMAND_LIFESPAN_S, STOP, Command
-from turtle_traj.core.control.echo import HISTORY, STANDING, as_echoed
+from turtle_traj.core.control.echo import HISTORY, STANDING, Echo, as_echoed
 from turtle_traj.core.control.observers import TURTLESIM, PoseReading, Robot, Sent
 from turtle_traj.core.control.prediction import Prediction
 from turtle_traj.core.control.quantile import RunningFloor, RunningQuantile, WindowQuantile
@@ -88,8 +88,8 @@ COLD_START_LATE_STEPS = 1.0
 class RobotModel:
     """Commands sent, the evidence of which one acts, and the prediction they make.
 
-    It is the `observers.CommandLog` its observer reads (`remembered`, `first`, `count`,
-    `in_effect`, `poses`, `floor`, `at_rest`).
+    It is the `observers.CommandLog` its observer reads (`remembered`, `echoes`, `first`,
+    `count`, `in_effect`, `poses`, `floor`, `at_rest`).
 
     :param step_s: how long each command acts at least (the robot's step, turtlesim's 16 ms).
     :param robot: what the robot is: turtlesim, or a base seen through its odometry.
@@ -104,6 +104,7 @@ class RobotModel:
         self.robot = robot
         self._observer = robot.observer(step_s)
         self.remembered: deque[Sent] = deque(maxlen=HISTORY)  # the commands, oldest first
+        self.echoes: dict[Echo, list[int]] = {}  # their numbers by echo, oldest first
         self.count = 0  # commands sent so far: the next one's number
         self._origin_s: float | None = None  # the first stamp: steps are counted from it
         self.poses = 0  # robot steps, as counted by the poses observed
@@ -156,8 +157,15 @@ class RobotModel:
         """Record a command as it is published (node clock, seconds)."""
         if self._origin_s is None:
             self._origin_s = now_s
-        self.remembered.append(Sent(command, as_echoed(command), self._in_steps(now_s),
-                                    self.poses))
+        if len(self.remembered) == self.remembered.maxlen:  # the oldest is forgotten
+            oldest = self.remembered[0].echo
+            numbers = self.echoes[oldest]
+            del numbers[0]
+            if not numbers:
+                del self.echoes[oldest]
+        echo = as_echoed(command)
+        self.remembered.append(Sent(command, echo, self._in_steps(now_s), self.poses))
+        self.echoes.setdefault(echo, []).append(self.count)
         self.count += 1
 
     def observe(self, linear_echo: float, angular_echo: float, pose: Pose2D | None = None) -> None:

@@ -86,11 +86,12 @@ def strokes_of(path: Path) -> list[Polyline | Turn]:
 class AnswerTimer(Protocol):
     """Times a controller's answers: `start` just before one is asked for, `took` just after
     it came: the seconds the controller is to blame for (the node's own timer leaves out the
-    machine's, `node.answer_timer`)."""
+    machine's, `node.answer_timer`); an answer within `within_s` of wall time may be given as
+    its wall time (nothing left out could make it later than that)."""
 
     def start(self) -> object: ...
 
-    def took(self, mark: object) -> float: ...
+    def took(self, mark: object, within_s: float) -> float: ...
 
 
 class _Along:
@@ -323,7 +324,7 @@ class PlanWalker:
             raise ControllerFault(f"controller '{self.name}' raised {type(error).__name__} in "
                                   f'{method}(): {error}') from error
         if timer is not None:
-            took = timer.took(mark)
+            took = timer.took(mark, period_s)
             self._late = self._late + 1 if took > period_s else 0
             if self._late >= LATE_ANSWERS:
                 raise ControllerFault(
