@@ -22,6 +22,13 @@ class Clocks:
     def now(self) -> Time:
         return Time(nanoseconds=round(self.node_s * 1e9))
 
+    @property
+    def handle(self) -> Clocks:  # read as rclpy's clocks are: handle.get_now().nanoseconds
+        return self
+
+    def get_now(self) -> Time:
+        return self.now()
+
     def wall(self) -> float:
         return self.wall_s
 

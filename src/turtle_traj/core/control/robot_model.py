@@ -201,8 +201,8 @@ class RobotModel:
     def at_rest(self) -> bool:
         """The last pose shows the robot at rest: its velocities within what counts as rest
         for it (zero for turtlesim's echo, what odometry resolves for a base)."""
-        return all(abs(value) <= within
-                   for value, within in zip(self._echo, self.robot.rest_within, strict=True))
+        (linear, angular), (linear_within, angular_within) = self._echo, self.robot.rest_within
+        return abs(linear) <= linear_within and abs(angular) <= angular_within
 
     def _observe_latency(self, latency: float) -> None:
         """A command first seen in effect `latency` steps after it was sent. The floor takes
@@ -232,18 +232,20 @@ class RobotModel:
         floor = self._latency.value
         if floor is None:
             return 0
-        overdue = sum(1 for sent in self._pending() if round(sent.stamp + floor) <= self.poses)
+        poses = self.poses
+        overdue = sum(round(sent.stamp + floor) <= poses for sent in self._pending())
         return max(overdue - max(self._jitter.whole(), 0), 0)
 
     def predict(self, pose: Pose2D, now_s: float) -> Prediction:
         """Where the robot will be when the next command takes effect, and how uncertain."""
         pending = self._pending()
-        x, y, theta = pose.x, pose.y, pose.theta
+        x, y, theta, step_s = pose.x, pose.y, pose.theta, self.step_s
         for command, steps in self._schedule(pending, now_s):
+            linear, angular = command.linear, command.angular
             for _ in range(steps):
-                theta += command.angular * self.step_s
-                x += command.linear * math.cos(theta) * self.step_s
-                y += command.linear * math.sin(theta) * self.step_s
+                theta += angular * step_s
+                x += linear * math.cos(theta) * step_s
+                y += linear * math.sin(theta) * step_s
         late = self._late_steps(self._jitter_tail)
         last = self.last_sent  # acts until the next command is taken: maybe `late` longer
         standing = self.at_rest and all(sent.command == STOP for sent in pending)
@@ -258,8 +260,9 @@ class RobotModel:
 
     def _pending(self) -> list[Sent]:
         """The commands in flight, oldest first."""
-        in_flight = self.in_flight
-        return list(self.remembered)[len(self.remembered) - in_flight:] if in_flight else []
+        remembered, in_flight = self.remembered, self.in_flight
+        return [remembered[index] for index in range(len(remembered) - in_flight,
+                                                     len(remembered))]
 
     def _schedule(self, pending: list[Sent], now_s: float) -> list[tuple[Command, int]]:
         """The command in effect and each one in flight, with the steps each acts after the
