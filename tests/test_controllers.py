@@ -317,6 +317,31 @@ def test_the_cpu_wait_is_read_afresh_from_the_file_kept_open():
         assert before <= kept <= fresh()
 
 
+def test_an_answer_in_time_is_taken_as_it_is_and_a_late_one_is_excused(monkeypatch):
+    """Nothing excused can make an answer within the period late, so its excuse is not read
+    again (a control tick saves a read of the schedstat file); a later one is excused what the
+    thread waited for a CPU meanwhile."""
+    from turtle_traj.node import answer_timer
+    reads, waited = [], [0.0]
+
+    def waiting() -> float:
+        reads.append(None)
+        return waited[0]
+    monkeypatch.setattr(answer_timer, 'not_the_controllers_s', waiting)
+    timer = ProcessAnswerTimer()
+    mark = timer.start()
+    waited[0] += 0.02  # the thread waited 20 ms for a CPU: not the controller's time
+    assert timer.took(mark, 10.0) < 0.02 and len(reads) == 1
+    for excused, reads_then in ((0.0, 3), (0.02, 5)):  # late, with or without an excuse
+        began = time.perf_counter()
+        mark = timer.start()
+        waited[0] += excused
+        time.sleep(0.03)
+        took = timer.took(mark, 0.01)
+        elapsed = time.perf_counter() - began
+        assert 0.03 - excused <= took <= elapsed - excused and len(reads) == reads_then
+
+
 def test_the_cpu_wait_is_read_without_letting_go_of_pythons_lock():
     """The CPU wait is read, and its file opened on each thread, by foreign calls that keep
     Python's lock (ctypes' PyDLL flag): `os.pread` and `os.open` let go of it, and taking it

@@ -495,3 +495,19 @@ def test_the_cold_start_allowance_fades_as_commands_act_on_time():
         _through_a_link(model, _distinct_commands(count), [1] * count)
         model.ticked(count * STEP_S)
     assert [model.predict(pose, 250 * STEP_S).late_steps for model in fading] == [1, 0]
+
+
+def test_the_echo_index_names_the_commands_remembered_and_forgets_the_oldest():
+    """`echoes` is the commands remembered grouped by echo, their numbers oldest first, also as
+    the history's oldest are forgotten (a steady circle's commands, moved apart by `distinct`,
+    among stops and repeats)."""
+    model = RobotModel(STEP_S)
+    steady = Command(1.0, 2.0)
+    for step in range(100):
+        wanted = STOP if step % 7 == 0 else steady
+        model.sent(model.distinct(wanted) if step % 3 else wanted, step * STEP_S)
+        grouped: dict[tuple[float, float], list[int]] = {}
+        for number, sent in enumerate(model.remembered, start=model.first):
+            grouped.setdefault(sent.echo, []).append(number)
+        assert model.echoes == grouped
+    assert len(model.remembered) == 32 and model.first == 68
