@@ -38,8 +38,8 @@ class ControlTimer:
 
     def _tick(self) -> None:
         self._on_tick()
-        until_next_ns = self.timer.time_until_next_call()  # fixed as the timer fired
-        if self._locks and until_next_ns is not None:
+        until_next_ns = self.timer.time_until_next_call() if self._locks else None
+        if until_next_ns is not None:  # (fixed as the timer fired)
             next_call_s = self._now_s() + until_next_ns * 1e-9
             period_s = self._phase.next_period(next_call_s, driving=self._driving())
         else:

@@ -36,9 +36,10 @@ class StateLock:
 
     def __exit__(self, *_exception: object) -> None:
         self._depth -= 1
-        said: list[tuple[bool, str]] = []
-        if self._depth == 0:
-            said, self._said = self._said, []
+        if self._depth or not self._said:
+            self._lock.release()
+            return
+        said, self._said = self._said, []
         self._lock.release()
         for warning, line in said:  # two call sites: rclpy keeps one severity per call site
             if warning:
