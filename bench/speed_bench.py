@@ -1,7 +1,7 @@
 """Lock-step speed and the node program's CPU, this checkout side by side with an older commit.
 
 Run: .venv/bin/python bench/speed_bench.py [--against REV] [--rounds N] [--skip-demo]
-     .venv/bin/python bench/speed_bench.py --step-cost [--rounds N]
+     .venv/bin/python bench/speed_bench.py --step-cost [--against REV] [--rounds N]
 
 REV (default 9873574, the commit before lock-step moved to the EventsExecutor) is checked out
 in a temporary git worktree; every figure is measured in a fresh process for each tree in turn
@@ -162,6 +162,28 @@ def print_step_cost(rounds: int) -> None:
               f' {16.0 / figures["floor_ms"]:7.2f}', flush=True)
 
 
+def print_step_cost_against(old: Path, rev: str, rounds: int, turtles: int = 20) -> None:
+    """The step with `turtles` turtles, `rev` and this checkout in turn in fresh processes
+    (old, new, old, ...): each pair's figures and ratio, then the medians. A pair runs within
+    seconds, so a busy spell of the machine falls on both of it."""
+    print(f'per 16 ms lock-step step with {turtles} turtles, {rev} (old) against this checkout '
+          f'(new), {rounds} pairs:')
+    keys = ('step_ms', 'node_tick_ms', 'node_pose_ms', 'sim_step_ms')
+    pairs = []
+    for _ in range(rounds):
+        pairs.append((_run(old, f'breakdown{turtles}'), _run(ROOT, f'breakdown{turtles}')))
+        before, after = pairs[-1]
+        print('  ' + '  '.join(f'{key[:-3]} {before[key]:.3f} -> {after[key]:.3f}'
+                               for key in keys)
+              + f'  ratio {after["step_ms"] / before["step_ms"]:.3f}', flush=True)
+    ratios = [after['step_ms'] / before['step_ms'] for before, after in pairs]
+    medians = {side: statistics.median(pair[index]['step_ms'] for pair in pairs)
+               for index, side in enumerate(('old', 'new'))}
+    print(f'  median step: old {medians["old"]:.3f} ms ({16.0 / medians["old"]:.2f}x real '
+          f'time), new {medians["new"]:.3f} ms ({16.0 / medians["new"]:.2f}x); median ratio '
+          f'{statistics.median(ratios):.3f} (pairs {min(ratios):.3f} to {max(ratios):.3f})')
+
+
 def measure_node_cpu(seconds: float) -> dict:
     """`python -m turtle_traj` at real time beside our simulator program: idle, then driving."""
     from process_cpu import cpu_share as _share
@@ -270,7 +292,8 @@ def _side_by_side(old: Path, measure: str, rounds: int) -> tuple[dict, dict]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('--against', default='9873574', help='the old commit (default 9873574)')
+    parser.add_argument('--against', help='the old commit (default 9873574; with '
+                        '--step-cost, the step with 20 turtles against it, pair by pair)')
     parser.add_argument('--rounds', type=int, default=3, help='runs of each figure per tree')
     parser.add_argument('--skip-demo', action='store_true', help='leave out make demo')
     parser.add_argument('--step-cost', action='store_true',
@@ -281,11 +304,15 @@ def main() -> None:
     if options.measure:
         print(json.dumps(MEASURES[options.measure]()))
         return
-    if options.step_cost:
+    if options.step_cost and options.against is None:
         print_step_cost(options.rounds)
         return
+    options.against = options.against or '9873574'
     old = _worktree(options.against)
     try:
+        if options.step_cost:
+            print_step_cost_against(old, options.against, options.rounds)
+            return
         print(f'turtle_traj speed benchmark: {options.against} (old) against this checkout '
               f'(new), median of {options.rounds} runs each, alternating')
         for turtles in (1, 2, 10):
