@@ -230,8 +230,9 @@ def _slanted(pa: Point, pb: Point, width: float, size: int) -> list[Span]:
     if pa[1] > pb[1]:
         pa, pb = pb, pa
     (ax, ay), (bx, by) = pa, pb
-    half_x, half_y = (bx - ax) * 0.5 * width, (by - ay) * 0.5 * width  # perpendicular:
-    if ax < bx:                                                         # (half_y, -half_x)
+    half_x, half_y = (bx - ax) * 0.5 * width, (by - ay) * 0.5 * width
+    # top, left, right and bottom: each end moved either way along (half_y, -half_x)
+    if ax < bx:
         corners = (ax + half_y, ay - half_x, ax - half_y, ay + half_x,
                    bx + half_y, by - half_x, bx - half_y, by + half_x)
     else:
