@@ -10,7 +10,7 @@ echo is unlike any other remembered, and the echo names the command in effect on
 from __future__ import annotations
 
 import struct
-from collections.abc import Callable, Container
+from collections.abc import Container
 
 import numpy as np
 
@@ -73,19 +73,20 @@ def distinct(command: Command, taken: Container[Echo], previous: Command) -> Com
     rank, towards = _rank(exact), _rank(last)
     if abs(_at_rank(rank) - last) > abs(exact - last):  # rounded away from the previous one
         rank += (towards > rank) - (towards < rank)
-    linear_echo, angular_echo = echoed
-    echo = ((lambda value: (abs(value), angular_echo)) if on_linear
-            else (lambda value: (linear_echo, value)))  # of a float32, itself
-    value = _first_free(rank, towards, lambda value: echo(value) not in taken)
+    value = _first_free(rank, towards, taken, on_linear, echoed[1] if on_linear else echoed[0])
     return command if value is None else _with(command, on_linear, value)
 
 
-def _first_free(rank: int, towards: int, free: Callable[[float], bool]) -> float | None:
+def _first_free(rank: int, towards: int, taken: Container[Echo], on_linear: bool,
+                other: float) -> float | None:
     """The first float32 value from `rank` on, a rank at a time towards `towards` and then on
-    towards zero, that is `free`; None within `HISTORY` + 1 steps or at zero."""
+    towards zero, whose echo is not `taken` (the value on one side of it, `other` on the
+    other; a float32's echo is itself); None within `HISTORY` + 1 steps or at zero. A
+    steady command walks past the dozen ranks its forerunners took: the loop is inlined."""
+    to_bits, from_bits = _BITS.pack, _FLOAT32.unpack
     for _ in range(HISTORY + 1):
-        value = _at_rank(rank)
-        if free(value):
+        value = from_bits(to_bits(rank if rank >= 0 else -rank | _SIGN))[0]  # `_at_rank`
+        if ((abs(value), other) if on_linear else (other, value)) not in taken:
             return value
         towards = 0 if rank == towards else towards
         rank += (towards > rank) - (towards < rank)
