@@ -20,6 +20,7 @@ from rosbags.rosbag2.metadata import (
 from turtle_traj.api.ros_interface import DRAW_ACTION
 from turtle_traj.bags.types import UnknownType
 from turtle_traj.bags.writer import BagError, BagWriter, Topic
+from turtle_traj.rosutils.clock_read import now_ns
 from turtle_traj.rosutils.interfaces import message_type
 
 HISTORY_DEPTH = 1000  # messages a subscription keeps before the recorder takes them
@@ -113,7 +114,7 @@ class TopicRecorder:
 
     def _record(self, topic: str, raw: bytes) -> None:
         if self.writer is not None:
-            self.writer.write(topic, self._node.get_clock().now().nanoseconds, raw)
+            self.writer.write(topic, now_ns(self._node.get_clock()), raw)
 
     def stop(self) -> dict[str, int]:
         """Unsubscribe and finish the bag; messages per topic (BagError if it cannot be

@@ -41,6 +41,7 @@ from turtle_traj.fleet.checks import colors, colors_problem, names_problem, too_
 from turtle_traj.fleet.in_progress import DrawingInProgress, progress, refusal, report
 from turtle_traj.fleet.link import MoveEnd, TurtleLink, node_of
 from turtle_traj.node.waiting import completion, result_within, wait_until
+from turtle_traj.rosutils.clock_read import now_ns
 from turtle_traj.rosutils.offload import Offloader
 
 TICK_S = 0.02  # node clock: how often moves are started and turtles watched
@@ -343,7 +344,7 @@ class FleetCoordinator(Node):
         drawing.min_distance = min(drawing.min_distance, closest(poses))
 
     def _now_s(self) -> float:
-        return self.get_clock().now().nanoseconds * 1e-9
+        return now_ns(self.get_clock()) * 1e-9
 
 def _unfit(link: TurtleLink) -> str:
     """Why `link`'s turtle cannot take part ('' if it can)."""

@@ -29,6 +29,7 @@ from turtle_traj.core.geometry.path import Pose2D
 from turtle_traj.core.parameters.table import PARAMETER
 from turtle_traj.core.turtlesim_contract import PenStyle
 from turtle_traj.node.lease import LEASE_QOS, LEASE_TOPIC
+from turtle_traj.rosutils.clock_read import now_ns
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
 
 TRAVEL_TOLERANCE_M = 0.001  # a travel's go-to arrives this near its piece (the least it takes)
@@ -96,7 +97,7 @@ class TurtleLink:
         self._pen.call_async(SetPen.Request(off=1))
 
     def _now_s(self) -> float:
-        return self._node.get_clock().now().nanoseconds * 1e-9
+        return now_ns(self._node.get_clock()) * 1e-9
 
     def _pose(self, message: Pose) -> None:
         self.pose = Pose2D(message.x, message.y, message.theta)

@@ -8,6 +8,7 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 
 from turtle_traj.core.control.step_phase import StepPhase
+from turtle_traj.rosutils.clock_read import now_ns
 
 
 class ControlTimer:
@@ -49,4 +50,4 @@ class ControlTimer:
             self.timer.timer_period_ns = self._period_ns = period_ns
 
     def _now_s(self) -> float:
-        return self._steady.now().nanoseconds * 1e-9
+        return now_ns(self._steady) * 1e-9

@@ -18,6 +18,7 @@ from turtle_traj_interfaces.srv import SaveImage
 from turtlesim.srv import Kill, SetPen, Spawn, TeleportAbsolute
 
 from turtle_traj.core.turtlesim_contract import SPAWN_XY_M, STEP_S
+from turtle_traj.rosutils.clock_read import now_ns
 from turtle_traj.rosutils.delay import CommandDelay
 from turtle_traj.rosutils.lockstep import clock_message
 from turtle_traj.rosutils.qos import TURTLE_TOPIC_QOS
@@ -111,7 +112,7 @@ class SimNode(Node):
 
     def _now_s(self) -> float | None:
         """The clock commands are stamped with (None: the world's simulated time)."""
-        return None if self._own_time else self.get_clock().now().nanoseconds * 1e-9
+        return None if self._own_time else now_ns(self.get_clock()) * 1e-9
 
     def step(self) -> None:
         """Advance the world one step, then publish and draw what it produced."""

@@ -82,10 +82,10 @@ def _first_free(rank: int, towards: int, taken: Container[Echo], on_linear: bool
     """The first float32 value from `rank` on, a rank at a time towards `towards` and then on
     towards zero, whose echo is not `taken` (the value on one side of it, `other` on the
     other; a float32's echo is itself); None within `HISTORY` + 1 steps or at zero. A
-    steady command walks past the dozen ranks its forerunners took: the loop is inlined."""
-    to_bits, from_bits = _BITS.pack, _FLOAT32.unpack
+    steady command walks past the dozen ranks its forerunners took, so each rank costs one
+    lookup and no call beyond `_at_rank`."""
     for _ in range(HISTORY + 1):
-        value = from_bits(to_bits(rank if rank >= 0 else -rank | _SIGN))[0]  # `_at_rank`
+        value = _at_rank(rank)
         if ((abs(value), other) if on_linear else (other, value)) not in taken:
             return value
         towards = 0 if rank == towards else towards
