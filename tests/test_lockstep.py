@@ -137,3 +137,38 @@ def test_a_request_that_came_before_the_first_step_is_judged_on_the_first_pose(
         executor.shutdown()
         for each in (client, node, sim):
             each.destroy_node()
+
+
+def test_nodes_on_simulated_time_tick_in_the_order_they_were_added_at_every_step(
+        rclpy_context, tmp_path):
+    """The same callbacks in the same order: each step, the timers of the nodes on simulated
+    time fire in the order their nodes joined the executor (not in the order of a set, which
+    changes from run to run), and a node that joins later reads the simulated time at once."""
+    sim = SimNode(context=rclpy_context, lockstep=True,
+                  parameter_overrides=[Parameter('output_dir', value=str(tmp_path))])
+    names = ['ticker_d', 'ticker_a', 'ticker_f', 'ticker_b', 'ticker_e', 'ticker_c']
+    fired: list[tuple[float, str]] = []
+    nodes = [Node(name, context=rclpy_context, parameter_overrides=[SIM_TIME],
+                  start_parameter_services=False) for name in names]
+    for node in nodes:
+        node.create_timer(STEP_S, lambda node=node: fired.append(
+            (node.get_clock().now().nanoseconds * 1e-9, node.get_name())))
+    executor = LockstepExecutor(sim, context=rclpy_context)
+    try:
+        for node in (sim, *nodes):
+            executor.add_node(node)
+        while executor.steps < 40:
+            executor.spin_once(0.1)
+        steps = sorted({stamp for stamp, _ in fired})
+        assert len(steps) >= 30
+        for stamp in steps:
+            assert [name for at, name in fired if at == stamp] == names, f'at {stamp:.3f} s'
+        late = Node('ticker_late', context=rclpy_context, parameter_overrides=[SIM_TIME],
+                    start_parameter_services=False)
+        nodes.append(late)
+        executor.add_node(late)
+        assert late.get_clock().now().nanoseconds == pytest.approx(sim.time_s * 1e9, abs=1)
+    finally:
+        executor.shutdown()
+        for node in (*nodes, sim):
+            node.destroy_node()

@@ -11,7 +11,9 @@ It runs on rclpy's EventsExecutor, which keeps a queue of events fed by the midd
 listeners instead of rebuilding a wait set on every pass. What lock-step relies on of it (that
 `spin_until_future_complete(future, 0)` runs until the queue is empty, including what the callbacks
 it ran queued meanwhile, and that a message published in this process is queued before
-`publish()` returns) is pinned by tests/test_lockstep_contract.py.
+`publish()` returns) is pinned by tests/test_lockstep_contract.py; that setting a clock queues
+its timers' update at once, and that taking in the nodes is the first event after `add_node`
+(so that the nodes tick in a fixed order), by tests/test_lockstep.py.
 
 Paced (`pace`), it also keeps simulated time from running ahead of the wall clock times the
 pace: a program's `--time-scale` with our simulator in its process. Between steps it serves
@@ -27,11 +29,13 @@ import time
 from collections.abc import Iterator
 from typing import Protocol
 
+from rclpy.clock import ROSClock
 from rclpy.context import Context
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.publisher import Publisher
 from rclpy.task import Future
+from rclpy.time import Time
 from rclpy.time_source import TimeSource
 from rosgraph_msgs.msg import Clock
 
@@ -95,9 +99,12 @@ class LockstepExecutor:
         self._pace_origin: tuple[float, float] | None = None  # (wall s, simulated s)
         self._nodes: list[Node] = []
         self._undelivered_since: float | None = None
-        # The clocks of our nodes on simulated time, set at each step (see `add_node`).
+        # The clocks of our nodes on simulated time, set at each step in the order their nodes
+        # were added (see `add_node`); the TimeSource only turns simulated time on for them.
         self._sim_time = TimeSource()
         self._sim_time.ros_time_is_active = True
+        self._clocks: list[tuple[Node, ROSClock]] = []
+        self._time: Time | None = None  # of the last step
         self.steps = 0
 
     # -- the Executor interface our code uses --------------------------------------------------
@@ -116,16 +123,24 @@ class LockstepExecutor:
         A node on simulated time hears /clock through a subscription of its TimeSource, which
         in lock-step would cost a message and a callback per node per step. Its clock is set
         at each step instead, before anything the step triggered runs, so its callbacks see
-        exactly the times they would have seen from /clock.
+        exactly the times they would have seen from /clock. The clocks are set in the order
+        their nodes were added, and each one's timers that fall due are queued as it is set:
+        the nodes' control ticks run in that order at every step, in every run (a TimeSource
+        keeps its clocks in a set, whose order changes from run to run).
         """
         for subscription in list(node.subscriptions):
             if subscription.topic_name == '/clock':
                 node.destroy_subscription(subscription)
-        self._sim_time.attach_clock(node.get_clock())
+        clock = node.get_clock()
+        self._sim_time.attach_clock(clock)
+        if self._time is not None:
+            clock.set_ros_time_override(self._time)
+        self._clocks.append((node, clock))
 
     def remove_node(self, node: Node) -> None:
         if node in self._nodes:
             self._nodes.remove(node)
+        self._clocks = [(other, clock) for other, clock in self._clocks if other is not node]
         self._events.remove_node(node)
 
     def get_nodes(self) -> list[Node]:
@@ -147,10 +162,15 @@ class LockstepExecutor:
         if self._simulator not in self._nodes:
             self._events.spin_once(timeout_sec)
             return
-        if self.steps == 0:  # simulated time begins with a step: the world is out (a pose)
-            self._step()     # before anything is served, a request that came early included
+        if self.steps == 0:
+            # The executor takes the nodes in (the first of its events, queued as they were
+            # added), so that the step's timers fall due in the clocks' order. Then simulated
+            # time begins with a step: the world is out (a pose) before anything is served, a
+            # request that came early included.
+            self._events.spin_once(0.0)
+            self._step()
         self.drain()
-        if any(offload.in_flight(node) for node in self._nodes):
+        if offload.any_in_flight(self._nodes):
             # A node computes beside the executor (a plan): that belongs to this step, as a
             # callback would. Serve what comes meanwhile, looking again every few milliseconds
             # (not spin_once: with a handler awaiting the work, it would never wait, and its
@@ -166,7 +186,9 @@ class LockstepExecutor:
 
     def _step(self) -> None:
         self._simulator.step()
-        self._sim_time.clock_callback(self._simulator.clock_message())
+        self._time = Time.from_msg(self._simulator.clock_message().clock)
+        for _node, clock in self._clocks:
+            clock.set_ros_time_override(self._time)
         self.steps += 1
 
     def _paced_step(self, timeout_sec: float | None) -> None:

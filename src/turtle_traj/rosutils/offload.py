@@ -24,24 +24,37 @@ from rclpy.task import Future
 
 _lock = threading.Lock()
 _in_flight: weakref.WeakKeyDictionary[Node, int] = weakref.WeakKeyDictionary()
+_total = 0  # in flight for every node of the process: none, the usual case, is told at once
 
 
 def in_flight(node: Node) -> int:
     """How many works submitted for `node` have not been handed to its executor yet."""
+    if not _total:
+        return 0
     with _lock:
         return _in_flight.get(node, 0)
+
+
+def any_in_flight(nodes: list[Node]) -> bool:
+    """Whether any of `nodes` has work computing beside its executor (checked on every
+    lock-step step and watchdog beat: with none in the process, at once)."""
+    return bool(_total) and any(in_flight(node) for node in nodes)
 
 
 def beside(node: Node) -> bool:
     """Whether a node of `node`'s executor computes beside it now (lock-step holds the
     simulator meanwhile)."""
+    if not _total:
+        return False
     executor = node.executor
-    return executor is not None and any(in_flight(other) for other in executor.get_nodes())
+    return executor is not None and any_in_flight(executor.get_nodes())
 
 
 def _count(node: Node, change: int) -> None:
+    global _total
     with _lock:
         _in_flight[node] = _in_flight.get(node, 0) + change
+        _total += change
 
 
 class Offloader:
