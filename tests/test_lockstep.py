@@ -139,11 +139,12 @@ def test_a_request_that_came_before_the_first_step_is_judged_on_the_first_pose(
             each.destroy_node()
 
 
-def test_nodes_on_simulated_time_tick_in_the_order_they_were_added_at_every_step(
+def test_nodes_on_simulated_time_tick_in_the_order_they_were_added_after_the_first_step(
         rclpy_context, tmp_path):
-    """The same callbacks in the same order: each step, the timers of the nodes on simulated
-    time fire in the order their nodes joined the executor (not in the order of a set, which
-    changes from run to run), and a node that joins later reads the simulated time at once."""
+    """The same callbacks in the same order: each step after the first (at which the executor
+    takes the nodes in), the timers of the nodes on simulated time fire in the order their nodes
+    joined the executor (not in the order of a set, which changes from run to run), and a node
+    that joins later reads the simulated time at once."""
     sim = SimNode(context=rclpy_context, lockstep=True,
                   parameter_overrides=[Parameter('output_dir', value=str(tmp_path))])
     names = ['ticker_d', 'ticker_a', 'ticker_f', 'ticker_b', 'ticker_e', 'ticker_c']
@@ -159,7 +160,7 @@ def test_nodes_on_simulated_time_tick_in_the_order_they_were_added_at_every_step
             executor.add_node(node)
         while executor.steps < 40:
             executor.spin_once(0.1)
-        steps = sorted({stamp for stamp, _ in fired})
+        steps = sorted({stamp for stamp, _ in fired})[1:]
         assert len(steps) >= 30
         for stamp in steps:
             assert [name for at, name in fired if at == stamp] == names, f'at {stamp:.3f} s'

@@ -39,16 +39,37 @@ async def completion(node: Node, future: Future, *, timeout_s: float | None = No
     return await future
 
 
+class _EitherDone:
+    """Awaits until either future is done or cancelled, as awaiting an rclpy Future does
+    (yielding until then): the coroutine resumes after the callback that completes one."""
+
+    def __init__(self, first: Future, second: Future) -> None:
+        self._futures = (first, second)
+
+    def __await__(self):
+        while all(not (future.done() or future.cancelled()) for future in self._futures):
+            yield
+
+
 async def result_within(node: Node, future: Future, timeout_s: float) -> Any:
     """`future`'s result, awaited as another callback completes it (on simulated time: at the
-    step it does, whatever the wall clock), or None after `timeout_s` of the steady clock."""
+    step it does, whatever the wall clock), or None after `timeout_s` of the steady clock.
+
+    rclpy 7.1.6's EventsExecutor resumes an awaiting coroutine after each callback of a
+    subscription, timer, service or client, not after a task: `future` is awaited directly,
+    not through a done callback (a task), which would leave the coroutine waiting for whatever
+    callback came next (in lock-step, a step later or a wall-clock timer's beat sooner: a fleet
+    started a step apart from run to run)."""
     steady = Clock(clock_type=ClockType.STEADY_TIME)
     late = Future()
     timer = node.create_timer(timeout_s, lambda: late.done() or late.set_result(None),
                               clock=steady)
-    future.add_done_callback(lambda done: late.done() or late.set_result(done.result()))
     try:
-        return await completion(node, late)
+        if isinstance(node.executor, MultiThreadedExecutor):  # its pool thread blocks
+            future.add_done_callback(lambda done: late.done() or late.set_result(done.result()))
+            return await completion(node, late)
+        await _EitherDone(future, late)
+        return future.result() if future.done() else None
     finally:
         node.destroy_timer(timer)
 

@@ -12,8 +12,10 @@ listeners instead of rebuilding a wait set on every pass. What lock-step relies 
 `spin_until_future_complete(future, 0)` runs until the queue is empty, including what the callbacks
 it ran queued meanwhile, and that a message published in this process is queued before
 `publish()` returns) is pinned by tests/test_lockstep_contract.py; that setting a clock queues
-its timers' update at once, and that taking in the nodes is the first event after `add_node`
-(so that the nodes tick in a fixed order), by tests/test_lockstep.py.
+its timers' update at once (so that the nodes tick in the order they were added) by
+tests/test_lockstep.py; that a coroutine awaiting a future resumes after a callback of an
+entity, not of a task (so that `node.waiting` and `offload` resume theirs at the step their
+result comes) by tests/test_lockstep_awaiting.py.
 
 Paced (`pace`), it also keeps simulated time from running ahead of the wall clock times the
 pace: a program's `--time-scale` with our simulator in its process. Between steps it serves
@@ -125,8 +127,9 @@ class LockstepExecutor:
         at each step instead, before anything the step triggered runs, so its callbacks see
         exactly the times they would have seen from /clock. The clocks are set in the order
         their nodes were added, and each one's timers that fall due are queued as it is set:
-        the nodes' control ticks run in that order at every step, in every run (a TimeSource
-        keeps its clocks in a set, whose order changes from run to run).
+        the nodes' control ticks run in that order at every step after the first, in every run
+        (a TimeSource keeps its clocks in a set, whose order changes from run to run). At the
+        first step they run in the order the executor takes the nodes in, which it does then.
         """
         for subscription in list(node.subscriptions):
             if subscription.topic_name == '/clock':
@@ -162,13 +165,8 @@ class LockstepExecutor:
         if self._simulator not in self._nodes:
             self._events.spin_once(timeout_sec)
             return
-        if self.steps == 0:
-            # The executor takes the nodes in (the first of its events, queued as they were
-            # added), so that the step's timers fall due in the clocks' order. Then simulated
-            # time begins with a step: the world is out (a pose) before anything is served, a
-            # request that came early included.
-            self._events.spin_once(0.0)
-            self._step()
+        if self.steps == 0:  # simulated time begins with a step: the world is out (a pose)
+            self._step()     # before anything is served, a request that came early included
         self.drain()
         if offload.any_in_flight(self._nodes):
             # A node computes beside the executor (a plan): that belongs to this step, as a
