@@ -12,9 +12,15 @@ from turtle_traj.apps.in_process import SIM_TIME
 from turtle_traj.node.waiting import completion, result_within, wait_until
 from turtle_traj.rosutils import offload
 from turtle_traj.rosutils.lockstep import LockstepExecutor
+from turtle_traj.rosutils.runtime import spin_until
 from turtle_traj.sim.node import SimNode
 
 STEP_S = 0.016
+
+
+def _answer(_request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
+    response.success = True
+    return response
 
 
 def _system(context, tmp_path):
@@ -24,9 +30,7 @@ def _system(context, tmp_path):
                   parameter_overrides=[Parameter('output_dir', value=str(tmp_path))])
     answerer = Node('answerer', context=context, parameter_overrides=[SIM_TIME],
                     start_parameter_services=False)
-    answerer.create_service(Trigger, '/answerer/ask',
-                            lambda _request, response: setattr(response, 'success', True)
-                            or response)
+    answerer.create_service(Trigger, '/answerer/ask', _answer)
     asker = Node('asker', context=context, parameter_overrides=[SIM_TIME],
                  start_parameter_services=False)
     asker.create_timer(STEP_S, lambda: None)
@@ -69,8 +73,10 @@ def test_an_answer_awaited_within_a_timeout_resumes_its_coroutine_in_the_same_st
             seen.append((asked_s, sim.time_s, answer))
             await _next_step(asker, sim)
     try:
-        while not client.service_is_ready():  # discovery, stepping meanwhile
-            executor.spin_once(0.01)
+        # discovery, stepping meanwhile, and an answer: its way back is matched too
+        assert spin_until(executor, client.service_is_ready, timeout_s=30.0)
+        first = client.call_async(Trigger.Request())
+        assert spin_until(executor, first.done, timeout_s=30.0)
         _run(executor, ask())
         assert len(seen) == 5
         for asked_s, answered_s, answer in seen:
