@@ -1,8 +1,9 @@
 """Coroutines that await in lock-step resume at the step their future completes, whatever comes
-next: a service's answer (`waiting.result_within`) and work done beside the executor
-(`offload`). rclpy 7.1.6's EventsExecutor resumes them only after a callback of an entity, so
-a result handed over by a task (a done callback, an offloaded result) would wait for the next
-step's callbacks, or for a wall-clock timer's beat that comes sooner in some runs."""
+next: a service's answer (`waiting.result_within`, whose future a done callback completes) and
+work done beside the executor (`offload`, whose result a task hands over). rclpy 7.1.6's
+EventsExecutor resumes them only after a callback of an entity, not of a task: without the
+bell `waiting.completion` rings, they would wait for the next step's callbacks, or for a
+wall-clock timer's beat that comes sooner in some runs."""
 
 from rclpy.node import Node
 from rclpy.parameter import Parameter

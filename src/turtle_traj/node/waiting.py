@@ -14,12 +14,15 @@ same process it starves, which docs/tutorials/action-from-python.md says). The E
 
 from __future__ import annotations
 
+import contextlib
 import threading
 import time
+import weakref
 from collections.abc import Callable
 from typing import Any
 
 from rclpy.clock import Clock, ClockType
+from rclpy.exceptions import InvalidHandle
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.task import Future
@@ -36,40 +39,49 @@ async def completion(node: Node, future: Future, *, timeout_s: float | None = No
         if not completed.wait(timeout_s):
             return None
         return future.result()
+    if not future.done():
+        future.add_done_callback(lambda _: _Bell.ring(node))
     return await future
 
 
-class _EitherDone:
-    """Awaits until either future is done or cancelled, as awaiting an rclpy Future does
-    (yielding until then): the coroutine resumes after the callback that completes one."""
+class _Bell:
+    """A node's timer that fires at once when rung, so that its executor resumes the coroutines
+    awaiting in `completion` now. rclpy 7.1.6's EventsExecutor resumes them only after a
+    callback of a subscription, timer, service or client, never after a task's: a future
+    completed by a task (a done callback, a result handed over from a thread) would leave its
+    coroutine waiting for whatever callback came next, in lock-step a wall-clock timer's beat
+    in one run and the next step in another."""
 
-    def __init__(self, first: Future, second: Future) -> None:
-        self._futures = (first, second)
+    _of: weakref.WeakKeyDictionary[Node, _Bell] = weakref.WeakKeyDictionary()
 
-    def __await__(self):
-        while all(not (future.done() or future.cancelled()) for future in self._futures):
-            yield
+    def __init__(self, node: Node) -> None:
+        self._timer = node.create_timer(0.0, self._quiet,  # it fires as it is made
+                                        clock=Clock(clock_type=ClockType.STEADY_TIME))
+
+    def _quiet(self) -> None:
+        self._timer.cancel()
+
+    @classmethod
+    def ring(cls, node: Node) -> None:
+        """Fire `node`'s bell (made on its first ring), on its executor's thread."""
+        with contextlib.suppress(InvalidHandle):  # the node is gone, and its coroutines
+            bell = cls._of.get(node)
+            if bell is None:
+                cls._of[node] = cls(node)
+            else:
+                bell._timer.reset()
 
 
 async def result_within(node: Node, future: Future, timeout_s: float) -> Any:
     """`future`'s result, awaited as another callback completes it (on simulated time: at the
-    step it does, whatever the wall clock), or None after `timeout_s` of the steady clock.
-
-    rclpy 7.1.6's EventsExecutor resumes an awaiting coroutine after each callback of a
-    subscription, timer, service or client, not after a task: `future` is awaited directly,
-    not through a done callback (a task), which would leave the coroutine waiting for whatever
-    callback came next (in lock-step, a step later or a wall-clock timer's beat sooner: a fleet
-    started a step apart from run to run)."""
+    step it does, whatever the wall clock), or None after `timeout_s` of the steady clock."""
     steady = Clock(clock_type=ClockType.STEADY_TIME)
     late = Future()
     timer = node.create_timer(timeout_s, lambda: late.done() or late.set_result(None),
                               clock=steady)
+    future.add_done_callback(lambda done: late.done() or late.set_result(done.result()))
     try:
-        if isinstance(node.executor, MultiThreadedExecutor):  # its pool thread blocks
-            future.add_done_callback(lambda done: late.done() or late.set_result(done.result()))
-            return await completion(node, late)
-        await _EitherDone(future, late)
-        return future.result() if future.done() else None
+        return await completion(node, late)
     finally:
         node.destroy_timer(timer)
 

@@ -14,8 +14,8 @@ it ran queued meanwhile, and that a message published in this process is queued 
 `publish()` returns) is pinned by tests/test_lockstep_contract.py; that setting a clock queues
 its timers' update at once (so that the nodes tick in the order they were added) by
 tests/test_lockstep.py; that a coroutine awaiting a future resumes after a callback of an
-entity, not of a task (so that `node.waiting` and `offload` resume theirs at the step their
-result comes) by tests/test_lockstep_awaiting.py.
+entity, not of a task (so that `node.waiting.completion` rings a timer to resume its coroutine
+at the step its result comes) by tests/test_lockstep_awaiting.py.
 
 Paced (`pace`), it also keeps simulated time from running ahead of the wall clock times the
 pace: a program's `--time-scale` with our simulator in its process. Between steps it serves

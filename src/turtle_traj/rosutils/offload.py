@@ -14,14 +14,11 @@ while a node computes beside its executor, as it would not while a callback ran.
 
 from __future__ import annotations
 
-import contextlib
 import threading
 import weakref
 from collections.abc import Callable
 from typing import Any
 
-from rclpy.clock import Clock, ClockType
-from rclpy.exceptions import InvalidHandle
 from rclpy.node import Node
 from rclpy.task import Future
 
@@ -65,16 +62,6 @@ class Offloader:
 
     def __init__(self, node: Node, name: str) -> None:
         self._node, self._name = node, name
-        # Rung as each result is handed over: rclpy 7.1.6's EventsExecutor resumes awaiting
-        # coroutines after a timer's (or any entity's) callback, not after a task's, so the one
-        # awaiting the result resumes at once rather than with whatever callback comes next (in
-        # lock-step, a step later or a wall-clock timer's beat sooner, from run to run).
-        self._bell = node.create_timer(0.0, self._silence_bell,
-                                       clock=Clock(clock_type=ClockType.STEADY_TIME),
-                                       autostart=False)
-
-    def _silence_bell(self) -> None:
-        self._bell.cancel()
 
     def submit(self, work: Callable[[], Any]) -> Future:
         """Start `work()` now; the future of its result (or exception), completed on the node's
@@ -103,5 +90,3 @@ class Offloader:
             future.set_exception(error)
         else:
             future.set_result(result)
-        with contextlib.suppress(InvalidHandle):  # the node is gone: nobody awaits
-            self._bell.reset()
